@@ -1,0 +1,245 @@
+!> The resolved description of a simulation case, and the case-file reader interface.
+!>
+!> `case_type` holds every setting of a run with every default resolved and every value
+!> checked; the rest of the code reads settings only from it. The reader itself (JSON keys,
+!> strict checks, messages) lives in the submodule `mpm_case_reader`.
+module mpm_case
+    use mpm_kinds, only: wp
+    use mpm_error, only: error_type
+    implicit none
+    private
+    public :: case_type, material_spec_type, body_spec_type
+    public :: read_case_file, read_case_string, case_summary, critical_time_step
+    public :: bc_free, bc_sliding, bc_fixed, bc_names
+    public :: scheme_usf, scheme_usl, scheme_musl, scheme_names
+    public :: shape_linear, shape_cpgimp, shape_names
+    public :: damping_none, damping_local, damping_kinetic, damping_names
+    public :: dist_regular, dist_random, distribution_names
+    public :: field_position, field_displacement, field_velocity, field_stress, field_strain
+    public :: field_material, field_mass, field_volume, field_names, nfields
+    public :: p_wave_speed, body_subcell_range
+
+    ! Boundary condition of a domain face
+    integer, parameter :: bc_free = 0     !! no constraint
+    integer, parameter :: bc_sliding = 1  !! normal velocity zero, tangential free
+    integer, parameter :: bc_fixed = 2    !! all velocity components zero (no slip)
+    character(len=*), parameter :: bc_names(0:2) = [character(len=7) :: "free", "sliding", "fixed"]
+
+    ! Update scheme (when the stress is updated within a step)
+    integer, parameter :: scheme_usf = 1   !! update stress first
+    integer, parameter :: scheme_usl = 2   !! update stress last
+    integer, parameter :: scheme_musl = 3  !! modified update stress last
+    character(len=*), parameter :: scheme_names(3) = [character(len=4) :: "USF", "USL", "MUSL"]
+
+    ! Shape function
+    integer, parameter :: shape_linear = 1  !! bilinear / trilinear hat functions
+    integer, parameter :: shape_cpgimp = 2  !! contiguous-particle GIMP
+    character(len=*), parameter :: shape_names(2) = [character(len=6) :: "linear", "cpgimp"]
+
+    ! Damping
+    integer, parameter :: damping_none = 0     !! no damping
+    integer, parameter :: damping_local = 1    !! local (Cundall) damping of nodal forces
+    integer, parameter :: damping_kinetic = 2  !! kinetic damping (dynamic relaxation)
+    character(len=*), parameter :: damping_names(0:2) = &
+        [character(len=7) :: "none", "local", "kinetic"]
+
+    ! Particle distribution inside a cell
+    integer, parameter :: dist_regular = 1  !! regular sub-grid of ppc^dim points
+    integer, parameter :: dist_random = 2   !! one random point in each sub-cell (seeded)
+    character(len=*), parameter :: distribution_names(2) = [character(len=7) :: "regular", "random"]
+
+    ! Output fields
+    integer, parameter :: nfields = 8
+    integer, parameter :: field_position = 1, field_displacement = 2, field_velocity = 3, &
+        field_stress = 4, field_strain = 5, field_material = 6, field_mass = 7, field_volume = 8
+    character(len=*), parameter :: field_names(nfields) = [character(len=12) :: "position", &
+        "displacement", "velocity", "stress", "strain", "material", "mass", "volume"]
+
+    !> One material of the case (linear elastic for now; more types in later versions).
+    type :: material_spec_type
+        character(len=:), allocatable :: name
+            !! name used by bodies to refer to this material
+        character(len=:), allocatable :: type
+            !! constitutive model: "linear_elastic"
+        real(wp) :: young = 0.0_wp
+            !! Young's modulus E [Pa]
+        real(wp) :: poisson = 0.0_wp
+            !! Poisson's ratio nu [-]
+        real(wp) :: density = 0.0_wp
+            !! mass density rho [kg/m3]
+    end type material_spec_type
+
+    !> A box of particles of one material.
+    type :: body_spec_type
+        character(len=:), allocatable :: name
+            !! name of the body (for messages and output)
+        integer :: material = 0
+            !! index into case%materials
+        real(wp) :: xmin(3) = 0.0_wp
+            !! lower corner of the box [m]
+        real(wp) :: xmax(3) = 0.0_wp
+            !! upper corner of the box [m]
+        real(wp) :: velocity(3) = 0.0_wp
+            !! initial velocity [m/s]
+    end type body_spec_type
+
+    !> Every setting of a run, resolved and checked.
+    type :: case_type
+        character(len=:), allocatable :: file
+            !! case file path as given ("<string>" for cases read from text)
+        character(len=:), allocatable :: name
+            !! case name (default: file name without directory and extension)
+        character(len=:), allocatable :: output_dir
+            !! output folder (default: outputs/<name>)
+        integer :: dim = 2
+            !! number of space dimensions (2: plane strain, 3)
+        integer :: ncells(3) = 1
+            !! cells per direction (ncells(3) = 1 and unused in 2D)
+        real(wp) :: dx = 0.0_wp
+            !! cell size, equal in every direction [m]
+        real(wp) :: origin(3) = 0.0_wp
+            !! coordinates of the lowest domain corner [m]
+        integer :: bc(2, 3) = bc_free
+            !! boundary condition of each face: bc(1, axis) at the min face, bc(2, axis) at max
+        integer :: ppc = 2
+            !! particles per cell along each direction (ppc**dim per cell)
+        integer :: distribution = dist_regular
+            !! particle placement inside a cell
+        integer :: seed = 1
+            !! seed of the random distribution
+        type(material_spec_type), allocatable :: materials(:)
+            !! materials, in file order
+        type(body_spec_type), allocatable :: bodies(:)
+            !! bodies, in file order
+        real(wp) :: gravity(3) = 0.0_wp
+            !! gravitational acceleration [m/s2]
+        integer :: scheme = scheme_musl
+            !! update scheme
+        integer :: shape = shape_cpgimp
+            !! shape function
+        real(wp) :: dt = 0.0_wp
+            !! fixed time step [s]; 0 when the CFL condition sets it
+        real(wp) :: cfl = 0.5_wp
+            !! CFL factor C in dt = C dx / max_p (c_p + |v_p|) [-]
+        real(wp) :: tend = 0.0_wp
+            !! end time [s]
+        integer :: damping = damping_none
+            !! damping type
+        real(wp) :: damping_value = 0.0_wp
+            !! local damping coefficient alpha [-] (0 <= alpha < 1)
+        character(len=:), allocatable :: contact_type
+            !! "none" (terrain contact comes later)
+        real(wp) :: output_interval = 0.0_wp
+            !! time between particle outputs [s]; 0 for no intermediate output
+        logical :: output_fields(nfields) = .true.
+            !! which particle fields are written
+        logical :: output_grid = .false.
+            !! also write the grid nodes (mass, velocity)
+        logical :: overwrite = .false.
+            !! allow writing into an existing output folder
+        real(wp) :: history_interval = 0.0_wp
+            !! time between lines of the energy history [s]; 0: every output step
+        character(len=:), allocatable :: save_state
+            !! state file to write at the end ("" for none)
+        character(len=:), allocatable :: load_state
+            !! state file to start from ("" for none)
+        real(wp) :: progress_seconds = 2.0_wp
+            !! wall-clock seconds between progress lines [s]
+    end type case_type
+
+    interface
+        !> Read, check and resolve a case file.
+        module subroutine read_case_file(path, case, error)
+            character(len=*), intent(in) :: path
+                !! case file (JSON)
+            type(case_type), intent(out) :: case
+                !! resolved case
+            type(error_type), allocatable, intent(out) :: error
+                !! set (code exit_input) on any invalid input
+        end subroutine read_case_file
+
+        !> Read, check and resolve a case given as JSON text (tests, tools).
+        module subroutine read_case_string(text, case, error, source)
+            character(len=*), intent(in) :: text
+                !! JSON text of the case
+            type(case_type), intent(out) :: case
+                !! resolved case
+            type(error_type), allocatable, intent(out) :: error
+                !! set (code exit_input) on any invalid input
+            character(len=*), intent(in), optional :: source
+                !! name used for the case in messages and as default case name
+        end subroutine read_case_string
+
+        !> A multi-line, human-readable summary of the resolved case (for --check and logs).
+        module function case_summary(case) result(text)
+            type(case_type), intent(in) :: case
+                !! resolved case
+            character(len=:), allocatable :: text
+                !! summary, lines separated by new_line("a")
+        end function case_summary
+    end interface
+
+contains
+
+    !> P-wave speed of a linear elastic material, sqrt((K + 4G/3)/rho) [m/s].
+    pure real(wp) function p_wave_speed(mat)
+        type(material_spec_type), intent(in) :: mat
+            !! material
+
+        real(wp) :: bulk, shear
+
+        bulk = mat%young/(3.0_wp*(1.0_wp - 2.0_wp*mat%poisson))
+        shear = mat%young/(2.0_wp*(1.0_wp + mat%poisson))
+        p_wave_speed = sqrt((bulk + 4.0_wp*shear/3.0_wp)/mat%density)
+    end function p_wave_speed
+
+    !> Critical time step of the case at t = 0: dx / max over bodies (c_p + |v0|) [s].
+    pure real(wp) function critical_time_step(case)
+        type(case_type), intent(in) :: case
+            !! resolved case (materials and bodies set)
+
+        integer :: b
+        real(wp) :: speed
+
+        speed = 0.0_wp
+        do b = 1, size(case%bodies)
+            speed = max(speed, p_wave_speed(case%materials(case%bodies(b)%material)) &
+                + norm2(case%bodies(b)%velocity(1:case%dim)))
+        end do
+        if (speed > 0.0_wp) then
+            critical_time_step = case%dx/speed
+        else
+            critical_time_step = huge(1.0_wp)
+        end if
+    end function critical_time_step
+
+    !> Range of particle sub-cells of a body along each axis (0-based, inclusive).
+    !>
+    !> Particles sit at the centres of a regular sub-grid of spacing h = dx / ppc:
+    !> x_s = origin + (s + 1/2) h, s = 0 .. ncells * ppc - 1. A body holds the particles whose
+    !> sub-cell centre lies in [min, max) along every axis. A body holds no particle when
+    !> hi(a) < lo(a) for some axis.
+    pure subroutine body_subcell_range(case, body, lo, hi)
+        type(case_type), intent(in) :: case
+            !! resolved case
+        type(body_spec_type), intent(in) :: body
+            !! the body
+        integer, intent(out) :: lo(3)
+            !! first sub-cell along each axis (0 for unused axes)
+        integer, intent(out) :: hi(3)
+            !! last sub-cell along each axis (0 for unused axes)
+
+        integer :: a, nsub
+        real(wp) :: h
+
+        lo = 0
+        hi = 0
+        h = case%dx/real(case%ppc, wp)
+        do a = 1, case%dim
+            nsub = case%ncells(a)*case%ppc
+            lo(a) = max(0, ceiling((body%xmin(a) - case%origin(a))/h - 0.5_wp))
+            hi(a) = min(nsub - 1, ceiling((body%xmax(a) - case%origin(a))/h - 0.5_wp) - 1)
+        end do
+    end subroutine body_subcell_range
+
+end module mpm_case

@@ -1,0 +1,67 @@
+!> Linear elastic material with the Jaumann (objective) stress rate.
+module mpm_material_elastic
+    use mpm_kinds, only: wp
+    use mpm_material, only: material_type
+    use mpm_stress, only: jaumann_rotation
+    implicit none
+    private
+    public :: elastic_material_type, new_elastic_material
+
+    !> Isotropic linear elasticity (Hooke) in rate form.
+    type, extends(material_type) :: elastic_material_type
+        real(wp) :: young = 0.0_wp
+            !! Young's modulus E [Pa]
+        real(wp) :: poisson = 0.0_wp
+            !! Poisson's ratio nu [-]
+        real(wp) :: lame = 0.0_wp
+            !! first Lame parameter lambda [Pa]
+        real(wp) :: shear = 0.0_wp
+            !! shear modulus G [Pa]
+    contains
+        procedure :: update_stress => elastic_update_stress
+        procedure :: wave_speed => elastic_wave_speed
+    end type elastic_material_type
+
+contains
+
+    !> Construct a linear elastic material from E, nu and rho.
+    pure subroutine new_elastic_material(mat, name, young, poisson, density)
+        type(elastic_material_type), intent(out) :: mat
+            !! the material
+        character(len=*), intent(in) :: name
+            !! material name
+        real(wp), intent(in) :: young
+            !! Young's modulus [Pa]
+        real(wp), intent(in) :: poisson
+            !! Poisson's ratio [-]
+        real(wp), intent(in) :: density
+            !! mass density [kg/m3]
+
+        mat%name = name
+        mat%young = young
+        mat%poisson = poisson
+        mat%density = density
+        mat%shear = young/(2.0_wp*(1.0_wp + poisson))
+        mat%lame = young*poisson/((1.0_wp + poisson)*(1.0_wp - 2.0_wp*poisson))
+    end subroutine new_elastic_material
+
+    !> sigma_{n+1} = sigma_n + (Omega sigma_n - sigma_n Omega) + lambda tr(de) I + 2 G de.
+    pure subroutine elastic_update_stress(self, stress, dstrain, omega)
+        class(elastic_material_type), intent(in) :: self
+        real(wp), intent(inout) :: stress(:)
+        real(wp), intent(in) :: dstrain(:)
+        real(wp), intent(in) :: omega(3)
+
+        real(wp) :: dvol
+
+        dvol = dstrain(1) + dstrain(2) + dstrain(3)
+        stress = stress + jaumann_rotation(stress, omega) + 2.0_wp*self%shear*dstrain
+        stress(1:3) = stress(1:3) + self%lame*dvol
+    end subroutine elastic_update_stress
+
+    pure real(wp) function elastic_wave_speed(self)
+        class(elastic_material_type), intent(in) :: self
+        elastic_wave_speed = sqrt((self%lame + 2.0_wp*self%shear)/self%density)
+    end function elastic_wave_speed
+
+end module mpm_material_elastic

@@ -1,0 +1,66 @@
+!> Stress and strain conventions, and the objective (Jaumann) rotation.
+!>
+!> Conventions, kept everywhere in mpm-geo:
+!> - Cauchy stress, TENSION POSITIVE (compression negative, as in continuum mechanics).
+!> - Voigt order xx yy zz xy yz zx; 2D (plane strain) stores xx yy zz xy (4 components).
+!> - Strain increments are tensor components (eps_xy, not gamma_xy = 2 eps_xy).
+!> - Spin increments are the independent components of Omega = W dt,
+!>   W = (L - L^T)/2, L the velocity gradient: omega(1) = W_xy dt, omega(2) = W_yz dt,
+!>   omega(3) = W_zx dt.
+module mpm_stress
+    use mpm_kinds, only: wp
+    implicit none
+    private
+    public :: jaumann_rotation, trace, double_contraction
+
+contains
+
+    !> Rotation part of the Jaumann stress rate over a step: returns Omega sigma - sigma Omega.
+    !>
+    !> Added to the stress of the start of the step, it makes the update objective: a rigid
+    !> rotation turns the stress with the body instead of creating it.
+    pure function jaumann_rotation(stress, omega) result(dsig)
+        real(wp), intent(in) :: stress(:)
+            !! stress at the start of the step, 4 (2D) or 6 (3D) components [Pa]
+        real(wp), intent(in) :: omega(3)
+            !! spin increment W dt: xy, yz, zx components [-]
+        real(wp) :: dsig(size(stress))
+            !! stress increment from the rotation [Pa]
+
+        real(wp) :: s(3, 3), w(3, 3), r(3, 3)
+
+        if (size(stress) == 4) then
+            dsig(1) = 2.0_wp*omega(1)*stress(4)
+            dsig(2) = -2.0_wp*omega(1)*stress(4)
+            dsig(3) = 0.0_wp
+            dsig(4) = omega(1)*(stress(2) - stress(1))
+            return
+        end if
+        s = reshape([stress(1), stress(4), stress(6), &
+                     stress(4), stress(2), stress(5), &
+                     stress(6), stress(5), stress(3)], [3, 3])
+        w = reshape([0.0_wp, -omega(1), omega(3), &
+                     omega(1), 0.0_wp, -omega(2), &
+                     -omega(3), omega(2), 0.0_wp], [3, 3])
+        r = matmul(w, s) - matmul(s, w)
+        dsig = [r(1, 1), r(2, 2), r(3, 3), r(1, 2), r(2, 3), r(3, 1)]
+    end function jaumann_rotation
+
+    !> Trace of a symmetric tensor in Voigt storage.
+    pure real(wp) function trace(t)
+        real(wp), intent(in) :: t(:)
+            !! 4 or 6 components
+        trace = t(1) + t(2) + t(3)
+    end function trace
+
+    !> a : b for symmetric tensors in Voigt storage of tensor components.
+    pure real(wp) function double_contraction(a, b)
+        real(wp), intent(in) :: a(:)
+            !! 4 or 6 components
+        real(wp), intent(in) :: b(:)
+            !! 4 or 6 components
+        double_contraction = a(1)*b(1) + a(2)*b(2) + a(3)*b(3) &
+            + 2.0_wp*sum(a(4:size(a))*b(4:size(b)))
+    end function double_contraction
+
+end module mpm_stress

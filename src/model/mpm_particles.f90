@@ -1,0 +1,108 @@
+!> Material points as a structure of arrays.
+!>
+!> Components come first so the components of one particle are contiguous: `x(dim, n)`.
+!> A 2D (plane strain) case stores 2 vector components; stress and strain store the
+!> out-of-plane normal component too (4 components in 2D, 6 in 3D), Voigt order
+!> xx yy zz xy [yz zx]. Tension is positive. Strain components are tensor components
+!> (eps_xy, not the engineering shear gamma_xy = 2 eps_xy).
+module mpm_particles
+    use mpm_kinds, only: wp
+    use mpm_error, only: error_type, fatal_error, exit_other
+    implicit none
+    private
+    public :: particles_type, new_particles, nstress_of
+
+    !> All particles of a run.
+    type :: particles_type
+        integer :: n = 0
+            !! number of particles
+        integer :: dim = 2
+            !! space dimensions
+        integer :: nstress = 4
+            !! stress/strain components: 4 in 2D (xx yy zz xy), 6 in 3D (xx yy zz xy yz zx)
+        real(wp), allocatable :: x(:, :)
+            !! position (dim, n) [m]
+        real(wp), allocatable :: u(:, :)
+            !! displacement since the start of the run (dim, n) [m]
+        real(wp), allocatable :: v(:, :)
+            !! velocity (dim, n) [m/s]
+        real(wp), allocatable :: mass(:)
+            !! mass (n) [kg]; per metre of thickness in 2D [kg/m]
+        real(wp), allocatable :: volume(:)
+            !! current volume (n) [m3]; area in 2D [m2]
+        real(wp), allocatable :: volume0(:)
+            !! initial volume (n) [m3]; area in 2D [m2]
+        real(wp), allocatable :: stress(:, :)
+            !! Cauchy stress (nstress, n), tension positive [Pa]
+        real(wp), allocatable :: strain(:, :)
+            !! accumulated logarithmic-rate strain (nstress, n), tensor components [-]
+        real(wp), allocatable :: f(:, :, :)
+            !! deformation gradient (dim, dim, n) [-]
+        real(wp), allocatable :: lp0(:, :)
+            !! initial GIMP half-size of the particle domain (dim, n) [m]
+        real(wp), allocatable :: lp(:, :)
+            !! current GIMP half-size of the particle domain (dim, n) [m]
+        integer, allocatable :: material(:)
+            !! material index into case%materials (n)
+    end type particles_type
+
+contains
+
+    !> Number of stress components stored for a dimension: 4 in 2D, 6 in 3D.
+    pure integer function nstress_of(dim)
+        integer, intent(in) :: dim
+            !! space dimensions
+        if (dim == 2) then
+            nstress_of = 4
+        else
+            nstress_of = 6
+        end if
+    end function nstress_of
+
+    !> Allocate storage for n particles, zeroed (F set to the identity).
+    subroutine new_particles(particles, dim, n, error)
+        type(particles_type), intent(out) :: particles
+            !! particles to create
+        integer, intent(in) :: dim
+            !! space dimensions (2 or 3)
+        integer, intent(in) :: n
+            !! number of particles
+        type(error_type), allocatable, intent(out) :: error
+            !! set when memory cannot be allocated
+
+        integer :: stat, d
+        character(len=256) :: msg
+        character(len=32) :: buf
+
+        particles%n = n
+        particles%dim = dim
+        particles%nstress = nstress_of(dim)
+        allocate (particles%x(dim, n), particles%u(dim, n), particles%v(dim, n), &
+            particles%mass(n), particles%volume(n), particles%volume0(n), &
+            particles%stress(particles%nstress, n), particles%strain(particles%nstress, n), &
+            particles%f(dim, dim, n), particles%lp0(dim, n), particles%lp(dim, n), &
+            particles%material(n), stat=stat, errmsg=msg)
+        if (stat /= 0) then
+            write (buf, "(i0)") n
+            call fatal_error(error, "cannot allocate "//trim(buf)//" particles: "//trim(msg), &
+                exit_other)
+            return
+        end if
+        particles%x = 0.0_wp
+        particles%u = 0.0_wp
+        particles%v = 0.0_wp
+        particles%mass = 0.0_wp
+        particles%volume = 0.0_wp
+        particles%volume0 = 0.0_wp
+        particles%stress = 0.0_wp
+        particles%strain = 0.0_wp
+        particles%f = 0.0_wp
+        do d = 1, dim
+            particles%f(d, d, :) = 1.0_wp
+        end do
+        particles%lp0 = 0.0_wp
+        particles%lp = 0.0_wp
+        particles%material = 0
+    end subroutine new_particles
+
+end module mpm_particles

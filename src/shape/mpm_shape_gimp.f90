@@ -1,0 +1,114 @@
+!> Contiguous-particle GIMP (cpGIMP) shape functions.
+!>
+!> The 1D weight is the average of the linear hat function N_i over the particle domain
+!> [x_p - l_p, x_p + l_p] (Bardenhagen & Kober 2004). With r = x_p - x_i, cell size L and
+!> half-size l_p <= L/2:
+!>
+!>     S(r) = 1 - (r**2 + l_p**2) / (2 L l_p)        |r| <  l_p
+!>     S(r) = 1 - |r| / L                            l_p <= |r| <= L - l_p
+!>     S(r) = (L + l_p - |r|)**2 / (4 L l_p)          L - l_p < |r| < L + l_p
+!>     S(r) = 0                                      otherwise
+!>
+!> and dS/dx_p the analytic derivative of each piece. 2D and 3D weights are tensor products.
+!> The particle domain follows the deformation (the solver updates l_p from F).
+module mpm_shape_gimp
+    use mpm_kinds, only: wp
+    use mpm_grid, only: grid_type
+    use mpm_shape, only: shape_type, stencil_type, tensor_product
+    implicit none
+    private
+    public :: gimp_shape_type, gimp_weight, gimp_weights_1d
+
+    !> cpGIMP: a particle touches up to 3 nodes per direction (lp <= dx/2).
+    type, extends(shape_type) :: gimp_shape_type
+    contains
+        procedure :: evaluate => gimp_evaluate
+    end type gimp_shape_type
+
+contains
+
+    !> cpGIMP weight and derivative of one node for a particle at distance r = x_p - x_i.
+    pure elemental subroutine gimp_weight(r, lp, dx, s, ds)
+        real(wp), intent(in) :: r
+            !! particle position minus node position [m]
+        real(wp), intent(in) :: lp
+            !! particle half-size, 0 < lp <= dx/2 [m]
+        real(wp), intent(in) :: dx
+            !! cell size L [m]
+        real(wp), intent(out) :: s
+            !! weight [-]
+        real(wp), intent(out) :: ds
+            !! derivative with respect to x_p [1/m]
+
+        real(wp) :: ar
+
+        ar = abs(r)
+        if (ar < lp) then
+            s = 1.0_wp - (r*r + lp*lp)/(2.0_wp*dx*lp)
+            ds = -r/(dx*lp)
+        else if (ar <= dx - lp) then
+            s = 1.0_wp - ar/dx
+            ds = -sign(1.0_wp, r)/dx
+        else if (ar < dx + lp) then
+            s = (dx + lp - ar)**2/(4.0_wp*dx*lp)
+            ds = -sign(1.0_wp, r)*(dx + lp - ar)/(2.0_wp*dx*lp)
+        else
+            s = 0.0_wp
+            ds = 0.0_wp
+        end if
+    end subroutine gimp_weight
+
+    !> 1D cpGIMP weights of the three nodes around a particle.
+    pure subroutine gimp_weights_1d(xi, lp, dx, first, w, dw)
+        real(wp), intent(in) :: xi
+            !! particle coordinate in cell units, (x - origin) / dx [-]
+        real(wp), intent(in) :: lp
+            !! particle half-size [m]
+        real(wp), intent(in) :: dx
+            !! cell size [m]
+        integer, intent(out) :: first
+            !! first of the three nodes (0-based; may be -1 or past the grid, skipped later)
+        real(wp), intent(out) :: w(3)
+            !! weights [-]
+        real(wp), intent(out) :: dw(3)
+            !! derivatives [1/m]
+
+        integer :: cell, k
+        real(wp) :: lpc
+
+        lpc = min(max(lp, 1.0e-6_wp*dx), 0.5_wp*dx)
+        cell = floor(xi)
+        ! In the left half of a cell the node two cells to the right is out of reach
+        ! (distance >= 1.5 dx >= dx + lp), and symmetrically on the right half.
+        if (xi - real(cell, wp) < 0.5_wp) then
+            first = cell - 1
+        else
+            first = cell
+        end if
+        do k = 1, 3
+            call gimp_weight((xi - real(first + k - 1, wp))*dx, lpc, dx, w(k), dw(k))
+        end do
+    end subroutine gimp_weights_1d
+
+    pure subroutine gimp_evaluate(self, grid, xp, lp, st)
+        class(gimp_shape_type), intent(in) :: self
+        type(grid_type), intent(in) :: grid
+        real(wp), intent(in) :: xp(:)
+        real(wp), intent(in) :: lp(:)
+        type(stencil_type), intent(out) :: st
+
+        integer :: a, first(3)
+        real(wp) :: w1(3, 3), dw1(3, 3)
+
+        first = 0
+        w1 = 0.0_wp
+        dw1 = 0.0_wp
+        w1(1, 3) = 1.0_wp
+        do a = 1, grid%dim
+            call gimp_weights_1d((xp(a) - grid%origin(a))/grid%dx, lp(a), grid%dx, first(a), &
+                w1(:, a), dw1(:, a))
+        end do
+        call tensor_product(grid, first, 3, w1, dw1, st)
+    end subroutine gimp_evaluate
+
+end module mpm_shape_gimp

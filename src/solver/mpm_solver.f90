@@ -1,0 +1,250 @@
+!> The explicit MPM solver: builds a model from a case and advances it in time.
+!>
+!> One step (see docs/architecture.md):
+!>   P2G (mass, momentum, forces) -> nodal update (damping, boundaries, integration)
+!>   -> G2P (velocities, position increments) -> stress update -> move particles.
+!> The scheme only chooses where the stress update happens and which nodal velocities it
+!> sees: USF before the momentum update, USL after it with v_i^{n+1}, MUSL after it with
+!> nodal velocities remapped from the updated particle velocities.
+module mpm_solver
+    use mpm_kinds, only: wp, i8
+    use mpm_error, only: error_type, fatal_error, exit_numerical
+    use mpm_case, only: case_type, scheme_usf, scheme_usl, scheme_musl, damping_kinetic
+    use mpm_grid, only: grid_type, new_grid
+    use mpm_particles, only: particles_type
+    use mpm_bodies, only: create_particles
+    use mpm_shape, only: shape_type
+    use mpm_shape_factory, only: new_shape
+    use mpm_material, only: material_holder_type
+    use mpm_material_factory, only: new_materials
+    use mpm_state, only: load_state
+    use mpm_transfer, only: reset_grid, p2g, nodal_velocity, integrate_nodes, g2p, &
+        move_particles, remap_momentum, update_stress
+    implicit none
+    private
+    public :: simulation_type, new_simulation, advance, stable_time_step, energies_type
+    public :: compute_energies, has_text
+
+    !> Energy terms of a run [J] (per metre of thickness in 2D [J/m]).
+    type :: energies_type
+        real(wp) :: kinetic = 0.0_wp
+            !! sum 1/2 m v^2 [J]
+        real(wp) :: strain = 0.0_wp
+            !! work done by the stresses since the start (stored strain energy if elastic) [J]
+        real(wp) :: potential = 0.0_wp
+            !! gravitational potential relative to the start, - sum m g . u [J]
+        real(wp) :: damping = 0.0_wp
+            !! energy removed by damping since the start (positive) [J]
+    end type energies_type
+
+    !> A model in time: case, grid, particles, materials and the clock.
+    type :: simulation_type
+        type(case_type) :: case
+            !! resolved case
+        type(grid_type) :: grid
+            !! background grid
+        type(particles_type) :: particles
+            !! material points
+        type(material_holder_type), allocatable :: materials(:)
+            !! constitutive models, in case order
+        class(shape_type), allocatable :: shape
+            !! shape function
+        real(wp), allocatable :: wave_speed(:)
+            !! P-wave speed of each material [m/s]
+        real(wp), allocatable :: dxp(:, :)
+            !! scratch: position increments of the step (dim, n) [m]
+        real(wp) :: time = 0.0_wp
+            !! simulated time [s]
+        integer(i8) :: step = 0
+            !! steps done
+        real(wp) :: dt = 0.0_wp
+            !! time step of the last step [s]
+        type(energies_type) :: energy
+            !! energy terms, the kinetic energy updated every step
+        real(wp) :: kinetic_previous = 0.0_wp
+            !! kinetic energy of the previous step (kinetic damping) [J]
+    end type simulation_type
+
+contains
+
+    !> Build the model of a case: grid, materials, shape function and particles (from the
+    !> bodies, or from the state file when the case has load_state).
+    subroutine new_simulation(sim, case, error)
+        type(simulation_type), intent(out) :: sim
+            !! the simulation
+        type(case_type), intent(in) :: case
+            !! resolved case
+        type(error_type), allocatable, intent(out) :: error
+            !! set on allocation failure or an incompatible state file
+
+        real(wp) :: state_time
+        integer :: state_step, i, stat
+        character(len=256) :: msg
+
+        sim%case = case
+        call new_grid(sim%grid, case, error)
+        if (allocated(error)) return
+        call new_materials(sim%materials, case, error)
+        if (allocated(error)) return
+        allocate (sim%wave_speed(size(sim%materials)))
+        do i = 1, size(sim%materials)
+            sim%wave_speed(i) = sim%materials(i)%m%wave_speed()
+        end do
+        call new_shape(sim%shape, case%shape)
+        if (has_text(case%load_state)) then
+            call load_state(case%load_state, case, sim%particles, state_time, state_step, error)
+            if (allocated(error)) return
+            ! a new run starts from the loaded state: displacements count from here
+            sim%particles%u = 0.0_wp
+        else
+            call create_particles(case, sim%particles, error)
+            if (allocated(error)) return
+        end if
+        allocate (sim%dxp(case%dim, sim%particles%n), stat=stat, errmsg=msg)
+        if (stat /= 0) then
+            call fatal_error(error, "cannot allocate particle scratch: "//trim(msg))
+            return
+        end if
+        sim%dxp = 0.0_wp
+        call compute_energies(sim)
+        sim%kinetic_previous = sim%energy%kinetic
+    end subroutine new_simulation
+
+    !> True when an optional text setting is present and not empty.
+    pure logical function has_text(text)
+        character(len=:), allocatable, intent(in) :: text
+        has_text = .false.
+        if (allocated(text)) has_text = len(text) > 0
+    end function has_text
+
+    !> Time step: the fixed dt of the case, or C dx / max_p (c_p + |v_p|).
+    real(wp) function stable_time_step(sim)
+        type(simulation_type), intent(in) :: sim
+            !! the simulation
+
+        integer :: p
+        real(wp) :: speed
+
+        if (sim%case%dt > 0.0_wp) then
+            stable_time_step = sim%case%dt
+            return
+        end if
+        speed = 0.0_wp
+        !$omp parallel do default(none) schedule(static) shared(sim) private(p) &
+        !$omp reduction(max: speed)
+        do p = 1, sim%particles%n
+            speed = max(speed, sim%wave_speed(sim%particles%material(p)) &
+                + norm2(sim%particles%v(:, p)))
+        end do
+        !$omp end parallel do
+        stable_time_step = sim%case%cfl*sim%case%dx/max(speed, tiny(1.0_wp))
+    end function stable_time_step
+
+    !> Advance the simulation by one step of length dt.
+    subroutine advance(sim, dt, error)
+        type(simulation_type), intent(inout) :: sim
+            !! the simulation
+        real(wp), intent(in) :: dt
+            !! time step [s]
+        type(error_type), allocatable, intent(out) :: error
+            !! set on a numerical failure (exit_numerical)
+
+        real(wp) :: work, damping_work
+        integer :: scheme
+
+        scheme = sim%case%scheme
+        call reset_grid(sim%grid)
+        if (scheme == scheme_usf) then
+            call p2g(sim%grid, sim%particles, sim%shape, sim%case%gravity, .true., .false.)
+            call nodal_velocity(sim%grid)
+            call update_stress(sim%grid, sim%particles, sim%shape, sim%materials, dt, work)
+            call p2g(sim%grid, sim%particles, sim%shape, sim%case%gravity, .false., .true.)
+        else
+            call p2g(sim%grid, sim%particles, sim%shape, sim%case%gravity, .true., .true.)
+        end if
+        call integrate_nodes(sim%grid, dt, sim%case%damping, sim%case%damping_value, &
+            damping_work)
+        call g2p(sim%grid, sim%particles, sim%shape, dt, sim%dxp)
+        select case (scheme)
+        case (scheme_usl)
+            call update_stress(sim%grid, sim%particles, sim%shape, sim%materials, dt, work)
+        case (scheme_musl)
+            call remap_momentum(sim%grid, sim%particles, sim%shape)
+            call update_stress(sim%grid, sim%particles, sim%shape, sim%materials, dt, work)
+        end select
+        call move_particles(sim%grid, sim%particles, sim%dxp, error)
+        if (allocated(error)) then
+            error%message = step_prefix(sim)//error%message
+            return
+        end if
+        sim%time = sim%time + dt
+        sim%step = sim%step + 1
+        sim%dt = dt
+        sim%energy%strain = sim%energy%strain + work
+        sim%energy%damping = sim%energy%damping + damping_work
+        sim%energy%kinetic = kinetic_energy(sim%particles)
+        if (.not. (sim%energy%kinetic <= huge(1.0_wp))) then
+            call fatal_error(error, step_prefix(sim)//"the kinetic energy is not finite "// &
+                "(the run became unstable); reduce time.dt or time.cfl", exit_numerical)
+            return
+        end if
+        if (sim%case%damping == damping_kinetic) call kinetic_damping(sim)
+    end subroutine advance
+
+    !> "step N, t = T s: " for messages.
+    function step_prefix(sim) result(prefix)
+        type(simulation_type), intent(in) :: sim
+        character(len=:), allocatable :: prefix
+
+        character(len=64) :: buf
+
+        write (buf, "(a,i0,a,es12.5,a)") "step ", sim%step + 1, ", t = ", sim%time, " s: "
+        prefix = trim(buf)//" "
+    end function step_prefix
+
+    !> Dynamic relaxation: zero every velocity when the kinetic energy has passed a peak.
+    subroutine kinetic_damping(sim)
+        type(simulation_type), intent(inout) :: sim
+
+        if (sim%energy%kinetic < sim%kinetic_previous) then
+            sim%energy%damping = sim%energy%damping + sim%energy%kinetic
+            sim%particles%v = 0.0_wp
+            sim%energy%kinetic = 0.0_wp
+        end if
+        sim%kinetic_previous = sim%energy%kinetic
+    end subroutine kinetic_damping
+
+    !> Sum of 1/2 m |v|^2 over the particles [J].
+    real(wp) function kinetic_energy(particles)
+        type(particles_type), intent(in) :: particles
+
+        integer :: p
+
+        kinetic_energy = 0.0_wp
+        !$omp parallel do default(none) schedule(static) shared(particles) private(p) &
+        !$omp reduction(+: kinetic_energy)
+        do p = 1, particles%n
+            kinetic_energy = kinetic_energy + 0.5_wp*particles%mass(p)*sum(particles%v(:, p)**2)
+        end do
+        !$omp end parallel do
+    end function kinetic_energy
+
+    !> Refresh the kinetic and potential energy terms from the particles.
+    subroutine compute_energies(sim)
+        type(simulation_type), intent(inout) :: sim
+            !! the simulation
+
+        integer :: p, dim
+        real(wp) :: potential
+
+        dim = sim%case%dim
+        sim%energy%kinetic = kinetic_energy(sim%particles)
+        potential = 0.0_wp
+        do p = 1, sim%particles%n
+            potential = potential - sim%particles%mass(p) &
+                *dot_product(sim%case%gravity(1:dim), sim%particles%u(:, p))
+        end do
+        sim%energy%potential = potential
+    end subroutine compute_energies
+
+end module mpm_solver

@@ -1,0 +1,81 @@
+!> Verification: laterally confined column under its own weight (../shared/REFERENCES.md s. 2).
+!>
+!> Column of height H = 1 m between sliding walls on a fixed base, rho = 1800, E = 1 MPa,
+!> nu = 0.3, gravity 9.81, brought to rest by local damping. Exact small-strain solution:
+!> s_yy = -rho g (H - y), s_xx = nu / (1 - nu) s_yy. Checked: the stress of the lowest row
+!> of particles within 2 % of the exact value at their height, with cpGIMP and MUSL.
+program test_self_weight_column
+    use mpm_kinds, only: wp
+    use mpm_testing, only: test_suite_type, new_suite, check, check_close, finish
+    use mpm_error, only: error_type
+    use mpm_case, only: case_type, read_case_string
+    use mpm_solver, only: simulation_type, new_simulation, advance, stable_time_step
+    implicit none
+
+    type(test_suite_type) :: suite
+
+    call new_suite(suite, "self_weight_column")
+    call run_column("local", '"damping": {"type": "local", "value": 0.15}')
+    call run_column("kinetic", '"damping": {"type": "kinetic"}')
+    call finish(suite)
+
+contains
+
+    subroutine run_column(label, damping)
+        character(len=*), intent(in) :: label, damping
+
+        real(wp), parameter :: height = 1.0_wp, rho = 1800.0_wp, g = 9.81_wp, nu = 0.3_wp
+        type(case_type) :: case
+        type(simulation_type) :: sim
+        type(error_type), allocatable :: error
+        real(wp) :: ymin, y0, exact, syy, sxx, mass_row
+        integer :: p
+
+        call read_case_string('{"name": "column", "domain": {"nx": 4, "ny": 44, "dx": 0.025, '// &
+            '"boundaries": {"xmin": "sliding", "xmax": "sliding", "ymin": "fixed"}}, '// &
+            '"particles": {"ppc": 2}, "materials": [{"name": "soil", "type": "linear_elastic", '// &
+            '"E": 1e6, "nu": 0.3, "rho": 1800}], "bodies": [{"material": "soil", '// &
+            '"min": [0, 0], "max": [0.1, 1.0]}], "gravity": [0, -9.81], '// &
+            '"solver": {"scheme": "MUSL", "shape_function": "cpgimp"}, '// &
+            '"time": {"tend": 3.0, "cfl": 0.5}, '//damping//'}', case, error, "column")
+        call check(suite, .not. allocated(error), label//": case is valid")
+        if (allocated(error)) then
+            print "(a)", error%message
+            return
+        end if
+        call new_simulation(sim, case, error)
+        if (allocated(error)) return
+        do while (sim%time < case%tend)
+            call advance(sim, stable_time_step(sim), error)
+            if (allocated(error)) then
+                call check(suite, .false., label//": run failed: "//error%message)
+                return
+            end if
+        end do
+        ! lowest row of particles (initial y = dx / 4): mass-weighted mean stress
+        ymin = minval(sim%particles%x(2, :) - sim%particles%u(2, :))
+        syy = 0.0_wp
+        sxx = 0.0_wp
+        mass_row = 0.0_wp
+        y0 = ymin
+        do p = 1, sim%particles%n
+            if (sim%particles%x(2, p) - sim%particles%u(2, p) < ymin + 1.0e-9_wp) then
+                syy = syy + sim%particles%mass(p)*sim%particles%stress(2, p)
+                sxx = sxx + sim%particles%mass(p)*sim%particles%stress(1, p)
+                mass_row = mass_row + sim%particles%mass(p)
+            end if
+        end do
+        syy = syy/mass_row
+        sxx = sxx/mass_row
+        exact = -rho*g*(height - y0)
+        call check_close(suite, syy, exact, 0.02_wp*abs(exact), &
+            label//": base stress s_yy within 2 %")
+        call check_close(suite, sxx, nu/(1 - nu)*exact, 0.02_wp*abs(nu/(1 - nu)*exact), &
+            label//": base stress s_xx = nu/(1-nu) s_yy within 2 %")
+        call check(suite, sim%energy%kinetic < 1.0e-4_wp*sim%energy%strain, &
+            label//": column at rest (kinetic energy < 1e-4 strain energy)")
+        print "(a,2(a,es10.3))", label, ": base s_yy error ", syy/exact - 1, &
+            ", s_xx error ", sxx/(nu/(1 - nu)*exact) - 1
+    end subroutine run_column
+
+end program test_self_weight_column

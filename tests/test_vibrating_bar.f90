@@ -1,0 +1,110 @@
+!> Verification: axial vibration of an elastic bar (../shared/REFERENCES.md section 1).
+!>
+!> Bar of length L = 25 fixed at x = 0, free at x = L, E = 100, rho = 1, initial velocity
+!> v0 sin(beta x), beta = pi / (2 L), run as a one-cell strip with sliding faces (nu = 0).
+!> Exact centre-of-mass velocity: v_cm(t) = v0 / (beta L) cos(omega t), omega = beta sqrt(E/rho).
+!> Checked with cpGIMP and MUSL over 3 periods: the period and the amplitude of v_cm within 1 %,
+!> and the total energy (kinetic + strain) of this undamped run within 0.5 %.
+program test_vibrating_bar
+    use mpm_kinds, only: wp
+    use mpm_testing, only: test_suite_type, new_suite, check, check_close, finish
+    use mpm_error, only: error_type
+    use mpm_case, only: case_type, read_case_string
+    use mpm_solver, only: simulation_type, new_simulation, advance, stable_time_step, &
+        compute_energies
+    implicit none
+
+    type(test_suite_type) :: suite
+
+    call new_suite(suite, "vibrating_bar")
+    call run_bar("MUSL", "cpgimp")
+    call run_bar("USL", "cpgimp")
+    call finish(suite)
+
+contains
+
+    subroutine run_bar(scheme, shape)
+        character(len=*), intent(in) :: scheme, shape
+
+        real(wp), parameter :: length = 25.0_wp, young = 100.0_wp, rho = 1.0_wp, v0 = 0.1_wp
+        type(case_type) :: case
+        type(simulation_type) :: sim
+        type(error_type), allocatable :: error
+        real(wp) :: beta, omega, period, t_end, vcm, vcm_prev, t_prev, dt, amp_exact
+        real(wp) :: crossings(16), vmax, vmin, e0, e, drift, measured_period
+        integer :: ncross, p
+        character(len=:), allocatable :: label
+
+        label = scheme//"/"//shape
+        beta = acos(-1.0_wp)/(2*length)
+        omega = beta*sqrt(young/rho)
+        period = 2*acos(-1.0_wp)/omega
+        t_end = 3.2_wp*period
+        call read_case_string('{"name": "bar", "domain": {"nx": 52, "ny": 1, "dx": 0.5, '// &
+            '"boundaries": {"xmin": "fixed", "ymin": "sliding", "ymax": "sliding"}}, '// &
+            '"particles": {"ppc": 2}, "materials": [{"name": "m", "type": "linear_elastic", '// &
+            '"E": 100, "nu": 0, "rho": 1}], "bodies": [{"material": "m", "min": [0, 0], '// &
+            '"max": [25, 0.5]}], "solver": {"scheme": "'//scheme//'", "shape_function": "'// &
+            shape//'"}, "time": {"tend": 40, "cfl": 0.4}}', case, error, "bar")
+        call check(suite, .not. allocated(error), label//" case is valid")
+        if (allocated(error)) then
+            print "(a)", error%message
+            return
+        end if
+        call new_simulation(sim, case, error)
+        if (allocated(error)) return
+        do p = 1, sim%particles%n
+            sim%particles%v(:, p) = [v0*sin(beta*sim%particles%x(1, p)), 0.0_wp]
+        end do
+        call compute_energies(sim)
+        e0 = sim%energy%kinetic
+        amp_exact = v0/(beta*length)
+        vcm_prev = centre_velocity(sim)
+        t_prev = 0.0_wp
+        ncross = 0
+        vmax = -huge(1.0_wp)
+        vmin = huge(1.0_wp)
+        drift = 0.0_wp
+        do while (sim%time < t_end)
+            dt = stable_time_step(sim)
+            call advance(sim, dt, error)
+            if (allocated(error)) then
+                call check(suite, .false., label//" run: "//error%message)
+                return
+            end if
+            vcm = centre_velocity(sim)
+            vmax = max(vmax, vcm)
+            vmin = min(vmin, vcm)
+            if (vcm*vcm_prev < 0.0_wp .and. ncross < size(crossings)) then
+                ncross = ncross + 1
+                ! linear interpolation of the zero crossing
+                crossings(ncross) = t_prev + (sim%time - t_prev)*vcm_prev/(vcm_prev - vcm)
+            end if
+            vcm_prev = vcm
+            t_prev = sim%time
+            call compute_energies(sim)
+            e = sim%energy%kinetic + sim%energy%strain
+            drift = max(drift, abs(e - e0)/e0)
+        end do
+        call check(suite, ncross >= 6, label//" v_cm crosses zero at least 6 times")
+        if (ncross < 6) return
+        ! crossings k and k + 2 are one period apart; average over the available ones
+        measured_period = (crossings(ncross) - crossings(ncross - 2*((ncross - 1)/2))) &
+            /real((ncross - 1)/2, wp)
+        call check_close(suite, measured_period, period, 0.01_wp*period, &
+            label//" period of v_cm within 1 %")
+        call check_close(suite, vmax, amp_exact, 0.01_wp*amp_exact, &
+            label//" positive amplitude of v_cm within 1 %")
+        call check_close(suite, -vmin, amp_exact, 0.01_wp*amp_exact, &
+            label//" negative amplitude of v_cm within 1 %")
+        call check(suite, drift < 0.005_wp, label//" energy kinetic + strain conserved within 0.5 %")
+        print "(a,3(a,es10.3))", label, ": period error ", measured_period/period - 1, &
+            ", amplitude error ", vmax/amp_exact - 1, ", energy drift ", drift
+    end subroutine run_bar
+
+    real(wp) function centre_velocity(sim)
+        type(simulation_type), intent(in) :: sim
+        centre_velocity = sum(sim%particles%mass*sim%particles%v(1, :))/sum(sim%particles%mass)
+    end function centre_velocity
+
+end program test_vibrating_bar
