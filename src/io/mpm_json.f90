@@ -6,6 +6,8 @@
 module mpm_json
     use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_associated, c_int, c_double, &
         c_char, c_null_char, c_size_t, c_f_pointer
+    use, intrinsic :: ieee_exceptions, only: ieee_get_halting_mode, ieee_set_halting_mode, &
+        ieee_set_flag, ieee_overflow
     use mpm_kinds, only: wp
     use mpm_error, only: error_type, fatal_error, exit_input
     implicit none
@@ -45,6 +47,7 @@ module mpm_json
     integer(c_int), parameter :: cjson_false = 1, cjson_true = 2, cjson_nulltype = 4, &
         cjson_numbertype = 8, cjson_stringtype = 16, cjson_arraytype = 32, cjson_objecttype = 64
 
+    ! allow(assumed-size): C strings passed to cJSON
     interface
         function cjson_parse_with_length_opts(text, length, end_ptr, require_null) &
                 bind(c, name="cJSON_ParseWithLengthOpts") result(node)
@@ -129,10 +132,11 @@ contains
         character(len=:), allocatable :: name
         integer :: offset, line, column, i
         character(len=32) :: buf1, buf2
+        logical :: halt_overflow
 
         name = "<input>"
         if (present(source)) name = source
-        if (len_trim(text) == 0) then
+        if (verify(text, " "//achar(9)//achar(10)//achar(13)) == 0) then
             call fatal_error(error, name//": the file is empty; a case file is one JSON object", &
                 exit_input)
             return
@@ -142,8 +146,14 @@ contains
                 exit_input)
             return
         end if
+        call ieee_get_halting_mode(ieee_overflow, halt_overflow)
+        call ieee_set_halting_mode(ieee_overflow, .false.)
         doc%root = cjson_parse_with_length_opts(text//c_null_char, &
-            int(len(text), c_size_t), end_ptr, 0_c_int)
+            int(len(text) + 1, c_size_t), end_ptr, 1_c_int)
+        ! numbers such as 1e999 overflow to Inf inside strtod: the reader reports them as
+        ! out of range, so a build with floating-point traps must not halt here
+        call ieee_set_halting_mode(ieee_overflow, halt_overflow)
+        call ieee_set_flag(ieee_overflow, .false.)
         if (.not. c_associated(doc%root)) then
             ! cJSON leaves end_ptr at the position where parsing failed
             offset = error_offset(text, end_ptr)
@@ -403,8 +413,10 @@ contains
         character(kind=c_char), pointer :: chars(:)
         integer :: n, i
 
-        str = ""
-        if (.not. c_associated(ptr)) return
+        if (.not. c_associated(ptr)) then
+            str = ""
+            return
+        end if
         n = int(c_strlen(ptr))
         call c_f_pointer(ptr, chars, [n])
         allocate (character(len=n) :: str)

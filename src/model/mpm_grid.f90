@@ -104,6 +104,8 @@ contains
                 grid%constrained(axis, node) = .true.
             case (2)
                 grid%constrained(:, node) = .true.
+            case default
+                continue
             end select
         end subroutine constrain
 

@@ -10,7 +10,7 @@ module mpm_particles
     use mpm_error, only: error_type, fatal_error, exit_other
     implicit none
     private
-    public :: particles_type, new_particles, nstress_of
+    public :: particles_type, new_particles, nstress_of, particle_bytes
 
     !> All particles of a run.
     type :: particles_type
@@ -104,5 +104,21 @@ contains
         particles%lp = 0.0_wp
         particles%material = 0
     end subroutine new_particles
+
+    !> Bytes of particle storage per particle (all per-particle arrays).
+    pure integer function particle_bytes(particles)
+        type(particles_type), intent(in) :: particles
+            !! the particles
+
+        integer :: d, ns
+        integer :: real_bytes, int_bytes
+
+        d = particles%dim
+        ns = particles%nstress
+        real_bytes = storage_size(1.0_wp)/8
+        int_bytes = storage_size(1)/8
+        ! x, u, v, lp0, lp: d each; mass, volume, volume0: 1; stress, strain: ns; f: d*d
+        particle_bytes = real_bytes*(5*d + 3 + 2*ns + d*d) + int_bytes
+    end function particle_bytes
 
 end module mpm_particles

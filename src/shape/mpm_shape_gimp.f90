@@ -10,7 +10,8 @@
 !>     S(r) = 0                                      otherwise
 !>
 !> and dS/dx_p the analytic derivative of each piece. 2D and 3D weights are tensor products.
-!> The particle domain follows the deformation (the solver updates l_p from F).
+!> The particle domain follows the deformation (the solver updates l_p from F); next to a
+!> domain face it is truncated at the face so that the weights keep summing to one.
 module mpm_shape_gimp
     use mpm_kinds, only: wp
     use mpm_grid, only: grid_type
@@ -59,13 +60,15 @@ contains
     end subroutine gimp_weight
 
     !> 1D cpGIMP weights of the three nodes around a particle.
-    pure subroutine gimp_weights_1d(xi, lp, dx, first, w, dw)
+    pure subroutine gimp_weights_1d(xi, lp, dx, ncells, first, w, dw)
         real(wp), intent(in) :: xi
             !! particle coordinate in cell units, (x - origin) / dx [-]
         real(wp), intent(in) :: lp
             !! particle half-size [m]
         real(wp), intent(in) :: dx
             !! cell size [m]
+        integer, intent(in) :: ncells
+            !! cells along this axis
         integer, intent(out) :: first
             !! first of the three nodes (0-based; may be -1 or past the grid, skipped later)
         real(wp), intent(out) :: w(3)
@@ -76,7 +79,10 @@ contains
         integer :: cell, k
         real(wp) :: lpc
 
-        lpc = min(max(lp, 1.0e-6_wp*dx), 0.5_wp*dx)
+        ! The particle domain is kept inside the grid (truncated at the domain faces) so the
+        ! weights still sum to one next to a boundary; lp <= dx/2 keeps the 3-node support.
+        lpc = min(lp, 0.5_wp*dx, xi*dx, (real(ncells, wp) - xi)*dx)
+        lpc = max(lpc, 1.0e-6_wp*dx)
         cell = floor(xi)
         ! In the left half of a cell the node two cells to the right is out of reach
         ! (distance >= 1.5 dx >= dx + lp), and symmetrically on the right half.
@@ -105,8 +111,8 @@ contains
         dw1 = 0.0_wp
         w1(1, 3) = 1.0_wp
         do a = 1, grid%dim
-            call gimp_weights_1d((xp(a) - grid%origin(a))/grid%dx, lp(a), grid%dx, first(a), &
-                w1(:, a), dw1(:, a))
+            call gimp_weights_1d((xp(a) - grid%origin(a))/grid%dx, lp(a), grid%dx, &
+                grid%ncells(a), first(a), w1(:, a), dw1(:, a))
         end do
         call tensor_product(grid, first, 3, w1, dw1, st)
     end subroutine gimp_evaluate

@@ -4,6 +4,8 @@ module mpm_run
     use mpm_kinds, only: wp, i8
     use mpm_error, only: error_type, fatal_error, exit_input, exit_other
     use mpm_clock, only: wall_time
+    use mpm_system, only: peak_memory_mb
+    use mpm_particles, only: particle_bytes
     use mpm_case, only: case_type
     use mpm_solver, only: simulation_type, new_simulation, advance, stable_time_step, &
         compute_energies, has_text
@@ -38,6 +40,10 @@ module mpm_run
             !! particles x steps / wall time [1/s]
         integer :: outputs = 0
             !! particle output files written
+        integer :: bytes_per_particle = 0
+            !! particle storage per particle [bytes]
+        real(wp) :: peak_memory_mb = 0.0_wp
+            !! peak resident memory of the process [MB]
     end type run_summary_type
 
 contains
@@ -144,6 +150,8 @@ contains
             call save_state(case%save_state, case, sim%particles, sim%time, int(sim%step), error)
             if (allocated(error)) return
         end if
+        summary%bytes_per_particle = particle_bytes(sim%particles)
+        summary%peak_memory_mb = peak_memory_mb()
         if (.not. options%quiet) call print_summary(summary, case)
     end subroutine run_case
 
@@ -197,6 +205,9 @@ contains
         write (output_unit, "(a,es12.5,a)") "  simulated time       ", summary%time, " s"
         write (output_unit, "(a,f12.3,a)") "  wall time            ", summary%wall, " s"
         write (output_unit, "(a,es12.4)") "  particle-steps/s     ", summary%particle_steps_per_second
+        write (output_unit, "(a,f10.1,a)") "  peak memory          ", summary%peak_memory_mb, " MB"
+        write (output_unit, "(a,i0,a)") "  particle storage     ", summary%bytes_per_particle, &
+            " bytes/particle"
         write (output_unit, "(a,i0,a)") "  output files         ", summary%outputs, &
             " in "//case%output_dir
     end subroutine print_summary

@@ -171,6 +171,8 @@ contains
         case (scheme_musl)
             call remap_momentum(sim%grid, sim%particles, sim%shape)
             call update_stress(sim%grid, sim%particles, sim%shape, sim%materials, dt, work)
+        case default
+            continue ! USF: the stress was updated before the momentum
         end select
         call move_particles(sim%grid, sim%particles, sim%dxp, error)
         if (allocated(error)) then

@@ -217,8 +217,10 @@ contains
         do p = 1, particles%n
             particles%x(:, p) = particles%x(:, p) + dxp(:, p)
             particles%u(:, p) = particles%u(:, p) + dxp(:, p)
-            if (.not. (all(particles%x(:, p) >= lo(1:dim)) .and. all(particles%x(:, p) <= hi(1:dim)))) &
+            if (.not. (all(particles%x(:, p) >= lo(1:dim)) .and. &
+                       all(particles%x(:, p) <= hi(1:dim)))) then
                 bad = max(bad, p)
+            end if
         end do
         !$omp end parallel do
         if (bad > 0) call report_lost(particles, bad, lo, hi, error)
@@ -230,16 +232,32 @@ contains
         real(wp), intent(in) :: lo(3), hi(3)
         type(error_type), allocatable, intent(out) :: error
 
-        character(len=400) :: msg
+        character(len=600) :: msg
         integer :: dim
 
         dim = particles%dim
-        write (msg, "(a,i0,a,3es12.4)") "particle ", p, " left the grid: position", &
-            particles%x(:, p)
-        write (msg, "(a,a,3es12.4,a,3es12.4,a)") trim(msg), "; grid spans", lo(1:dim), " to", &
-            hi(1:dim), " [m]; enlarge the domain or close its faces with boundary conditions"
+        write (msg, "(a,i0,a,a,a,a,a,a,a)") "particle ", p, " left the grid: position (", &
+            vector_text(particles%x(:, p)), ") m, grid from (", vector_text(lo(1:dim)), &
+            ") to (", vector_text(hi(1:dim)), &
+            ") m; enlarge the domain or close its faces with boundary conditions"
         call fatal_error(error, trim(msg), exit_numerical)
     end subroutine report_lost
+
+    !> Comma-separated short form of a vector, for messages.
+    function vector_text(v) result(text)
+        real(wp), intent(in) :: v(:)
+        character(len=:), allocatable :: text
+
+        character(len=24) :: buf
+        integer :: i
+
+        text = ""
+        do i = 1, size(v)
+            write (buf, "(es11.4)") v(i)
+            text = text//trim(adjustl(buf))
+            if (i < size(v)) text = text//", "
+        end do
+    end function vector_text
 
     !> MUSL: map the updated particle momentum back to the nodes and recompute v_i.
     subroutine remap_momentum(grid, particles, shape)

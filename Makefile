@@ -1,0 +1,104 @@
+# mpm-geo: the usual entry points. `make help` lists them.
+# CMake does the building; this file only chains the steps and installs what is missing.
+
+SHELL := /bin/sh
+.DEFAULT_GOAL := help
+
+BUILD_DIR       := build
+DEBUG_DIR       := build-debug
+VENV            := .venv
+PYTHON          := $(VENV)/bin/python
+CASE            := inputs/base_case.json
+JOBS            := $(shell nproc 2>/dev/null || echo 2)
+CTEST_JOBS      := 2
+# Python test folders that exist (tests/python may come later).
+PYTEST_DIRS      = $(wildcard postproc/tests tests/python)
+LINT_DIRS        = $(wildcard src app)
+
+.PHONY: help deps deps-paraview build run test test-fortran test-python check lint \
+        debug test-debug bench validate clean
+
+help:
+	@echo "mpm-geo make targets:"
+	@echo "  make run         install what is missing, build, run $(CASE) into outputs/"
+	@echo "  make test        install what is missing (with ParaView), build, run all tests + linter"
+	@echo "  make deps        install missing system packages and the Python environment ($(VENV))"
+	@echo "  make build       configure $(BUILD_DIR)/ (Release) if needed and build"
+	@echo "  make debug       configure $(DEBUG_DIR)/ (Debug: runtime checks, FPE traps) and build"
+	@echo "  make test-debug  run the CTest suite of the debug build"
+	@echo "  make check       Fortran linter (fortitude) on src/ and app/; 'make lint' is the same"
+	@echo "  make bench       run the benchmarks (bench/run_bench.sh)"
+	@echo "  make validate    run the validation cases (validation/run_all.sh)"
+	@echo "  make clean       remove $(BUILD_DIR)/ and $(DEBUG_DIR)/ (outputs/ and $(VENV)/ are kept)"
+
+deps:
+	@bash scripts/install_deps.sh
+
+deps-paraview:
+	@bash scripts/install_deps.sh --with-paraview
+
+# Configure only once: later builds keep the user's cache (options set with cmake -D...).
+# A failed first configure leaves a cache behind; remove it so the next make tries again.
+# A cache without a generated build system (configure failed later) is configured again.
+$(BUILD_DIR)/CMakeCache.txt:
+	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release || { rm -f $@; exit 1; }
+
+build: $(BUILD_DIR)/CMakeCache.txt
+	@[ -f $(BUILD_DIR)/Makefile ] || [ -f $(BUILD_DIR)/build.ninja ] || cmake -S . -B $(BUILD_DIR)
+	cmake --build $(BUILD_DIR) -j $(JOBS)
+
+# --overwrite: the default run replaces its own previous output; other cases are not touched.
+run: deps
+	@$(MAKE) --no-print-directory build
+	./$(BUILD_DIR)/mpm_geo $(CASE) --overwrite
+
+# The three suites run one after the other; --keep-going runs all of them even when one fails
+# (make still exits non-zero), so one CI run reports every failure.
+test: deps-paraview
+	@$(MAKE) --no-print-directory build
+	@$(MAKE) --no-print-directory --keep-going -j1 test-fortran test-python lint
+
+test-fortran:
+	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(CTEST_JOBS)
+
+test-python:
+	@if [ -n "$(PYTEST_DIRS)" ]; then \
+	    echo "$(PYTHON) -m pytest -q $(PYTEST_DIRS)"; \
+	    $(PYTHON) -m pytest -q $(PYTEST_DIRS); \
+	else \
+	    echo "no Python tests found"; \
+	fi
+
+# Configuration in fortitude.toml; any finding fails.
+check lint:
+	@test -x $(VENV)/bin/fortitude || bash scripts/install_deps.sh
+	$(VENV)/bin/fortitude check $(LINT_DIRS)
+
+$(DEBUG_DIR)/CMakeCache.txt:
+	cmake -S . -B $(DEBUG_DIR) -DCMAKE_BUILD_TYPE=Debug || { rm -f $@; exit 1; }
+
+debug: $(DEBUG_DIR)/CMakeCache.txt
+	@[ -f $(DEBUG_DIR)/Makefile ] || [ -f $(DEBUG_DIR)/build.ninja ] || cmake -S . -B $(DEBUG_DIR)
+	cmake --build $(DEBUG_DIR) -j $(JOBS)
+
+test-debug: debug
+	ctest --test-dir $(DEBUG_DIR) --output-on-failure -j $(CTEST_JOBS)
+
+bench: deps
+	@$(MAKE) --no-print-directory build
+	@if [ -f bench/run_bench.sh ]; then \
+	    bash bench/run_bench.sh; \
+	else \
+	    echo "no benchmarks yet (bench/run_bench.sh is missing)"; \
+	fi
+
+validate: deps
+	@$(MAKE) --no-print-directory build
+	@if [ -f validation/run_all.sh ]; then \
+	    bash validation/run_all.sh; \
+	else \
+	    echo "nothing to validate yet (validation/run_all.sh is missing)"; \
+	fi
+
+clean:
+	rm -rf $(BUILD_DIR) $(DEBUG_DIR)

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Speed benchmarks of mpm_geo (not a test): runs each case in bench/cases/ with 1 and 2
+# OpenMP threads and prints particles, nodes, steps, wall time, particle-steps per second and
+# memory, as a table and as one machine-readable line per run ("BENCH key=value ...").
+# Usage: bench/run_bench.sh [path/to/mpm_geo] [case.json ...]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+exe=${1:-build/mpm_geo}
+shift || true
+cases=("$@")
+[ ${#cases[@]} -gt 0 ] || cases=(bench/cases/*.json)
+[ -x "$exe" ] || { echo "bench: $exe not found; run 'make build' first" >&2; exit 1; }
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
+echo "mpm_geo: $($exe --version)"
+printf '%-16s %7s %10s %9s %7s %9s %14s %10s %12s\n' case threads particles nodes steps wall_s \
+    particle-steps/s peak_MB bytes/particle
+for c in "${cases[@]}"; do
+    name=$(basename "$c" .json)
+    for t in 1 2; do
+        log="$out/$name-$t.log"
+        OMP_NUM_THREADS=$t OMP_PROC_BIND=true /usr/bin/env "$exe" "$c" --output "$out/$name-$t" \
+            > "$log" 2>&1 || { echo "bench: $name failed:"; cat "$log"; exit 1; }
+        get() { awk -v k="$1" '$1 == k {print $2}' "$log"; }
+        parts=$(get particles); nodes=$(get nodes); steps=$(get steps)
+        wall=$(awk '$1 == "wall" {print $3}' "$log")
+        pps=$(awk '$1 == "particle-steps/s" {print $2}' "$log")
+        peak=$(awk '$1 == "peak" {print $3}' "$log")
+        bpp=$(awk '$1 == "particle" && $2 == "storage" {print $3}' "$log")
+        printf '%-16s %7s %10s %9s %7s %9.2f %14.4g %10.1f %12s\n' "$name" "$t" "$parts" \
+            "$nodes" "$steps" "$wall" "$pps" "$peak" "$bpp"
+        echo "BENCH case=$name threads=$t particles=$parts nodes=$nodes steps=$steps" \
+             "wall_s=$wall particle_steps_per_s=$pps peak_mb=$peak bytes_per_particle=$bpp" >> "$out/lines"
+    done
+done
+cat "$out/lines"

@@ -1,0 +1,123 @@
+"""python -m mpm_post: summary, energy and field commands."""
+
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from mpm_post_fakerun import POSTPROC, particle_fields
+
+from mpm_post.cli import main
+
+
+def run(argv, capsys):
+    code = main(argv)
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+def test_summary(make_run, capsys):
+    run_dir = make_run(dim=3, times=(0.0, 0.25, 0.5), n=8, name="column")
+    code, out, err = run(["summary", str(run_dir)], capsys)
+    assert code == 0, err
+    assert "outputs: 3" in out
+    assert "times [s]: 0 0.25 0.5" in out
+    assert "case: column" in out
+    assert "dimension: 3" in out
+    assert "particles: 8" in out
+    assert "last output: step 20, time 0.5 s" in out
+    assert "final kinetic energy [J]: 2.000000e+00" in out
+    assert "energy drift: 4.000e-02" in out
+
+
+def test_summary_many_outputs_are_abbreviated(make_run, capsys):
+    run_dir = make_run(times=tuple(0.1 * i for i in range(10)), history=False)
+    code, out, _ = run(["summary", str(run_dir)], capsys)
+    assert code == 0
+    assert "outputs: 10" in out
+    assert "times [s]: 0 0.1 0.2 ... 0.7 0.8 0.9" in out
+    assert "history: no history.csv" in out
+
+
+def test_summary_missing_run(tmp_path, capsys):
+    code, out, err = run(["summary", str(tmp_path / "missing")], capsys)
+    assert code == 1
+    assert "mpm_post: error: run directory not found" in err
+    assert out == ""
+
+
+def test_energy_plot(make_run, tmp_path, capsys):
+    out_file = tmp_path / "figs" / "energy.png"
+    code, out, err = run(["energy", str(make_run()), "--out", str(out_file)], capsys)
+    assert code == 0, err
+    assert out_file.is_file() and out_file.stat().st_size > 1000
+    assert str(out_file) in out
+
+
+def test_energy_without_history(make_run, tmp_path, capsys):
+    code, _, err = run(["energy", str(make_run(history=False)), "--out",
+                        str(tmp_path / "e.png")], capsys)
+    assert code == 1
+    assert "history file not found" in err
+    assert not (tmp_path / "e.png").exists()
+
+
+def stats_rows(out):
+    """{component: (min, max, mean)} from the field command's table."""
+    rows = {}
+    for line in out.splitlines()[2:]:
+        label, *values = line.split()
+        rows[label] = tuple(float(v) for v in values)
+    return rows
+
+
+@pytest.mark.parametrize("dim,labels", [(2, ["xx", "yy", "zz", "xy"]),
+                                        (3, ["xx", "yy", "zz", "xy", "yz", "zx"])])
+def test_field_stress_stats(make_run, capsys, dim, labels):
+    run_dir = make_run(dim=dim, times=(0.0, 0.5, 1.0), n=8)
+    code, out, err = run(["field", str(run_dir), "--field", "stress", "--time", "0.4"], capsys)
+    assert code == 0, err
+    assert out.startswith("stress at time 0.5 s (step 10), 8 particles")
+    stress = particle_fields(dim, 8, 0.5)["stress"]
+    rows = stats_rows(out)
+    assert list(rows) == labels
+    for k, label in enumerate(labels):
+        np.testing.assert_allclose(rows[label], (stress[:, k].min(), stress[:, k].max(),
+                                                 stress[:, k].mean()), rtol=1e-6)
+
+
+def test_field_scalar_and_vector(make_run, capsys):
+    run_dir = make_run(times=(0.0,), n=8)
+    code, out, _ = run(["field", str(run_dir), "--field", "mass"], capsys)
+    assert code == 0
+    assert stats_rows(out) == {"mass": (2.5, 2.5, 2.5)}
+    code, out, _ = run(["field", str(run_dir), "--field", "velocity"], capsys)
+    assert code == 0
+    assert list(stats_rows(out)) == ["x", "y", "z"]
+
+
+def test_field_unknown(make_run, capsys):
+    code, _, err = run(["field", str(make_run()), "--field", "pressure"], capsys)
+    assert code == 1
+    assert "no field 'pressure'" in err
+    assert "stress" in err and "velocity" in err
+
+
+def test_bad_command_line(capsys):
+    with pytest.raises(SystemExit) as exit_info:
+        main(["nonsense"])
+    assert exit_info.value.code == 2
+
+
+def test_python_dash_m(make_run):
+    """The module entry point, run as a user would from the repository root."""
+    env = dict(os.environ, PYTHONPATH=str(POSTPROC))
+    result = subprocess.run([sys.executable, "-m", "mpm_post", "summary", str(make_run())],
+                            env=env, capture_output=True, text=True, timeout=120, check=False)
+    assert result.returncode == 0, result.stderr
+    assert "outputs: 3" in result.stdout
+    missing = subprocess.run([sys.executable, "-m", "mpm_post", "summary", "/nonexistent/run"],
+                             env=env, capture_output=True, text=True, timeout=120, check=False)
+    assert missing.returncode == 1
+    assert "run directory not found" in missing.stderr

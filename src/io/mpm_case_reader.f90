@@ -1,0 +1,1798 @@
+!> Case-file reader: strict checks of the JSON case file and resolution of every default.
+!>
+!> Every key is read through a few typed getters (`get_real`, `get_int`, `get_vector`,
+!> `get_string`, `get_choice`, `get_bool`, `get_section`) that write the messages, so a
+!> missing key, a wrong type and an out-of-range value are reported the same way everywhere:
+!> the key path, what was found and what is allowed. Every object is checked by `check_keys`
+!> for unknown and duplicate keys before its values are read. The first error found is
+!> returned (code exit_input); every message starts with the case file name.
+submodule (mpm_case) mpm_case_reader
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+    use mpm_kinds, only: i8
+    use mpm_error, only: fatal_error, exit_input
+    use mpm_json, only: json_document_type, json_value_type, json_parse_file, &
+        json_parse_string, json_free, json_root, json_is_valid, json_is_object, json_type_name, &
+        json_get, json_size, json_item, json_key, json_number, json_string, json_bool
+    implicit none
+
+    ! Allowed keys of each object of a case file
+    character(len=*), parameter :: top_keys(*) = [character(len=10) :: "name", "dimension", &
+        "domain", "particles", "materials", "bodies", "gravity", "solver", "time", "damping", &
+        "contact", "output", "progress", "save_state", "load_state"]
+    character(len=*), parameter :: domain_keys(*) = [character(len=10) :: "nx", "ny", "nz", &
+        "dx", "origin", "boundaries"]
+    character(len=*), parameter :: face_keys(*) = [character(len=4) :: "xmin", "xmax", &
+        "ymin", "ymax", "zmin", "zmax"]
+    character(len=*), parameter :: particle_keys(*) = [character(len=12) :: "ppc", &
+        "distribution", "seed"]
+    character(len=*), parameter :: material_keys(*) = [character(len=4) :: "name", "type", &
+        "E", "nu", "rho"]
+    character(len=*), parameter :: body_keys(*) = [character(len=8) :: "name", "material", &
+        "min", "max", "velocity"]
+    character(len=*), parameter :: solver_keys(*) = [character(len=14) :: "scheme", &
+        "shape_function"]
+    character(len=*), parameter :: time_keys(*) = [character(len=4) :: "tend", "dt", "cfl"]
+    character(len=*), parameter :: damping_keys(*) = [character(len=5) :: "type", "value"]
+    character(len=*), parameter :: contact_keys(*) = [character(len=4) :: "type", "mu", "file"]
+    character(len=*), parameter :: output_keys(*) = [character(len=16) :: "interval", "fields", &
+        "grid", "directory", "overwrite", "history_interval"]
+    character(len=*), parameter :: progress_keys(*) = [character(len=8) :: "interval"]
+
+    character(len=*), parameter :: axis_names = "xyz"
+    real(wp), parameter :: box_tolerance = 1.0e-9_wp
+        !! tolerance of box tests, relative to dx: absorbs round-off of corners like 3*0.1
+    real(wp), parameter :: max_steps = 1.0e9_wp
+        !! largest number of time steps a case may need
+    integer, parameter :: domain_digits = 12
+        !! significant digits of computed coordinates (origin + n dx) in messages
+
+    !> Decimal text of an integer of default or i8 kind.
+    interface itoa
+        module procedure itoa_default, itoa_i8
+    end interface itoa
+
+contains
+
+    module procedure read_case_file
+        type(json_document_type) :: doc
+
+        call json_parse_file(path, doc, error)
+        if (.not. allocated(error)) then
+            call resolve_case(json_root(doc), path, base_name(path), case, error)
+        end if
+        call json_free(doc)
+    end procedure read_case_file
+
+    module procedure read_case_string
+        type(json_document_type) :: doc
+        character(len=:), allocatable :: src, default_name
+
+        src = "<string>"
+        default_name = "case"
+        if (present(source)) then
+            if (len_trim(source) > 0) then
+                src = source
+                default_name = base_name(source)
+            end if
+        end if
+        call json_parse_string(text, doc, error, src)
+        if (.not. allocated(error)) then
+            call resolve_case(json_root(doc), src, default_name, case, error)
+        end if
+        call json_free(doc)
+    end procedure read_case_string
+
+    module procedure case_summary
+        character(len=*), parameter :: nl = new_line("a")
+        character(len=:), allocatable :: line
+        integer :: d, m, b, f, dim
+        integer(i8) :: count, total
+        real(wp) :: extent(3)
+
+        dim = case%dim
+        text = ""
+        text = text//"case        "//text_or(case%name, "?")//" ("//text_or(case%file, "?")//")"//nl
+        if (dim == 2) then
+            text = text//"dimension   2 (plane strain)"//nl
+        else
+            text = text//"dimension   3"//nl
+        end if
+        line = "grid        "//int_list(case%ncells(1:dim), " x ")//" cells, " &
+            //int_list(case%ncells(1:dim) + 1, " x ")//" = "//itoa(node_count(case)) &
+            //" nodes, dx = "//fmt_real(case%dx)//" m"
+        text = text//line//nl
+        extent(1:dim) = case%origin(1:dim) + case%ncells(1:dim)*case%dx
+        text = text//"domain      "//fmt_box(case%origin(1:dim), extent(1:dim), domain_digits) &
+            //" m (origin "//fmt_vector(case%origin(1:dim))//")"//nl
+        line = "boundaries "
+        do d = 1, dim
+            line = line//" "//axis_names(d:d)//"min "//trim(bc_names(case%bc(1, d)))//", " &
+                //axis_names(d:d)//"max "//trim(bc_names(case%bc(2, d)))
+            if (d < dim) line = line//","
+        end do
+        text = text//line//nl
+        line = "particles   ppc = "//itoa(case%ppc)//" ("//itoa(case%ppc**dim)//" per cell), " &
+            //trim(distribution_names(case%distribution))
+        if (case%distribution == dist_random) line = line//", seed "//itoa(case%seed)
+        text = text//line//nl
+        if (allocated(case%materials)) then
+            text = text//"materials   "//itoa(size(case%materials))//nl
+            do m = 1, size(case%materials)
+                associate (mat => case%materials(m))
+                    text = text//'  "'//text_or(mat%name, "?")//'" '//text_or(mat%type, "?") &
+                        //": E = "//fmt_real(mat%young)//" Pa, nu = "//fmt_real(mat%poisson) &
+                        //", rho = "//fmt_real(mat%density)//" kg/m3, c_p = " &
+                        //fmt_real(p_wave_speed(mat), 6)//" m/s"//nl
+                end associate
+            end do
+        end if
+        if (allocated(case%bodies)) then
+            if (size(case%bodies) == 0) then
+                text = text//"bodies      none (the particles come from load_state)"//nl
+            else
+                total = 0
+                do b = 1, size(case%bodies)
+                    total = total + body_particle_count(case, case%bodies(b))
+                end do
+                text = text//"bodies      "//itoa(size(case%bodies))//", "//itoa(total) &
+                    //" particles"//nl
+            end if
+            do b = 1, size(case%bodies)
+                associate (body => case%bodies(b))
+                    count = body_particle_count(case, body)
+                    line = '  "'//text_or(body%name, "?")//'"'
+                    if (allocated(case%materials)) then
+                        if (body%material >= 1 .and. body%material <= size(case%materials)) then
+                            line = line//' material "'//case%materials(body%material)%name//'"'
+                        end if
+                    end if
+                    text = text//line//": "//fmt_box(body%xmin(1:dim), body%xmax(1:dim)) &
+                        //" m, v = "//fmt_vector(body%velocity(1:dim))//" m/s, " &
+                        //itoa(count)//" particles"//nl
+                end associate
+            end do
+        end if
+        text = text//"gravity     "//fmt_vector(case%gravity(1:dim))//" m/s2"//nl
+        text = text//"solver      scheme "//trim(scheme_names(case%scheme))//", shape function " &
+            //trim(shape_names(case%shape))//nl
+        line = "time        tend = "//fmt_real(case%tend)//" s, "
+        if (case%dt > 0.0_wp) then
+            line = line//"dt = "//fmt_real(case%dt)//" s (fixed)"
+        else
+            line = line//"dt from CFL = "//fmt_real(case%cfl)
+        end if
+        if (allocated(case%materials)) then
+            if (size(case%materials) > 0) line = line//", critical time step " &
+                //fmt_real(case_critical_step(case), 6)//" s at t = 0"
+        end if
+        text = text//line//nl
+        line = "damping     "//trim(damping_names(case%damping))
+        if (case%damping == damping_local) line = line//", alpha = "//fmt_real(case%damping_value)
+        text = text//line//nl
+        text = text//"contact     "//text_or(case%contact_type, "none")//nl
+        line = "output      "//text_or(case%output_dir, "?")
+        if (case%output_interval > 0.0_wp) then
+            line = line//", every "//fmt_real(case%output_interval)//" s"
+        else
+            line = line//", initial and final state only"
+        end if
+        line = line//", grid "//yes_no(case%output_grid)//", overwrite "//yes_no(case%overwrite)
+        text = text//line//nl
+        line = "fields     "
+        do f = 1, nfields
+            if (case%output_fields(f)) line = line//" "//trim(field_names(f))
+        end do
+        text = text//line//nl
+        if (case%history_interval > 0.0_wp) then
+            text = text//"history     every "//fmt_real(case%history_interval)//" s"//nl
+        else
+            text = text//"history     every time step"//nl
+        end if
+        text = text//"progress    every "//fmt_real(case%progress_seconds)//" s (wall clock)"//nl
+        text = text//"save_state  "//text_or(case%save_state, "(none)", .true.)//nl
+        text = text//"load_state  "//text_or(case%load_state, "(none)", .true.)
+    end procedure case_summary
+
+    ! ----------------------------------------------------------------------------------------
+    ! Sections of the case file, in the order they are checked
+    ! ----------------------------------------------------------------------------------------
+
+    !> Check a parsed document and resolve it into `case`.
+    subroutine resolve_case(root, src, default_name, case, error)
+        type(json_value_type), intent(in) :: root
+            !! top-level value of the document
+        character(len=*), intent(in) :: src
+            !! case file name, first word of every message
+        character(len=*), intent(in) :: default_name
+            !! case name when the file gives none
+        type(case_type), intent(out) :: case
+            !! resolved case
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        case%file = src
+        case%contact_type = "none"
+        case%save_state = ""
+        case%load_state = ""
+        if (.not. json_is_object(root)) then
+            call input_error(error, src, "the top level must be a JSON object { ... } holding " &
+                //"the case keys, found "//describe(root))
+            return
+        end if
+        call check_keys(root, "", top_keys, src, error)
+        if (allocated(error)) return
+        call read_name(root, src, default_name, case, error)
+        if (allocated(error)) return
+        call read_domain(root, src, case, error)
+        if (allocated(error)) return
+        call read_particles(root, src, case, error)
+        if (allocated(error)) return
+        call read_materials(root, src, case, error)
+        if (allocated(error)) return
+        call read_states(root, src, case, error)
+        if (allocated(error)) return
+        call read_bodies(root, src, case, error)
+        if (allocated(error)) return
+        call get_vector(root, "gravity", "", src, case%dim, case%gravity, error, unit="m/s2")
+        if (allocated(error)) return
+        call read_solver(root, src, case, error)
+        if (allocated(error)) return
+        call read_time(root, src, case, error)
+        if (allocated(error)) return
+        call read_damping(root, src, case, error)
+        if (allocated(error)) return
+        call read_contact(root, src, error)
+        if (allocated(error)) return
+        call read_output(root, src, case, error)
+        if (allocated(error)) return
+        call read_progress(root, src, case, error)
+    end subroutine resolve_case
+
+    !> `name`: default from the file name; it becomes a folder name, so keep it simple.
+    subroutine read_name(root, src, default_name, case, error)
+        type(json_value_type), intent(in) :: root
+            !! top-level object
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        character(len=*), intent(in) :: default_name
+            !! name used when the key is absent
+        type(case_type), intent(inout) :: case
+            !! case being resolved
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        character(len=*), parameter :: rule = "use only letters, digits, '-', '_' and '.', " &
+            //"not starting with '.' (the name is used as the output folder name)"
+        logical :: found
+
+        case%name = default_name
+        call get_string(root, "name", "", src, case%name, error, found=found)
+        if (allocated(error)) return
+        if (valid_name(case%name)) return
+        if (found) then
+            call input_error(error, src, 'name = "'//case%name//'" is not allowed: '//rule)
+        else
+            call input_error(error, src, 'the case name "'//case%name//'" taken from the file ' &
+                //"name is not allowed: "//rule//'; set "name" in the case file')
+        end if
+    end subroutine read_name
+
+    !> `dimension` and `domain`: the grid.
+    subroutine read_domain(root, src, case, error)
+        type(json_value_type), intent(in) :: root
+            !! top-level object
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        type(case_type), intent(inout) :: case
+            !! case being resolved
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(json_value_type) :: domain
+        logical :: has_nz
+        integer :: d, dim
+        real(wp) :: nodes
+
+        call get_section(root, "domain", "", src, domain_keys, domain, error, required=.true.)
+        if (allocated(error)) return
+        has_nz = json_is_valid(json_get(domain, "nz"))
+        dim = merge(3, 2, has_nz)
+        call get_int(root, "dimension", "", src, dim, error, at_least=2, at_most=3)
+        if (allocated(error)) return
+        if (dim == 2 .and. has_nz) then
+            call input_error(error, src, "domain.nz is given but dimension = 2: remove " &
+                //'domain.nz for a 2D case or set "dimension": 3')
+            return
+        end if
+        if (dim == 3 .and. .not. has_nz) then
+            call input_error(error, src, "missing required key 'domain.nz' (an integer >= 1, " &
+                //"cells along z): dimension = 3 needs it")
+            return
+        end if
+        case%dim = dim
+        do d = 1, dim
+            call get_int(domain, "n"//axis_names(d:d), "domain", src, case%ncells(d), error, &
+                required=.true., at_least=1)
+            if (allocated(error)) return
+        end do
+        ! the grid numbers its nodes with default integers
+        nodes = product(real(case%ncells(1:dim), wp) + 1.0_wp)
+        if (nodes > real(huge(1), wp)) then
+            call input_error(error, src, "domain: "//int_list(case%ncells(1:dim), " x ") &
+                //" cells make "//fmt_real(nodes, 3)//" nodes, more than the " &
+                //itoa(huge(1))//" this version can number; use fewer cells (a larger dx)")
+            return
+        end if
+        call get_real(domain, "dx", "domain", src, case%dx, error, required=.true., &
+            above=0.0_wp, unit="m")
+        if (allocated(error)) return
+        call get_vector(domain, "origin", "domain", src, dim, case%origin, error, unit="m")
+        if (allocated(error)) return
+        call read_boundaries(domain, src, case, error)
+    end subroutine read_domain
+
+    !> `domain.boundaries`: one condition per face.
+    subroutine read_boundaries(domain, src, case, error)
+        type(json_value_type), intent(in) :: domain
+            !! the domain object
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        type(case_type), intent(inout) :: case
+            !! case being resolved (dim set)
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        character(len=*), parameter :: path = "domain.boundaries"
+        type(json_value_type) :: faces
+        logical :: found
+        integer :: k, axis, side
+
+        call get_section(domain, "boundaries", "domain", src, face_keys, faces, error, &
+            found=found)
+        if (allocated(error) .or. .not. found) return
+        do k = 1, size(face_keys)
+            axis = (k + 1)/2
+            side = 2 - mod(k, 2)
+            if (axis > case%dim) then
+                if (json_is_valid(json_get(faces, trim(face_keys(k))))) then
+                    call input_error(error, src, path//"."//trim(face_keys(k))//" is not " &
+                        //"allowed in a 2D case (dimension = 2): a 2D domain has no z faces")
+                    return
+                end if
+                cycle
+            end if
+            call get_choice(faces, trim(face_keys(k)), path, src, bc_names, &
+                [bc_free, bc_sliding, bc_fixed], case%bc(side, axis), error)
+            if (allocated(error)) return
+        end do
+    end subroutine read_boundaries
+
+    !> `particles`: particles per cell and their placement.
+    subroutine read_particles(root, src, case, error)
+        type(json_value_type), intent(in) :: root
+            !! top-level object
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        type(case_type), intent(inout) :: case
+            !! case being resolved
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(json_value_type) :: particles
+        logical :: found, has_seed
+        integer :: d
+
+        call get_section(root, "particles", "", src, particle_keys, particles, error, found=found)
+        if (allocated(error) .or. .not. found) return
+        call get_int(particles, "ppc", "particles", src, case%ppc, error, at_least=1, at_most=10)
+        if (allocated(error)) return
+        do d = 1, case%dim
+            ! particle sub-cells are numbered with default integers along each axis
+            if (int(case%ncells(d), i8)*case%ppc > huge(1)) then
+                call input_error(error, src, "particles.ppc = "//itoa(case%ppc)//" with domain.n" &
+                    //axis_names(d:d)//" = "//itoa(case%ncells(d))//" makes more than " &
+                    //itoa(huge(1))//" particle positions along "//axis_names(d:d) &
+                    //"; use fewer cells or a smaller ppc")
+                return
+            end if
+        end do
+        call get_choice(particles, "distribution", "particles", src, distribution_names, &
+            [dist_regular, dist_random], case%distribution, error)
+        if (allocated(error)) return
+        has_seed = json_is_valid(json_get(particles, "seed"))
+        if (has_seed .and. case%distribution /= dist_random) then
+            call input_error(error, src, "particles.seed only applies to particles.distribution" &
+                //' = "random"; remove it or set "distribution": "random"')
+            return
+        end if
+        call get_int(particles, "seed", "particles", src, case%seed, error, at_least=0)
+    end subroutine read_particles
+
+    !> `materials`: a non-empty array of uniquely named materials.
+    subroutine read_materials(root, src, case, error)
+        type(json_value_type), intent(in) :: root
+            !! top-level object
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        type(case_type), intent(inout) :: case
+            !! case being resolved
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(json_value_type) :: list, item
+        character(len=:), allocatable :: path
+        integer :: i, j, model
+
+        call get_list(root, "materials", src, "material", list, error)
+        if (allocated(error)) return
+        allocate (case%materials(json_size(list)))
+        do i = 1, size(case%materials)
+            path = "materials["//itoa(i)//"]"
+            item = json_item(list, i)
+            call check_object(item, path, material_keys, src, error)
+            if (allocated(error)) return
+            associate (mat => case%materials(i))
+                call get_string(item, "name", path, src, mat%name, error, required=.true.)
+                if (allocated(error)) return
+                do j = 1, i - 1
+                    if (same(case%materials(j)%name, mat%name)) then
+                        call input_error(error, src, path//'.name = "'//mat%name//'" is ' &
+                            //"already the name of materials["//itoa(j)//"]; material names " &
+                            //"must be unique")
+                        return
+                    end if
+                end do
+                ! one constitutive model so far: the choice only validates the name
+                model = 0
+                call get_choice(item, "type", path, src, &
+                    [character(len=14) :: "linear_elastic", "elastic"], [1, 1], model, error, &
+                    required=.true.)
+                if (allocated(error)) return
+                mat%type = "linear_elastic"
+                call get_real(item, "E", path, src, mat%young, error, required=.true., &
+                    above=0.0_wp, unit="Pa")
+                if (allocated(error)) return
+                call get_real(item, "nu", path, src, mat%poisson, error, required=.true., &
+                    at_least=0.0_wp, below=0.5_wp)
+                if (allocated(error)) return
+                call get_real(item, "rho", path, src, mat%density, error, required=.true., &
+                    above=0.0_wp, unit="kg/m3")
+                if (allocated(error)) return
+            end associate
+        end do
+    end subroutine read_materials
+
+    !> `save_state` and `load_state`: state files to write at the end and to start from.
+    subroutine read_states(root, src, case, error)
+        type(json_value_type), intent(in) :: root
+            !! top-level object
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        type(case_type), intent(inout) :: case
+            !! case being resolved
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        logical :: found, exists
+
+        call get_string(root, "save_state", "", src, case%save_state, error)
+        if (allocated(error)) return
+        call get_string(root, "load_state", "", src, case%load_state, error, found=found)
+        if (allocated(error) .or. .not. found) return
+        inquire (file=case%load_state, exist=exists)
+        if (.not. exists) then
+            call input_error(error, src, "load_state: file '"//case%load_state//"' not found " &
+                //"(a relative path is taken from the current working directory)")
+        end if
+    end subroutine read_states
+
+    !> `bodies`: boxes of particles inside the domain, not overlapping, each with particles.
+    subroutine read_bodies(root, src, case, error)
+        type(json_value_type), intent(in) :: root
+            !! top-level object
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        type(case_type), intent(inout) :: case
+            !! case being resolved (domain, particles, materials, load_state set)
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(json_value_type) :: list, item
+        character(len=:), allocatable :: path, material
+        integer :: i, j
+        integer(i8) :: total
+
+        if (len(case%load_state) > 0) then
+            if (json_is_valid(json_get(root, "bodies"))) then
+                call input_error(error, src, "bodies cannot be given together with load_state: " &
+                    //"the particles come from the state file '"//case%load_state//"'; " &
+                    //"remove the bodies or remove load_state")
+                return
+            end if
+            allocate (case%bodies(0))
+            return
+        end if
+        if (.not. json_is_valid(json_get(root, "bodies"))) then
+            call input_error(error, src, "missing required key 'bodies' (an array of boxes of " &
+                //"particles); give load_state instead to start from a saved state")
+            return
+        end if
+        call get_list(root, "bodies", src, "body", list, error)
+        if (allocated(error)) return
+        allocate (case%bodies(json_size(list)))
+        total = 0
+        do i = 1, size(case%bodies)
+            path = "bodies["//itoa(i)//"]"
+            item = json_item(list, i)
+            call check_object(item, path, body_keys, src, error)
+            if (allocated(error)) return
+            associate (body => case%bodies(i))
+                body%name = "body"//itoa(i)
+                call get_string(item, "name", path, src, body%name, error)
+                if (allocated(error)) return
+                do j = 1, i - 1
+                    if (same(case%bodies(j)%name, body%name)) then
+                        call input_error(error, src, path//'.name = "'//body%name//'" is ' &
+                            //"already the name of bodies["//itoa(j)//"]; body names must " &
+                            //"be unique")
+                        return
+                    end if
+                end do
+                material = ""
+                call get_string(item, "material", path, src, material, error, required=.true.)
+                if (allocated(error)) return
+                body%material = material_index(case%materials, material)
+                if (body%material == 0) then
+                    call input_error(error, src, path//'.material = "'//material//'" is not a ' &
+                        //"material of this case; the materials are: " &
+                        //material_list(case%materials))
+                    return
+                end if
+                call get_vector(item, "min", path, src, case%dim, body%xmin, error, &
+                    required=.true., unit="m")
+                if (allocated(error)) return
+                call get_vector(item, "max", path, src, case%dim, body%xmax, error, &
+                    required=.true., unit="m")
+                if (allocated(error)) return
+                call get_vector(item, "velocity", path, src, case%dim, body%velocity, error, &
+                    unit="m/s")
+                if (allocated(error)) return
+            end associate
+            call check_body_box(case, i, src, error)
+            if (allocated(error)) return
+            total = total + body_particle_count(case, case%bodies(i))
+        end do
+        if (total > huge(1)) then
+            call input_error(error, src, "the bodies hold "//itoa(total)//" particles, more " &
+                //"than the "//itoa(huge(1))//" this version can store; use a smaller " &
+                //"particles.ppc or a larger domain.dx")
+        end if
+    end subroutine read_bodies
+
+    !> Geometric checks of body `i`: a proper box, inside the domain, holding particles and
+    !> overlapping none of the bodies before it.
+    subroutine check_body_box(case, i, src, error)
+        type(case_type), intent(in) :: case
+            !! case with bodies 1..i read
+        integer, intent(in) :: i
+            !! body to check
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        character(len=:), allocatable :: label
+        real(wp) :: lower(3), upper(3), tol
+        integer :: d, j, dim
+
+        dim = case%dim
+        tol = box_tolerance*case%dx
+        associate (body => case%bodies(i))
+            label = "bodies["//itoa(i)//'] "'//body%name//'"'
+            do d = 1, dim
+                if (.not. body%xmin(d) < body%xmax(d)) then
+                    call input_error(error, src, label//": min["//itoa(d)//"] = " &
+                        //fmt_real(body%xmin(d))//" must be below max["//itoa(d)//"] = " &
+                        //fmt_real(body%xmax(d))//" [m]")
+                    return
+                end if
+            end do
+            lower(1:dim) = case%origin(1:dim)
+            upper(1:dim) = case%origin(1:dim) + case%ncells(1:dim)*case%dx
+            if (any(body%xmin(1:dim) < lower(1:dim) - tol)) then
+                call input_error(error, src, label//": corner min = " &
+                    //fmt_vector(body%xmin(1:dim))//" lies outside the domain " &
+                    //fmt_box(lower(1:dim), upper(1:dim), domain_digits)//" [m]")
+                return
+            end if
+            if (any(body%xmax(1:dim) > upper(1:dim) + tol)) then
+                call input_error(error, src, label//": corner max = " &
+                    //fmt_vector(body%xmax(1:dim))//" lies outside the domain " &
+                    //fmt_box(lower(1:dim), upper(1:dim), domain_digits)//" [m]")
+                return
+            end if
+            if (body_particle_count(case, body) == 0) then
+                call input_error(error, src, label//": the box "//fmt_box(body%xmin(1:dim), &
+                    body%xmax(1:dim))//" [m] holds no particle (with ppc = "//itoa(case%ppc) &
+                    //" particles sit at origin + (i + (k - 0.5)/ppc) dx, k = 1..ppc, in each " &
+                    //"cell i); make the box larger or raise particles.ppc")
+                return
+            end if
+            do j = 1, i - 1
+                associate (other => case%bodies(j))
+                    if (all(min(body%xmax(1:dim), other%xmax(1:dim)) &
+                        - max(body%xmin(1:dim), other%xmin(1:dim)) > tol)) then
+                        call input_error(error, src, label//" overlaps bodies["//itoa(j) &
+                            //'] "'//other%name//'": the boxes ' &
+                            //fmt_box(body%xmin(1:dim), body%xmax(1:dim))//" and " &
+                            //fmt_box(other%xmin(1:dim), other%xmax(1:dim))//" [m] share a " &
+                            //"volume; bodies must not overlap")
+                        return
+                    end if
+                end associate
+            end do
+        end associate
+    end subroutine check_body_box
+
+    !> `solver`: update scheme and shape function.
+    subroutine read_solver(root, src, case, error)
+        type(json_value_type), intent(in) :: root
+            !! top-level object
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        type(case_type), intent(inout) :: case
+            !! case being resolved
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(json_value_type) :: solver
+        logical :: found
+
+        call get_section(root, "solver", "", src, solver_keys, solver, error, found=found)
+        if (allocated(error) .or. .not. found) return
+        call get_choice(solver, "scheme", "solver", src, scheme_names, &
+            [scheme_usf, scheme_usl, scheme_musl], case%scheme, error)
+        if (allocated(error)) return
+        call get_choice(solver, "shape_function", "solver", src, &
+            [character(len=6) :: shape_names, "gimp"], [shape_linear, shape_cpgimp, shape_cpgimp], &
+            case%shape, error)
+    end subroutine read_solver
+
+    !> `time`: end time and either a fixed step or a CFL factor.
+    subroutine read_time(root, src, case, error)
+        type(json_value_type), intent(in) :: root
+            !! top-level object
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        type(case_type), intent(inout) :: case
+            !! case being resolved (materials and bodies set)
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(json_value_type) :: time
+        real(wp) :: critical, step
+
+        call get_section(root, "time", "", src, time_keys, time, error, required=.true.)
+        if (allocated(error)) return
+        call get_real(time, "tend", "time", src, case%tend, error, required=.true., &
+            above=0.0_wp, unit="s")
+        if (allocated(error)) return
+        critical = case_critical_step(case)
+        if (json_is_valid(json_get(time, "dt"))) then
+            if (json_is_valid(json_get(time, "cfl"))) then
+                call input_error(error, src, "time.dt and time.cfl are alternatives, give only " &
+                    //"one: dt for a fixed time step [s], cfl for a step set by the CFL " &
+                    //"condition")
+                return
+            end if
+            call get_real(time, "dt", "time", src, case%dt, error, above=0.0_wp, unit="s")
+            if (allocated(error)) return
+            if (case%dt > critical) then
+                call input_error(error, src, "time.dt = "//fmt_real(case%dt)//" s is above the " &
+                    //"critical time step "//fmt_below(critical, case%dt)//" s of this case " &
+                    //"(dx / max(c_p + |v|)); use a smaller dt or set time.cfl instead")
+                return
+            end if
+            step = case%dt
+        else
+            call get_real(time, "cfl", "time", src, case%cfl, error, above=0.0_wp, &
+                at_most=1.0_wp)
+            if (allocated(error)) return
+            step = case%cfl*critical
+        end if
+        if (case%tend/max_steps > step) then
+            call input_error(error, src, "time.tend = "//fmt_real(case%tend)//" s needs more " &
+                //"than "//fmt_real(max_steps)//" steps of "//fmt_real(step, 6)//" s; " &
+                //"shorten time.tend or allow a larger time step")
+        end if
+    end subroutine read_time
+
+    !> `damping`: type, and the coefficient of local damping.
+    subroutine read_damping(root, src, case, error)
+        type(json_value_type), intent(in) :: root
+            !! top-level object
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        type(case_type), intent(inout) :: case
+            !! case being resolved
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(json_value_type) :: damping
+        logical :: found
+
+        call get_section(root, "damping", "", src, damping_keys, damping, error, found=found)
+        if (allocated(error) .or. .not. found) return
+        call get_choice(damping, "type", "damping", src, damping_names, &
+            [damping_none, damping_local, damping_kinetic], case%damping, error)
+        if (allocated(error)) return
+        if (case%damping == damping_local) then
+            call get_real(damping, "value", "damping", src, case%damping_value, error, &
+                required=.true., at_least=0.0_wp, below=1.0_wp)
+        else if (json_is_valid(json_get(damping, "value"))) then
+            call input_error(error, src, 'damping.value only applies to damping.type = "local"' &
+                //' (here "'//trim(damping_names(case%damping))//'"); remove it')
+        end if
+    end subroutine read_damping
+
+    !> `contact`: only "none" in this version; terrain contact is refused first of all.
+    subroutine read_contact(root, src, error)
+        type(json_value_type), intent(in) :: root
+            !! top-level object
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(json_value_type) :: contact
+        character(len=:), allocatable :: kind
+        logical :: found
+        integer :: k, code
+
+        call get_typed(root, "contact", "", src, "object", "an object", contact, found, error)
+        if (allocated(error) .or. .not. found) return
+        kind = "none"
+        call get_string(contact, "type", "contact", src, kind, error)
+        if (allocated(error)) return
+        if (same(lower(kind), "terrain_stl")) then
+            call input_error(error, src, 'contact.type = "terrain_stl": STL terrain contact is ' &
+                //"not available in this version of mpm-geo; remove the contact section or " &
+                //'set "type": "none"')
+            return
+        end if
+        call check_keys(contact, "contact", contact_keys, src, error)
+        if (allocated(error)) return
+        code = 0
+        call get_choice(contact, "type", "contact", src, &
+            [character(len=11) :: "none", "terrain_stl"], [0, 1], code, error)
+        if (allocated(error)) return
+        do k = 2, size(contact_keys)
+            if (json_is_valid(json_get(contact, trim(contact_keys(k))))) then
+                call input_error(error, src, "contact."//trim(contact_keys(k))//" only applies " &
+                    //'to contact.type = "terrain_stl"; remove it')
+                return
+            end if
+        end do
+    end subroutine read_contact
+
+    !> `output`: folder, intervals and fields.
+    subroutine read_output(root, src, case, error)
+        type(json_value_type), intent(in) :: root
+            !! top-level object
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        type(case_type), intent(inout) :: case
+            !! case being resolved (name and tend set)
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(json_value_type) :: output
+        logical :: found
+
+        case%output_interval = case%tend/20.0_wp
+        case%output_dir = "outputs/"//case%name
+        case%history_interval = case%output_interval/10.0_wp
+        call get_section(root, "output", "", src, output_keys, output, error, found=found)
+        if (allocated(error) .or. .not. found) return
+        call get_real(output, "interval", "output", src, case%output_interval, error, &
+            at_least=0.0_wp, unit="s")
+        if (allocated(error)) return
+        case%history_interval = case%output_interval/10.0_wp
+        call read_fields(output, src, case%output_fields, error)
+        if (allocated(error)) return
+        call get_bool(output, "grid", "output", src, case%output_grid, error)
+        if (allocated(error)) return
+        call get_string(output, "directory", "output", src, case%output_dir, error)
+        if (allocated(error)) return
+        call get_bool(output, "overwrite", "output", src, case%overwrite, error)
+        if (allocated(error)) return
+        call get_real(output, "history_interval", "output", src, case%history_interval, error, &
+            at_least=0.0_wp, unit="s")
+    end subroutine read_output
+
+    !> `output.fields`: unique field names; the position is always written.
+    subroutine read_fields(output, src, fields, error)
+        type(json_value_type), intent(in) :: output
+            !! the output object
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        logical, intent(inout) :: fields(nfields)
+            !! which fields are written
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        character(len=*), parameter :: expect = "an array of field names"
+        type(json_value_type) :: list, item
+        character(len=:), allocatable :: path
+        logical :: found
+        integer :: i, f
+
+        call get_typed(output, "fields", "output", src, "array", expect, list, found, error)
+        if (allocated(error) .or. .not. found) return
+        fields = .false.
+        do i = 1, json_size(list)
+            path = "output.fields["//itoa(i)//"]"
+            item = json_item(list, i)
+            call check_type(item, path, "string", "a field name", src, error)
+            if (allocated(error)) return
+            do f = 1, nfields
+                if (same(lower(json_string(item)), trim(field_names(f)))) exit
+            end do
+            if (f > nfields) then
+                call input_error(error, src, path//' = "'//json_string(item)//'" is not a ' &
+                    //"field: must be one of "//quoted_list(field_names))
+                return
+            end if
+            if (fields(f)) then
+                call input_error(error, src, path//' = "'//json_string(item)//'" is listed ' &
+                    //"twice; give each field once")
+                return
+            end if
+            fields(f) = .true.
+        end do
+        fields(field_position) = .true.
+    end subroutine read_fields
+
+    !> `progress`: wall-clock seconds between progress lines.
+    subroutine read_progress(root, src, case, error)
+        type(json_value_type), intent(in) :: root
+            !! top-level object
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        type(case_type), intent(inout) :: case
+            !! case being resolved
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(json_value_type) :: progress
+        logical :: found
+
+        call get_section(root, "progress", "", src, progress_keys, progress, error, found=found)
+        if (allocated(error) .or. .not. found) return
+        call get_real(progress, "interval", "progress", src, case%progress_seconds, error, &
+            above=0.0_wp, unit="s")
+    end subroutine read_progress
+
+    ! ----------------------------------------------------------------------------------------
+    ! Typed getters: each reads one key, checks it and writes the message when it is wrong
+    ! ----------------------------------------------------------------------------------------
+
+    !> Look `key` up in `obj` and check its JSON type. A missing key is an error only when
+    !> `required`; otherwise `found` is false and nothing else happens.
+    subroutine get_typed(obj, key, path, src, kind, expect, val, found, error, required)
+        type(json_value_type), intent(in) :: obj
+            !! object holding the key
+        character(len=*), intent(in) :: key
+            !! key to read
+        character(len=*), intent(in) :: path
+            !! path of `obj` ("" at the top level)
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        character(len=*), intent(in) :: kind
+            !! expected JSON type, as json_type_name spells it
+        character(len=*), intent(in) :: expect
+            !! what is allowed, for messages ("a number > 0 [m]")
+        type(json_value_type), intent(out) :: val
+            !! the value found
+        logical, intent(out) :: found
+            !! whether the key is present
+        type(error_type), allocatable, intent(out) :: error
+            !! set for a missing required key or a wrong type
+        logical, intent(in), optional :: required
+            !! the key must be present (default: optional)
+
+        val = json_get(obj, key)
+        found = json_is_valid(val)
+        if (found) then
+            call check_type(val, join(path, key), kind, expect, src, error)
+        else if (is_true(required)) then
+            call input_error(error, src, "missing required key '"//join(path, key)//"' (" &
+                //expect//")")
+        end if
+    end subroutine get_typed
+
+    !> Check the JSON type of a value.
+    subroutine check_type(val, path, kind, expect, src, error)
+        type(json_value_type), intent(in) :: val
+            !! value to check
+        character(len=*), intent(in) :: path
+            !! full key path of the value
+        character(len=*), intent(in) :: kind
+            !! expected JSON type, as json_type_name spells it
+        character(len=*), intent(in) :: expect
+            !! what is allowed, for messages
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        type(error_type), allocatable, intent(out) :: error
+            !! set when the type differs
+
+        if (json_type_name(val) /= kind) then
+            call input_error(error, src, path//" has the wrong type: expected "//expect &
+                //", found "//describe(val))
+        end if
+    end subroutine check_type
+
+    !> Check that a value is an object with only allowed keys, each once.
+    subroutine check_object(val, path, allowed, src, error)
+        type(json_value_type), intent(in) :: val
+            !! value to check
+        character(len=*), intent(in) :: path
+            !! full key path of the value
+        character(len=*), intent(in) :: allowed(:)
+            !! keys the object may hold
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        type(error_type), allocatable, intent(out) :: error
+            !! set on a wrong type, an unknown key or a duplicate key
+
+        call check_type(val, path, "object", "an object", src, error)
+        if (allocated(error)) return
+        call check_keys(val, path, allowed, src, error)
+    end subroutine check_object
+
+    !> Refuse unknown keys (suggesting the nearest allowed key) and duplicate keys.
+    subroutine check_keys(obj, path, allowed, src, error)
+        type(json_value_type), intent(in) :: obj
+            !! object to check
+        character(len=*), intent(in) :: path
+            !! full key path of the object ("" at the top level)
+        character(len=*), intent(in) :: allowed(:)
+            !! keys the object may hold
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        type(error_type), allocatable, intent(out) :: error
+            !! set on the first unknown or duplicate key
+
+        character(len=:), allocatable :: key, where
+        integer :: i, j, k, best, dist, best_dist
+
+        where = "the top level"
+        if (len(path) > 0) where = path
+        do i = 1, json_size(obj)
+            key = json_key(json_item(obj, i))
+            best = 0
+            best_dist = huge(1)
+            do k = 1, size(allowed)
+                dist = levenshtein(lower(key), lower(trim(allowed(k))))
+                if (same(key, trim(allowed(k)))) dist = -1
+                if (dist < best_dist) then
+                    best = k
+                    best_dist = dist
+                end if
+            end do
+            if (best_dist == 0) then
+                call input_error(error, src, "unknown key '"//join(path, key)//"'; did you " &
+                    //"mean '"//trim(allowed(best))//"'? (keys are case-sensitive)")
+                return
+            else if (best_dist > 0 .and. best_dist <= 3) then
+                call input_error(error, src, "unknown key '"//join(path, key)//"'; did you " &
+                    //"mean '"//trim(allowed(best))//"'?")
+                return
+            else if (best_dist > 3) then
+                call input_error(error, src, "unknown key '"//join(path, key)//"'; the keys " &
+                    //"allowed in "//where//" are: "//plain_list(allowed))
+                return
+            end if
+            do j = 1, i - 1
+                if (same(json_key(json_item(obj, j)), key)) then
+                    call input_error(error, src, "duplicate key '"//join(path, key)//"': it " &
+                        //"appears more than once in "//where//"; give each key once")
+                    return
+                end if
+            end do
+        end do
+    end subroutine check_keys
+
+    !> Read an optional or required object and check its keys.
+    subroutine get_section(obj, key, path, src, allowed, sec, error, required, found)
+        type(json_value_type), intent(in) :: obj
+            !! object holding the section
+        character(len=*), intent(in) :: key
+            !! section key
+        character(len=*), intent(in) :: path
+            !! path of `obj` ("" at the top level)
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        character(len=*), intent(in) :: allowed(:)
+            !! keys the section may hold
+        type(json_value_type), intent(out) :: sec
+            !! the section (invalid when absent)
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+        logical, intent(in), optional :: required
+            !! the section must be present
+        logical, intent(out), optional :: found
+            !! whether the section is present
+
+        logical :: is_present
+
+        call get_typed(obj, key, path, src, "object", "an object", sec, is_present, error, &
+            required)
+        if (present(found)) found = is_present
+        if (allocated(error) .or. .not. is_present) return
+        call check_keys(sec, join(path, key), allowed, src, error)
+    end subroutine get_section
+
+    !> Read a required, non-empty top-level array (`materials`, `bodies`).
+    subroutine get_list(root, key, src, what, list, error)
+        type(json_value_type), intent(in) :: root
+            !! top-level object
+        character(len=*), intent(in) :: key
+            !! array key
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        character(len=*), intent(in) :: what
+            !! what one item is, for messages ("material")
+        type(json_value_type), intent(out) :: list
+            !! the array
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        logical :: found
+
+        call get_typed(root, key, "", src, "array", "a non-empty array of "//what//" objects", &
+            list, found, error, required=.true.)
+        if (allocated(error)) return
+        if (json_size(list) == 0) then
+            call input_error(error, src, key//" is an empty array: give at least one "//what)
+        end if
+    end subroutine get_list
+
+    !> Read a real number, optionally bounded. The value is left as it is when the key is absent.
+    subroutine get_real(obj, key, path, src, value, error, required, above, at_least, below, &
+            at_most, unit, found)
+        type(json_value_type), intent(in) :: obj
+            !! object holding the key
+        character(len=*), intent(in) :: key
+            !! key to read
+        character(len=*), intent(in) :: path
+            !! path of `obj`
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        real(wp), intent(inout) :: value
+            !! value read (unchanged when absent)
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+        logical, intent(in), optional :: required
+            !! the key must be present
+        real(wp), intent(in), optional :: above
+            !! value must be > above
+        real(wp), intent(in), optional :: at_least
+            !! value must be >= at_least
+        real(wp), intent(in), optional :: below
+            !! value must be < below
+        real(wp), intent(in), optional :: at_most
+            !! value must be <= at_most
+        character(len=*), intent(in), optional :: unit
+            !! unit shown in messages
+        logical, intent(out), optional :: found
+            !! whether the key is present
+
+        type(json_value_type) :: val
+        character(len=:), allocatable :: allowed
+        logical :: is_present
+        real(wp) :: x
+
+        allowed = range_text(above, at_least, below, at_most, unit)
+        call get_typed(obj, key, path, src, "number", "a number"//allowed, val, is_present, &
+            error, required)
+        if (present(found)) found = is_present
+        if (allocated(error) .or. .not. is_present) return
+        call number_value(val, join(path, key), src, x, error)
+        if (allocated(error)) return
+        if (.not. in_range(x, above, at_least, below, at_most)) then
+            call input_error(error, src, join(path, key)//" = "//fmt_real(x) &
+                //" is out of range: must be"//allowed)
+            return
+        end if
+        value = x
+    end subroutine get_real
+
+    !> Read a whole number (2.0 is fine, 2.5 is not) in [at_least, at_most].
+    subroutine get_int(obj, key, path, src, value, error, required, at_least, at_most)
+        type(json_value_type), intent(in) :: obj
+            !! object holding the key
+        character(len=*), intent(in) :: key
+            !! key to read
+        character(len=*), intent(in) :: path
+            !! path of `obj`
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        integer, intent(inout) :: value
+            !! value read (unchanged when absent)
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+        logical, intent(in), optional :: required
+            !! the key must be present
+        integer, intent(in), optional :: at_least
+            !! smallest allowed value (default -huge(1))
+        integer, intent(in), optional :: at_most
+            !! largest allowed value (default huge(1))
+
+        type(json_value_type) :: val
+        character(len=:), allocatable :: allowed
+        logical :: is_present
+        real(wp) :: x, lower_bound, upper_bound
+
+        lower_bound = -real(huge(1), wp)
+        upper_bound = real(huge(1), wp)
+        allowed = " an integer"
+        if (present(at_least)) then
+            lower_bound = real(at_least, wp)
+            allowed = allowed//" >= "//itoa(at_least)
+        end if
+        if (present(at_most)) then
+            upper_bound = real(at_most, wp)
+            if (present(at_least)) allowed = allowed//" and"
+            allowed = allowed//" <= "//itoa(at_most)
+        end if
+        call get_typed(obj, key, path, src, "number", allowed(2:), val, is_present, error, &
+            required)
+        if (allocated(error) .or. .not. is_present) return
+        call number_value(val, join(path, key), src, x, error)
+        if (allocated(error)) return
+        if (x /= aint(x)) then
+            call input_error(error, src, join(path, key)//" = "//fmt_real(x)//" is not a " &
+                //"whole number: must be"//allowed)
+            return
+        end if
+        if (x < lower_bound .or. x > upper_bound) then
+            call input_error(error, src, join(path, key)//" = "//fmt_real(x) &
+                //" is out of range: must be"//allowed)
+            return
+        end if
+        value = int(x)
+    end subroutine get_int
+
+    !> Read an array of exactly `n` numbers (one per axis).
+    subroutine get_vector(obj, key, path, src, n, values, error, required, unit)
+        type(json_value_type), intent(in) :: obj
+            !! object holding the key
+        character(len=*), intent(in) :: key
+            !! key to read
+        character(len=*), intent(in) :: path
+            !! path of `obj`
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        integer, intent(in) :: n
+            !! number of components (the dimension)
+        real(wp), intent(inout) :: values(:)
+            !! components 1..n are set when the key is present
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+        logical, intent(in), optional :: required
+            !! the key must be present
+        character(len=*), intent(in), optional :: unit
+            !! unit shown in messages
+
+        type(json_value_type) :: val
+        character(len=:), allocatable :: expect
+        logical :: is_present
+        integer :: i
+        real(wp) :: x(3)
+
+        expect = "an array of "//itoa(n)//" numbers"//range_text(unit=unit)
+        call get_typed(obj, key, path, src, "array", expect, val, is_present, error, required)
+        if (allocated(error) .or. .not. is_present) return
+        if (json_size(val) /= n) then
+            call input_error(error, src, join(path, key)//" must have "//itoa(n)//" numbers " &
+                //"(one per axis, dimension = "//itoa(n)//"), found "//itoa(json_size(val)))
+            return
+        end if
+        do i = 1, n
+            associate (item_path => join(path, key)//"["//itoa(i)//"]")
+                call check_type(json_item(val, i), item_path, "number", "a number", src, error)
+                if (allocated(error)) return
+                call number_value(json_item(val, i), item_path, src, x(i), error)
+                if (allocated(error)) return
+            end associate
+        end do
+        values(1:n) = x(1:n)
+    end subroutine get_vector
+
+    !> Read a non-empty string.
+    subroutine get_string(obj, key, path, src, value, error, required, found)
+        type(json_value_type), intent(in) :: obj
+            !! object holding the key
+        character(len=*), intent(in) :: key
+            !! key to read
+        character(len=*), intent(in) :: path
+            !! path of `obj`
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        character(len=:), allocatable, intent(inout) :: value
+            !! value read (unchanged when absent)
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+        logical, intent(in), optional :: required
+            !! the key must be present
+        logical, intent(out), optional :: found
+            !! whether the key is present
+
+        type(json_value_type) :: val
+        logical :: is_present
+
+        call get_typed(obj, key, path, src, "string", "a non-empty string", val, is_present, &
+            error, required)
+        if (present(found)) found = is_present
+        if (allocated(error) .or. .not. is_present) return
+        if (len(json_string(val)) == 0) then
+            call input_error(error, src, join(path, key)//' = "" is not allowed: must be a ' &
+                //"non-empty string")
+            return
+        end if
+        value = json_string(val)
+    end subroutine get_string
+
+    !> Read a boolean.
+    subroutine get_bool(obj, key, path, src, value, error)
+        type(json_value_type), intent(in) :: obj
+            !! object holding the key
+        character(len=*), intent(in) :: key
+            !! key to read
+        character(len=*), intent(in) :: path
+            !! path of `obj`
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        logical, intent(inout) :: value
+            !! value read (unchanged when absent)
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(json_value_type) :: val
+        logical :: is_present
+
+        call get_typed(obj, key, path, src, "boolean", "true or false", val, is_present, error)
+        if (allocated(error) .or. .not. is_present) return
+        value = json_bool(val)
+    end subroutine get_bool
+
+    !> Read one of a list of names (any letter case) and return its code.
+    subroutine get_choice(obj, key, path, src, names, codes, value, error, required)
+        type(json_value_type), intent(in) :: obj
+            !! object holding the key
+        character(len=*), intent(in) :: key
+            !! key to read
+        character(len=*), intent(in) :: path
+            !! path of `obj`
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        character(len=*), intent(in) :: names(:)
+            !! accepted names (aliases included)
+        integer, intent(in) :: codes(:)
+            !! code of each name
+        integer, intent(inout) :: value
+            !! code of the name read (unchanged when absent)
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+        logical, intent(in), optional :: required
+            !! the key must be present
+
+        type(json_value_type) :: val
+        character(len=:), allocatable :: name
+        logical :: is_present
+        integer :: i
+
+        call get_typed(obj, key, path, src, "string", "one of "//quoted_list(names), val, &
+            is_present, error, required)
+        if (allocated(error) .or. .not. is_present) return
+        name = json_string(val)
+        do i = 1, size(names)
+            if (same(lower(name), lower(trim(names(i))))) then
+                value = codes(i)
+                return
+            end if
+        end do
+        call input_error(error, src, join(path, key)//' = "'//name//'" is not allowed: must ' &
+            //"be one of "//quoted_list(names))
+    end subroutine get_choice
+
+    !> Value of a number node, refusing numbers that overflow a double (1e999).
+    subroutine number_value(val, path, src, x, error)
+        type(json_value_type), intent(in) :: val
+            !! a number node
+        character(len=*), intent(in) :: path
+            !! full key path of the value
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        real(wp), intent(out) :: x
+            !! the number
+        type(error_type), allocatable, intent(out) :: error
+            !! set when the number is not finite
+
+        x = json_number(val)
+        if (.not. ieee_is_finite(x)) then
+            x = 0.0_wp
+            call input_error(error, src, path//" is not a finite number (too large for double " &
+                //"precision)")
+        end if
+    end subroutine number_value
+
+    ! ----------------------------------------------------------------------------------------
+    ! Case quantities
+    ! ----------------------------------------------------------------------------------------
+
+    !> Critical time step at t = 0: over the bodies, or over the materials when the particles
+    !> come from a state file (no bodies, velocities unknown here) [s].
+    pure real(wp) function case_critical_step(case) result(dt)
+        type(case_type), intent(in) :: case
+            !! case with materials (and bodies) set
+
+        real(wp) :: speed
+        integer :: m
+
+        if (allocated(case%bodies)) then
+            if (size(case%bodies) > 0) then
+                dt = critical_time_step(case)
+                return
+            end if
+        end if
+        speed = 0.0_wp
+        do m = 1, size(case%materials)
+            speed = max(speed, p_wave_speed(case%materials(m)))
+        end do
+        dt = huge(1.0_wp)
+        if (speed > 0.0_wp) dt = case%dx/speed
+    end function case_critical_step
+
+    !> Number of grid nodes of the case.
+    pure integer(i8) function node_count(case)
+        type(case_type), intent(in) :: case
+            !! resolved case
+
+        node_count = product(int(case%ncells(1:case%dim), i8) + 1_i8)
+    end function node_count
+
+    !> Number of particles of a body, from the placement rule of body_subcell_range (the one
+    !> the particle generator uses, so the count and the particles always agree).
+    pure integer(i8) function body_particle_count(case, body) result(count)
+        type(case_type), intent(in) :: case
+            !! case (grid and ppc set)
+        type(body_spec_type), intent(in) :: body
+            !! the body
+
+        integer :: lo(3), hi(3), d
+
+        call body_subcell_range(case, body, lo, hi)
+        count = 1
+        do d = 1, case%dim
+            count = count*max(0_i8, int(hi(d), i8) - lo(d) + 1)
+        end do
+    end function body_particle_count
+
+    !> Index of the material called `name`, 0 when there is none.
+    pure integer function material_index(materials, name)
+        type(material_spec_type), intent(in) :: materials(:)
+            !! materials of the case
+        character(len=*), intent(in) :: name
+            !! name to find
+
+        do material_index = 1, size(materials)
+            if (same(materials(material_index)%name, name)) return
+        end do
+        material_index = 0
+    end function material_index
+
+    !> The material names, quoted and separated by commas.
+    pure function material_list(materials) result(list)
+        type(material_spec_type), intent(in) :: materials(:)
+            !! materials of the case
+        character(len=:), allocatable :: list
+
+        integer :: m
+
+        list = ""
+        do m = 1, size(materials)
+            if (m > 1) list = list//", "
+            list = list//'"'//materials(m)%name//'"'
+        end do
+    end function material_list
+
+    ! ----------------------------------------------------------------------------------------
+    ! Text helpers
+    ! ----------------------------------------------------------------------------------------
+
+    !> Create an input error whose message starts with the case file name.
+    pure subroutine input_error(error, src, message)
+        type(error_type), allocatable, intent(out) :: error
+            !! error to create
+        character(len=*), intent(in) :: src
+            !! case file name
+        character(len=*), intent(in) :: message
+            !! what is wrong and what is allowed
+
+        call fatal_error(error, src//": "//message, exit_input)
+    end subroutine input_error
+
+    !> A value as messages show it: its type and, for scalars, the value.
+    function describe(val) result(text)
+        type(json_value_type), intent(in) :: val
+            !! any value
+        character(len=:), allocatable :: text
+
+        character(len=:), allocatable :: kind, str
+
+        kind = json_type_name(val)
+        if (kind == "string") then
+            str = json_string(val)
+            if (len(str) > 40) str = str(1:37)//"..."
+            text = 'a string ("'//str//'")'
+        else if (kind == "number") then
+            if (ieee_is_finite(json_number(val))) then
+                text = "a number ("//fmt_real(json_number(val))//")"
+            else
+                text = "a number"
+            end if
+        else if (kind == "boolean") then
+            text = "a boolean ("//trim(merge("true ", "false", json_bool(val)))//")"
+        else if (kind == "array" .or. kind == "object") then
+            text = "an "//kind
+        else
+            text = kind
+        end if
+    end function describe
+
+    !> Text of the bounds of a number: " > 0 [m]", " >= 0 and < 0.5", "" for none.
+    pure function range_text(above, at_least, below, at_most, unit) result(text)
+        real(wp), intent(in), optional :: above
+            !! strict lower bound
+        real(wp), intent(in), optional :: at_least
+            !! lower bound
+        real(wp), intent(in), optional :: below
+            !! strict upper bound
+        real(wp), intent(in), optional :: at_most
+            !! upper bound
+        character(len=*), intent(in), optional :: unit
+            !! unit of the number
+        character(len=:), allocatable :: text
+
+        text = ""
+        if (present(above)) text = text//" > "//fmt_real(above)
+        if (present(at_least)) text = text//" >= "//fmt_real(at_least)
+        if (len(text) > 0 .and. (present(below) .or. present(at_most))) text = text//" and"
+        if (present(below)) text = text//" < "//fmt_real(below)
+        if (present(at_most)) text = text//" <= "//fmt_real(at_most)
+        if (present(unit)) text = text//" ["//unit//"]"
+    end function range_text
+
+    !> Whether x satisfies every bound given.
+    pure logical function in_range(x, above, at_least, below, at_most)
+        real(wp), intent(in) :: x
+            !! value to test
+        real(wp), intent(in), optional :: above
+            !! strict lower bound
+        real(wp), intent(in), optional :: at_least
+            !! lower bound
+        real(wp), intent(in), optional :: below
+            !! strict upper bound
+        real(wp), intent(in), optional :: at_most
+            !! upper bound
+
+        in_range = .true.
+        if (present(above)) in_range = in_range .and. x > above
+        if (present(at_least)) in_range = in_range .and. x >= at_least
+        if (present(below)) in_range = in_range .and. x < below
+        if (present(at_most)) in_range = in_range .and. x <= at_most
+    end function in_range
+
+    !> Shortest text that reads back as x ("0.1", "1000000", "1e-5", "2.5e9"), or x rounded
+    !> to `digits` significant digits. Plain decimals from 1e-4 to 1e7, exponents outside.
+    pure function fmt_real(x, digits) result(text)
+        real(wp), intent(in) :: x
+            !! finite number
+        integer, intent(in), optional :: digits
+            !! significant digits (default: as many as needed to read back exactly)
+        character(len=:), allocatable :: text
+
+        character(len=40) :: buf
+        character(len=:), allocatable :: mantissa
+        character(len=20) :: form
+        integer :: p, e, epos, nd, first, last
+        real(wp) :: y
+
+        if (x == 0.0_wp) then
+            text = "0"
+            return
+        end if
+        do p = 1, 17
+            if (present(digits)) then
+                if (p < digits) cycle
+            end if
+            write (form, "(a,i0,a)") "(es40.", p - 1, "e4)"
+            write (buf, form) x
+            read (buf, *) y
+            if (present(digits) .or. y == x) exit
+        end do
+        buf = adjustl(buf)
+        epos = index(buf, "E")
+        read (buf(epos + 1:), *) e
+        ! digits of the mantissa without sign, point and trailing zeros
+        mantissa = ""
+        first = merge(2, 1, buf(1:1) == "-")
+        do p = first, epos - 1
+            if (buf(p:p) /= ".") mantissa = mantissa//buf(p:p)
+        end do
+        last = len(mantissa)
+        do while (last > 1 .and. mantissa(last:last) == "0")
+            last = last - 1
+        end do
+        mantissa = mantissa(1:last)
+        nd = len(mantissa)
+        if (e >= 0 .and. e < 7) then
+            if (nd <= e + 1) then
+                text = mantissa//repeat("0", e + 1 - nd)
+            else
+                text = mantissa(1:e + 1)//"."//mantissa(e + 2:)
+            end if
+        else if (e < 0 .and. e >= -4) then
+            text = "0."//repeat("0", -e - 1)//mantissa
+        else if (nd > 1) then
+            text = mantissa(1:1)//"."//mantissa(2:)//"e"//itoa(e)
+        else
+            text = mantissa//"e"//itoa(e)
+        end if
+        if (x < 0.0_wp) text = "-"//text
+    end function fmt_real
+
+    !> `x` with the fewest digits (6 or more) whose text still reads as below `limit`, so a
+    !> message "A is above B" never shows B rounded up to A.
+    pure function fmt_below(x, limit) result(text)
+        real(wp), intent(in) :: x
+            !! number to show (x < limit)
+        real(wp), intent(in) :: limit
+            !! number it must stay below
+        character(len=:), allocatable :: text
+
+        integer :: digits
+        real(wp) :: y
+
+        do digits = 6, 17
+            text = fmt_real(x, digits)
+            read (text, *) y
+            if (y < limit) return
+        end do
+    end function fmt_below
+
+    !> "(1, 2.5)"
+    pure function fmt_vector(v, digits) result(text)
+        real(wp), intent(in) :: v(:)
+            !! components
+        integer, intent(in), optional :: digits
+            !! significant digits (default: exact)
+        character(len=:), allocatable :: text
+
+        integer :: i
+
+        text = "("
+        do i = 1, size(v)
+            if (i > 1) text = text//", "
+            text = text//fmt_real(v(i), digits)
+        end do
+        text = text//")"
+    end function fmt_vector
+
+    !> "[0, 1] x [0, 2]"
+    pure function fmt_box(lower, upper, digits) result(text)
+        real(wp), intent(in) :: lower(:)
+            !! lower corner
+        real(wp), intent(in) :: upper(:)
+            !! upper corner
+        integer, intent(in), optional :: digits
+            !! significant digits (default: exact)
+        character(len=:), allocatable :: text
+
+        integer :: d
+
+        text = ""
+        do d = 1, size(lower)
+            if (d > 1) text = text//" x "
+            text = text//"["//fmt_real(lower(d), digits)//", "//fmt_real(upper(d), digits)//"]"
+        end do
+    end function fmt_box
+
+    !> Decimal text of a default integer.
+    pure function itoa_default(i) result(text)
+        integer, intent(in) :: i
+            !! integer
+        character(len=:), allocatable :: text
+
+        text = itoa_i8(int(i, i8))
+    end function itoa_default
+
+    !> Decimal text of a 64-bit integer.
+    pure function itoa_i8(i) result(text)
+        integer(i8), intent(in) :: i
+            !! integer
+        character(len=:), allocatable :: text
+
+        character(len=24) :: buf
+
+        write (buf, "(i0)") i
+        text = trim(buf)
+    end function itoa_i8
+
+    !> "40 x 20"
+    pure function int_list(values, separator) result(text)
+        integer, intent(in) :: values(:)
+            !! integers
+        character(len=*), intent(in) :: separator
+            !! text between two integers
+        character(len=:), allocatable :: text
+
+        integer :: i
+
+        text = ""
+        do i = 1, size(values)
+            if (i > 1) text = text//separator
+            text = text//itoa(values(i))
+        end do
+    end function int_list
+
+    !> '"a", "b", "c"'
+    pure function quoted_list(names) result(text)
+        character(len=*), intent(in) :: names(:)
+            !! names (trailing blanks ignored)
+        character(len=:), allocatable :: text
+
+        integer :: i
+
+        text = ""
+        do i = 1, size(names)
+            if (i > 1) text = text//", "
+            text = text//'"'//trim(names(i))//'"'
+        end do
+    end function quoted_list
+
+    !> "a, b, c"
+    pure function plain_list(names) result(text)
+        character(len=*), intent(in) :: names(:)
+            !! names (trailing blanks ignored)
+        character(len=:), allocatable :: text
+
+        integer :: i
+
+        text = ""
+        do i = 1, size(names)
+            if (i > 1) text = text//", "
+            text = text//trim(names(i))
+        end do
+    end function plain_list
+
+    !> "a.b", or "b" when the path is empty.
+    pure function join(path, key) result(text)
+        character(len=*), intent(in) :: path
+            !! path of the parent ("" at the top level)
+        character(len=*), intent(in) :: key
+            !! key in the parent
+        character(len=:), allocatable :: text
+
+        if (len(path) == 0) then
+            text = key
+        else
+            text = path//"."//key
+        end if
+    end function join
+
+    !> The text of an allocatable string, or a default when it is unallocated (or empty).
+    pure function text_or(str, default, empty_too) result(text)
+        character(len=:), allocatable, intent(in) :: str
+            !! string that may be unallocated
+        character(len=*), intent(in) :: default
+            !! text used instead
+        logical, intent(in), optional :: empty_too
+            !! also use the default for an empty string
+        character(len=:), allocatable :: text
+
+        text = default
+        if (.not. allocated(str)) return
+        if (len(str) == 0 .and. is_true(empty_too)) return
+        text = str
+    end function text_or
+
+    pure function yes_no(flag) result(text)
+        logical, intent(in) :: flag
+        character(len=:), allocatable :: text
+
+        text = trim(merge("yes", "no ", flag))
+    end function yes_no
+
+    !> Equal strings, trailing blanks included (Fortran's == ignores them).
+    pure logical function same(a, b)
+        character(len=*), intent(in) :: a
+        character(len=*), intent(in) :: b
+
+        same = len(a) == len(b)
+        if (same) same = a == b
+    end function same
+
+    !> ASCII lower case.
+    pure function lower(str) result(low)
+        character(len=*), intent(in) :: str
+        character(len=len(str)) :: low
+
+        integer :: i, code
+
+        low = str
+        do i = 1, len(str)
+            code = iachar(str(i:i))
+            if (code >= iachar("A") .and. code <= iachar("Z")) low(i:i) = achar(code + 32)
+        end do
+    end function lower
+
+    !> Edit distance between two strings (insertions, deletions, substitutions).
+    pure integer function levenshtein(a, b)
+        character(len=*), intent(in) :: a
+        character(len=*), intent(in) :: b
+
+        integer :: previous(0:len(b)), current(0:len(b))
+        integer :: i, j
+
+        previous = [(j, j = 0, len(b))]
+        do i = 1, len(a)
+            current(0) = i
+            do j = 1, len(b)
+                current(j) = min(previous(j) + 1, current(j - 1) + 1, &
+                    previous(j - 1) + merge(0, 1, a(i:i) == b(j:j)))
+            end do
+            previous = current
+        end do
+        levenshtein = previous(len(b))
+    end function levenshtein
+
+    !> A case name is safe as a folder name: letters, digits, '-', '_', '.', not leading '.'.
+    pure logical function valid_name(name)
+        character(len=*), intent(in) :: name
+            !! case name
+
+        character(len=*), parameter :: allowed = "abcdefghijklmnopqrstuvwxyz" &
+            //"ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_."
+
+        valid_name = len(name) > 0
+        if (.not. valid_name) return
+        valid_name = name(1:1) /= "." .and. verify(name, allowed) == 0
+    end function valid_name
+
+    !> File name without folder and extension: "inputs/column.json" -> "column".
+    pure function base_name(path) result(name)
+        character(len=*), intent(in) :: path
+            !! file path
+        character(len=:), allocatable :: name
+
+        integer :: slash, dot
+
+        slash = index(path, "/", back=.true.)
+        name = path(slash + 1:)
+        dot = index(name, ".", back=.true.)
+        if (dot > 1) name = name(1:dot - 1)
+    end function base_name
+
+    !> True when the optional flag is present and true.
+    pure logical function is_true(flag)
+        logical, intent(in), optional :: flag
+            !! optional flag
+
+        is_true = .false.
+        if (present(flag)) is_true = flag
+    end function is_true
+
+end submodule mpm_case_reader

@@ -1,0 +1,967 @@
+!> Thin wrappers of the HDF5 Fortran API that return an error_type.
+!>
+!> Shared by the output writer (mpm_output) and the state files (mpm_state) so neither repeats
+!> the create-dataspace / create-dataset / write / close sequence. Every wrapper closes every
+!> handle it opens, also on failure, and names the file and the object in its message.
+!>
+!> Arrays keep their Fortran shape: a Fortran array `a(3, n)` becomes an HDF5 dataset of
+!> dimensions (n, 3) as C, h5py and h5dump see it, so row i of the dataset is column i of `a`.
+!> Strings are fixed-length, null-padded ASCII (h5py reads them as `bytes`).
+module mpm_hdf5
+    use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_loc, c_char, c_null_char
+    use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5fcreate_f, h5fopen_f, h5fclose_f, &
+        h5fis_hdf5_f, h5f_acc_trunc_f, h5f_acc_rdonly_f, h5f_acc_rdwr_f, h5gcreate_f, &
+        h5gopen_f, h5gclose_f, h5screate_simple_f, h5screate_f, h5s_scalar_f, h5sclose_f, &
+        h5sget_simple_extent_ndims_f, h5sget_simple_extent_dims_f, h5dcreate_f, h5dopen_f, &
+        h5dclose_f, h5dwrite_f, h5dread_f, h5dget_space_f, h5acreate_f, h5aopen_f, &
+        h5aclose_f, h5awrite_f, h5aread_f, h5aget_space_f, h5aget_type_f, h5aexists_f, &
+        h5adelete_f, h5lexists_f, h5tcopy_f, h5tset_size_f, h5tset_strpad_f, h5tget_size_f, &
+        h5tget_class_f, h5tis_variable_str_f, h5tclose_f, h5t_fortran_s1, h5t_str_nullpad_f, &
+        h5t_string_f, h5kind_to_type, h5_real_kind, h5_integer_kind, h5iis_valid_f, &
+        h5t_native_double
+    use mpm_kinds, only: wp
+    use mpm_error, only: error_type, fatal_error, exit_other, exit_input
+    implicit none
+    private
+    public :: hdf5_location_type, text_type
+    public :: hdf5_initialize, hdf5_is_hdf5_file
+    public :: hdf5_create_file, hdf5_open_file, hdf5_create_group, hdf5_open_group, hdf5_close
+    public :: hdf5_has_attribute, hdf5_has_link
+    public :: hdf5_write_dataset, hdf5_read_dataset
+    public :: hdf5_write_attribute, hdf5_read_attribute
+
+    !> An open HDF5 file or group, with the names used in messages.
+    type :: hdf5_location_type
+        integer(hid_t) :: id = -1
+            !! HDF5 identifier of the file or group
+        logical :: is_file = .false.
+            !! true for a file (closed with h5fclose_f), false for a group
+        character(len=:), allocatable :: file
+            !! path of the file on disk, for messages
+        character(len=:), allocatable :: path
+            !! path of the object inside the file ("/" for the root), for messages
+    end type hdf5_location_type
+
+    !> A string of its own length (an array of these holds names of different lengths).
+    type :: text_type
+        character(len=:), allocatable :: text
+            !! the string
+    end type text_type
+
+    !> Write a real (rank 1 to 3) or integer (rank 1) array as one contiguous dataset:
+    !> `call hdf5_write_dataset(group, name, values, error [, units=] [, components=])`;
+    !> `units` and `components` become string attributes of the dataset.
+    interface hdf5_write_dataset
+        module procedure write_real_1d, write_real_2d, write_real_3d, write_int_1d
+    end interface hdf5_write_dataset
+
+    !> Read a dataset into an allocated array whose shape the dataset must have.
+    interface hdf5_read_dataset
+        module procedure read_real_1d, read_real_2d, read_real_3d, read_int_1d
+    end interface hdf5_read_dataset
+
+    !> Write an attribute on a file or group (replacing an existing one of the same name):
+    !> an integer, a real, a string, or a 1D array of integers, reals or `text_type` strings.
+    interface hdf5_write_attribute
+        module procedure write_attr_int, write_attr_int_1d, write_attr_real, write_attr_real_1d, &
+            write_attr_string, write_attr_text_1d
+    end interface hdf5_write_attribute
+
+    !> Read an attribute of a file or group: scalars and numeric arrays must have the expected
+    !> size; a string is returned allocated, a string array as an allocated `text_type` array.
+    interface hdf5_read_attribute
+        module procedure read_attr_int, read_attr_int_1d, read_attr_real, read_attr_real_1d, &
+            read_attr_string, read_attr_text_1d
+    end interface hdf5_read_attribute
+
+contains
+
+    !> Initialise the HDF5 Fortran library unless already done (safe to call more than once).
+    !>
+    !> Each h5open_f call makes new copies of the Fortran datatypes without closing the
+    !> previous ones, so it is called only while H5T_NATIVE_DOUBLE is not yet a valid id.
+    subroutine hdf5_initialize(error)
+        type(error_type), allocatable, intent(out) :: error
+            !! set when the library cannot be initialised
+
+        integer :: hdferr
+        logical :: ready
+
+        call h5iis_valid_f(h5t_native_double, ready, hdferr)
+        if (hdferr == 0 .and. ready) return
+        call h5open_f(hdferr)
+        if (hdferr /= 0) call fatal_error(error, "cannot initialise the HDF5 library", exit_other)
+    end subroutine hdf5_initialize
+
+    !> True when `path` is an existing HDF5 file.
+    logical function hdf5_is_hdf5_file(path)
+        character(len=*), intent(in) :: path
+            !! file to test (must exist: HDF5 prints an error stack for a missing file)
+
+        logical :: status
+        integer :: hdferr
+
+        call h5fis_hdf5_f(path, status, hdferr)
+        hdf5_is_hdf5_file = hdferr == 0 .and. status
+    end function hdf5_is_hdf5_file
+
+    !> Create (or truncate) an HDF5 file.
+    subroutine hdf5_create_file(path, file, error)
+        character(len=*), intent(in) :: path
+            !! file to create
+        type(hdf5_location_type), intent(out) :: file
+            !! the open file (close it with hdf5_close)
+        type(error_type), allocatable, intent(out) :: error
+            !! set when the file cannot be created
+
+        integer :: hdferr
+
+        call h5fcreate_f(path, h5f_acc_trunc_f, file%id, hdferr)
+        if (hdferr /= 0) then
+            call fatal_error(error, "cannot create the HDF5 file '"//path// &
+                "' (missing folder or permission denied?)", exit_other)
+            return
+        end if
+        file%is_file = .true.
+        file%file = path
+        file%path = "/"
+    end subroutine hdf5_create_file
+
+    !> Open an existing HDF5 file.
+    subroutine hdf5_open_file(path, file, error, writable)
+        character(len=*), intent(in) :: path
+            !! file to open
+        type(hdf5_location_type), intent(out) :: file
+            !! the open file (close it with hdf5_close)
+        type(error_type), allocatable, intent(out) :: error
+            !! set (code exit_input) when the file cannot be opened
+        logical, intent(in), optional :: writable
+            !! open for reading and writing (default: read only)
+
+        integer :: hdferr, mode
+
+        mode = h5f_acc_rdonly_f
+        if (present(writable)) then
+            if (writable) mode = h5f_acc_rdwr_f
+        end if
+        call h5fopen_f(path, mode, file%id, hdferr)
+        if (hdferr /= 0) then
+            call fatal_error(error, "cannot open the HDF5 file '"//path//"'", exit_input)
+            return
+        end if
+        file%is_file = .true.
+        file%file = path
+        file%path = "/"
+    end subroutine hdf5_open_file
+
+    !> Create a group inside a file or group.
+    subroutine hdf5_create_group(parent, name, group, error)
+        type(hdf5_location_type), intent(in) :: parent
+            !! open file or group
+        character(len=*), intent(in) :: name
+            !! name of the new group
+        type(hdf5_location_type), intent(out) :: group
+            !! the open group (close it with hdf5_close)
+        type(error_type), allocatable, intent(out) :: error
+            !! set when the group cannot be created
+
+        integer :: hdferr
+
+        call h5gcreate_f(parent%id, name, group%id, hdferr)
+        if (hdferr /= 0) then
+            call fatal_error(error, "cannot create the group '"//join(parent%path, name)// &
+                "' in '"//parent%file//"'", exit_other)
+            return
+        end if
+        group%file = parent%file
+        group%path = join(parent%path, name)
+    end subroutine hdf5_create_group
+
+    !> Open an existing group of a file or group.
+    subroutine hdf5_open_group(parent, name, group, error)
+        type(hdf5_location_type), intent(in) :: parent
+            !! open file or group
+        character(len=*), intent(in) :: name
+            !! name of the group
+        type(hdf5_location_type), intent(out) :: group
+            !! the open group (close it with hdf5_close)
+        type(error_type), allocatable, intent(out) :: error
+            !! set (code exit_input) when the group does not exist
+
+        integer :: hdferr
+
+        if (.not. hdf5_has_link(parent, name)) then
+            call fatal_error(error, "'"//parent%file//"' has no group '"// &
+                join(parent%path, name)//"'", exit_input)
+            return
+        end if
+        call h5gopen_f(parent%id, name, group%id, hdferr)
+        if (hdferr /= 0) then
+            call fatal_error(error, "cannot open the group '"//join(parent%path, name)// &
+                "' in '"//parent%file//"'", exit_input)
+            return
+        end if
+        group%file = parent%file
+        group%path = join(parent%path, name)
+    end subroutine hdf5_open_group
+
+    !> Close a file or group opened by this module.
+    subroutine hdf5_close(location, error)
+        type(hdf5_location_type), intent(inout) :: location
+            !! file or group to close
+        type(error_type), allocatable, intent(out) :: error
+            !! set when HDF5 reports a failure (a file: its data may not be complete on disk)
+
+        integer :: hdferr
+
+        if (location%id < 0) return
+        if (location%is_file) then
+            call h5fclose_f(location%id, hdferr)
+        else
+            call h5gclose_f(location%id, hdferr)
+        end if
+        location%id = -1
+        if (hdferr /= 0) then
+            call fatal_error(error, "cannot close '"//location%path//"' of '"// &
+                location%file//"'", exit_other)
+        end if
+    end subroutine hdf5_close
+
+    !> True when the file or group has an attribute of that name.
+    logical function hdf5_has_attribute(location, name)
+        type(hdf5_location_type), intent(in) :: location
+            !! open file or group
+        character(len=*), intent(in) :: name
+            !! attribute name
+
+        integer :: hdferr
+        logical :: exists
+
+        call h5aexists_f(location%id, name, exists, hdferr)
+        hdf5_has_attribute = hdferr == 0 .and. exists
+    end function hdf5_has_attribute
+
+    !> True when the file or group has a member (dataset or group) of that name.
+    logical function hdf5_has_link(location, name)
+        type(hdf5_location_type), intent(in) :: location
+            !! open file or group
+        character(len=*), intent(in) :: name
+            !! member name (no '/')
+
+        integer :: hdferr
+        logical :: exists
+
+        call h5lexists_f(location%id, name, exists, hdferr)
+        hdf5_has_link = hdferr == 0 .and. exists
+    end function hdf5_has_link
+
+    ! ----------------------------------------------------------------------------------------
+    ! Datasets
+    ! ----------------------------------------------------------------------------------------
+
+    subroutine write_real_1d(location, name, values, error, units, components)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        real(wp), intent(in), target, contiguous :: values(:)
+        type(error_type), allocatable, intent(out) :: error
+        character(len=*), intent(in), optional :: units, components
+
+        type(c_ptr) :: buffer
+
+        buffer = c_null_ptr
+        if (size(values) > 0) buffer = c_loc(values)
+        call write_data(location, name, h5kind_to_type(wp, h5_real_kind), buffer, &
+            int(shape(values), hsize_t), error, units, components)
+    end subroutine write_real_1d
+
+    subroutine write_real_2d(location, name, values, error, units, components)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        real(wp), intent(in), target, contiguous :: values(:, :)
+        type(error_type), allocatable, intent(out) :: error
+        character(len=*), intent(in), optional :: units, components
+
+        type(c_ptr) :: buffer
+
+        buffer = c_null_ptr
+        if (size(values) > 0) buffer = c_loc(values)
+        call write_data(location, name, h5kind_to_type(wp, h5_real_kind), buffer, &
+            int(shape(values), hsize_t), error, units, components)
+    end subroutine write_real_2d
+
+    subroutine write_real_3d(location, name, values, error, units, components)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        real(wp), intent(in), target, contiguous :: values(:, :, :)
+        type(error_type), allocatable, intent(out) :: error
+        character(len=*), intent(in), optional :: units, components
+
+        type(c_ptr) :: buffer
+
+        buffer = c_null_ptr
+        if (size(values) > 0) buffer = c_loc(values)
+        call write_data(location, name, h5kind_to_type(wp, h5_real_kind), buffer, &
+            int(shape(values), hsize_t), error, units, components)
+    end subroutine write_real_3d
+
+    subroutine write_int_1d(location, name, values, error, units, components)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        integer, intent(in), target, contiguous :: values(:)
+        type(error_type), allocatable, intent(out) :: error
+        character(len=*), intent(in), optional :: units, components
+
+        type(c_ptr) :: buffer
+
+        buffer = c_null_ptr
+        if (size(values) > 0) buffer = c_loc(values)
+        call write_data(location, name, h5kind_to_type(kind(values), h5_integer_kind), buffer, &
+            int(shape(values), hsize_t), error, units, components)
+    end subroutine write_int_1d
+
+    !> Create a dataset of Fortran shape `dims`, write `buffer` in one call, add attributes.
+    subroutine write_data(location, name, type_id, buffer, dims, error, units, components)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        integer(hid_t), intent(in) :: type_id
+        type(c_ptr), intent(in) :: buffer
+            !! first element (c_null_ptr when the array is empty)
+        integer(hsize_t), intent(in) :: dims(:)
+            !! Fortran shape of the array
+        type(error_type), allocatable, intent(out) :: error
+        character(len=*), intent(in), optional :: units
+            !! value of the "units" attribute
+        character(len=*), intent(in), optional :: components
+            !! value of the "components" attribute
+
+        integer(hid_t) :: space, dataset
+        integer :: hdferr, ignored
+        character(len=:), allocatable :: where
+
+        where = join(location%path, name)
+        space = -1
+        dataset = -1
+        steps: block
+            call h5screate_simple_f(size(dims), dims, space, hdferr)
+            if (hdferr /= 0) exit steps
+            call h5dcreate_f(location%id, name, type_id, space, dataset, hdferr)
+            if (hdferr /= 0) exit steps
+            if (product(dims) > 0) then
+                call h5dwrite_f(dataset, type_id, buffer, hdferr)
+                if (hdferr /= 0) exit steps
+            end if
+            if (present(units)) then
+                call put_string_attribute(dataset, location%file, where, "units", &
+                    [text_type(units)], .true., error)
+                if (allocated(error)) exit steps
+            end if
+            if (present(components)) then
+                call put_string_attribute(dataset, location%file, where, "components", &
+                    [text_type(components)], .true., error)
+                if (allocated(error)) exit steps
+            end if
+        end block steps
+        if (dataset >= 0) call h5dclose_f(dataset, ignored)
+        if (space >= 0) call h5sclose_f(space, ignored)
+        if (allocated(error)) return
+        if (hdferr /= 0) then
+            call fatal_error(error, "cannot write the dataset '"//where//"' to '"// &
+                location%file//"' (disk full or the dataset exists already?)", exit_other)
+        end if
+    end subroutine write_data
+
+    subroutine read_real_1d(location, name, values, error)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        real(wp), intent(inout), target, contiguous :: values(:)
+        type(error_type), allocatable, intent(out) :: error
+
+        type(c_ptr) :: buffer
+
+        buffer = c_null_ptr
+        if (size(values) > 0) buffer = c_loc(values)
+        call read_data(location, name, h5kind_to_type(wp, h5_real_kind), buffer, &
+            int(shape(values), hsize_t), error)
+    end subroutine read_real_1d
+
+    subroutine read_real_2d(location, name, values, error)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        real(wp), intent(inout), target, contiguous :: values(:, :)
+        type(error_type), allocatable, intent(out) :: error
+
+        type(c_ptr) :: buffer
+
+        buffer = c_null_ptr
+        if (size(values) > 0) buffer = c_loc(values)
+        call read_data(location, name, h5kind_to_type(wp, h5_real_kind), buffer, &
+            int(shape(values), hsize_t), error)
+    end subroutine read_real_2d
+
+    subroutine read_real_3d(location, name, values, error)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        real(wp), intent(inout), target, contiguous :: values(:, :, :)
+        type(error_type), allocatable, intent(out) :: error
+
+        type(c_ptr) :: buffer
+
+        buffer = c_null_ptr
+        if (size(values) > 0) buffer = c_loc(values)
+        call read_data(location, name, h5kind_to_type(wp, h5_real_kind), buffer, &
+            int(shape(values), hsize_t), error)
+    end subroutine read_real_3d
+
+    subroutine read_int_1d(location, name, values, error)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        integer, intent(inout), target, contiguous :: values(:)
+        type(error_type), allocatable, intent(out) :: error
+
+        type(c_ptr) :: buffer
+
+        buffer = c_null_ptr
+        if (size(values) > 0) buffer = c_loc(values)
+        call read_data(location, name, h5kind_to_type(kind(values), h5_integer_kind), buffer, &
+            int(shape(values), hsize_t), error)
+    end subroutine read_int_1d
+
+    !> Read a whole dataset after checking that its shape is the Fortran shape `dims`.
+    subroutine read_data(location, name, type_id, buffer, dims, error)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        integer(hid_t), intent(in) :: type_id
+        type(c_ptr), intent(in) :: buffer
+        integer(hsize_t), intent(in) :: dims(:)
+        type(error_type), allocatable, intent(out) :: error
+
+        integer(hid_t) :: space, dataset
+        integer(hsize_t) :: file_dims(max(size(dims), 1)), max_dims(max(size(dims), 1))
+        integer :: hdferr, ignored, rank
+        type(c_ptr) :: destination
+        character(len=:), allocatable :: where
+
+        where = join(location%path, name)
+        if (.not. hdf5_has_link(location, name)) then
+            call fatal_error(error, "'"//location%file//"' has no dataset '"//where//"'", &
+                exit_input)
+            return
+        end if
+        space = -1
+        dataset = -1
+        steps: block
+            call h5dopen_f(location%id, name, dataset, hdferr)
+            if (hdferr /= 0) exit steps
+            call h5dget_space_f(dataset, space, hdferr)
+            if (hdferr /= 0) exit steps
+            call h5sget_simple_extent_ndims_f(space, rank, hdferr)
+            if (hdferr /= 0) exit steps
+            if (rank /= size(dims)) then
+                call fatal_error(error, "the dataset '"//where//"' of '"//location%file// &
+                    "' has "//str(rank)//" dimensions, expected "//str(size(dims)), exit_input)
+                exit steps
+            end if
+            call h5sget_simple_extent_dims_f(space, file_dims, max_dims, hdferr)
+            if (hdferr < 0) exit steps
+            hdferr = 0
+            if (any(file_dims(1:rank) /= dims)) then
+                call fatal_error(error, "the dataset '"//where//"' of '"//location%file// &
+                    "' has dimensions ("//dims_text(file_dims(1:rank))//"), expected ("// &
+                    dims_text(dims)//")", exit_input)
+                exit steps
+            end if
+            if (product(dims) > 0) then
+                ! the c_ptr interface of h5dread_f takes the pointer intent(inout)
+                destination = buffer
+                call h5dread_f(dataset, type_id, destination, hdferr)
+            end if
+        end block steps
+        if (dataset >= 0) call h5dclose_f(dataset, ignored)
+        if (space >= 0) call h5sclose_f(space, ignored)
+        if (allocated(error)) return
+        if (hdferr /= 0) then
+            call fatal_error(error, "cannot read the dataset '"//where//"' of '"// &
+                location%file//"'", exit_input)
+        end if
+    end subroutine read_data
+
+    ! ----------------------------------------------------------------------------------------
+    ! Attributes
+    ! ----------------------------------------------------------------------------------------
+
+    subroutine write_attr_int(location, name, value, error)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        integer, intent(in) :: value
+        type(error_type), allocatable, intent(out) :: error
+
+        integer, target :: buffer(1)
+
+        buffer(1) = value
+        call put_attribute(location, name, h5kind_to_type(kind(value), h5_integer_kind), &
+            c_loc(buffer), [integer(hsize_t) ::], error)
+    end subroutine write_attr_int
+
+    subroutine write_attr_int_1d(location, name, values, error)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        integer, intent(in), target, contiguous :: values(:)
+        type(error_type), allocatable, intent(out) :: error
+
+        type(c_ptr) :: buffer
+
+        buffer = c_null_ptr
+        if (size(values) > 0) buffer = c_loc(values)
+        call put_attribute(location, name, h5kind_to_type(kind(values), h5_integer_kind), &
+            buffer, [int(size(values), hsize_t)], error)
+    end subroutine write_attr_int_1d
+
+    subroutine write_attr_real(location, name, value, error)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        real(wp), intent(in) :: value
+        type(error_type), allocatable, intent(out) :: error
+
+        real(wp), target :: buffer(1)
+
+        buffer(1) = value
+        call put_attribute(location, name, h5kind_to_type(wp, h5_real_kind), c_loc(buffer), &
+            [integer(hsize_t) ::], error)
+    end subroutine write_attr_real
+
+    subroutine write_attr_real_1d(location, name, values, error)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        real(wp), intent(in), target, contiguous :: values(:)
+        type(error_type), allocatable, intent(out) :: error
+
+        type(c_ptr) :: buffer
+
+        buffer = c_null_ptr
+        if (size(values) > 0) buffer = c_loc(values)
+        call put_attribute(location, name, h5kind_to_type(wp, h5_real_kind), buffer, &
+            [int(size(values), hsize_t)], error)
+    end subroutine write_attr_real_1d
+
+    subroutine write_attr_string(location, name, value, error)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        character(len=*), intent(in) :: value
+        type(error_type), allocatable, intent(out) :: error
+
+        call put_string_attribute(location%id, location%file, location%path, name, &
+            [text_type(value)], .true., error)
+    end subroutine write_attr_string
+
+    subroutine write_attr_text_1d(location, name, values, error)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        type(text_type), intent(in) :: values(:)
+        type(error_type), allocatable, intent(out) :: error
+
+        call put_string_attribute(location%id, location%file, location%path, name, values, &
+            .false., error)
+    end subroutine write_attr_text_1d
+
+    !> Create (replace) a numeric attribute; `dims` empty for a scalar.
+    subroutine put_attribute(location, name, type_id, buffer, dims, error)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        integer(hid_t), intent(in) :: type_id
+        type(c_ptr), intent(in) :: buffer
+        integer(hsize_t), intent(in) :: dims(:)
+        type(error_type), allocatable, intent(out) :: error
+
+        integer(hid_t) :: space, attribute
+        integer :: hdferr, ignored
+
+        space = -1
+        attribute = -1
+        steps: block
+            call remove_attribute(location%id, name, hdferr)
+            if (hdferr /= 0) exit steps
+            if (size(dims) == 0) then
+                call h5screate_f(h5s_scalar_f, space, hdferr)
+            else
+                call h5screate_simple_f(size(dims), dims, space, hdferr)
+            end if
+            if (hdferr /= 0) exit steps
+            call h5acreate_f(location%id, name, type_id, space, attribute, hdferr)
+            if (hdferr /= 0) exit steps
+            if (product(dims) > 0) call h5awrite_f(attribute, type_id, buffer, hdferr)
+        end block steps
+        if (attribute >= 0) call h5aclose_f(attribute, ignored)
+        if (space >= 0) call h5sclose_f(space, ignored)
+        if (hdferr /= 0) then
+            call fatal_error(error, "cannot write the attribute '"//name//"' of '"// &
+                location%path//"' to '"//location%file//"'", exit_other)
+        end if
+    end subroutine put_attribute
+
+    !> Create (replace) a fixed-length, null-padded string attribute on any object.
+    subroutine put_string_attribute(object_id, file, where, name, values, scalar, error)
+        integer(hid_t), intent(in) :: object_id
+            !! file, group or dataset
+        character(len=*), intent(in) :: file
+            !! file name, for messages
+        character(len=*), intent(in) :: where
+            !! object path, for messages
+        character(len=*), intent(in) :: name
+            !! attribute name
+        type(text_type), intent(in) :: values(:)
+            !! strings
+        logical, intent(in) :: scalar
+            !! write a scalar attribute (values has one element) instead of a 1D array
+        type(error_type), allocatable, intent(out) :: error
+
+        integer(hid_t) :: space, attribute, string_type
+        integer :: hdferr, ignored, i, length
+        type(c_ptr) :: source
+
+        ! HDF5 has no zero-size string type: an empty string is one null byte
+        length = 1
+        do i = 1, size(values)
+            length = max(length, len(values(i)%text))
+        end do
+        space = -1
+        attribute = -1
+        string_type = -1
+        steps: block
+            character(kind=c_char, len=length), target :: buffer(size(values))
+
+            do i = 1, size(values)
+                buffer(i) = repeat(c_null_char, length)
+                buffer(i)(1:len(values(i)%text)) = values(i)%text
+            end do
+            call remove_attribute(object_id, name, hdferr)
+            if (hdferr /= 0) exit steps
+            call h5tcopy_f(h5t_fortran_s1, string_type, hdferr)
+            if (hdferr /= 0) exit steps
+            call h5tset_size_f(string_type, int(length, size_t), hdferr)
+            if (hdferr /= 0) exit steps
+            call h5tset_strpad_f(string_type, h5t_str_nullpad_f, hdferr)
+            if (hdferr /= 0) exit steps
+            if (scalar) then
+                call h5screate_f(h5s_scalar_f, space, hdferr)
+            else
+                call h5screate_simple_f(1, [int(size(values), hsize_t)], space, hdferr)
+            end if
+            if (hdferr /= 0) exit steps
+            call h5acreate_f(object_id, name, string_type, space, attribute, hdferr)
+            if (hdferr /= 0) exit steps
+            if (size(values) > 0) then
+                source = c_loc(buffer)
+                call h5awrite_f(attribute, string_type, source, hdferr)
+            end if
+        end block steps
+        if (attribute >= 0) call h5aclose_f(attribute, ignored)
+        if (space >= 0) call h5sclose_f(space, ignored)
+        if (string_type >= 0) call h5tclose_f(string_type, ignored)
+        if (hdferr /= 0) then
+            call fatal_error(error, "cannot write the attribute '"//name//"' of '"//where// &
+                "' to '"//file//"'", exit_other)
+        end if
+    end subroutine put_string_attribute
+
+    !> Delete an attribute if it exists (HDF5 refuses to create one twice).
+    subroutine remove_attribute(object_id, name, hdferr)
+        integer(hid_t), intent(in) :: object_id
+        character(len=*), intent(in) :: name
+        integer, intent(out) :: hdferr
+
+        logical :: exists
+
+        call h5aexists_f(object_id, name, exists, hdferr)
+        if (hdferr /= 0 .or. .not. exists) return
+        call h5adelete_f(object_id, name, hdferr)
+    end subroutine remove_attribute
+
+    subroutine read_attr_int(location, name, value, error)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        integer, intent(out) :: value
+        type(error_type), allocatable, intent(out) :: error
+
+        integer, target :: buffer(1)
+
+        buffer = 0
+        call get_attribute(location, name, h5kind_to_type(kind(value), h5_integer_kind), &
+            c_loc(buffer), [integer(hsize_t) ::], error)
+        value = buffer(1)
+    end subroutine read_attr_int
+
+    subroutine read_attr_int_1d(location, name, values, error)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        integer, intent(inout), target, contiguous :: values(:)
+            !! array of the expected size
+        type(error_type), allocatable, intent(out) :: error
+
+        type(c_ptr) :: buffer
+
+        buffer = c_null_ptr
+        if (size(values) > 0) buffer = c_loc(values)
+        call get_attribute(location, name, h5kind_to_type(kind(values), h5_integer_kind), &
+            buffer, [int(size(values), hsize_t)], error)
+    end subroutine read_attr_int_1d
+
+    subroutine read_attr_real(location, name, value, error)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        real(wp), intent(out) :: value
+        type(error_type), allocatable, intent(out) :: error
+
+        real(wp), target :: buffer(1)
+
+        buffer = 0.0_wp
+        call get_attribute(location, name, h5kind_to_type(wp, h5_real_kind), c_loc(buffer), &
+            [integer(hsize_t) ::], error)
+        value = buffer(1)
+    end subroutine read_attr_real
+
+    subroutine read_attr_real_1d(location, name, values, error)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        real(wp), intent(inout), target, contiguous :: values(:)
+            !! array of the expected size
+        type(error_type), allocatable, intent(out) :: error
+
+        type(c_ptr) :: buffer
+
+        buffer = c_null_ptr
+        if (size(values) > 0) buffer = c_loc(values)
+        call get_attribute(location, name, h5kind_to_type(wp, h5_real_kind), buffer, &
+            [int(size(values), hsize_t)], error)
+    end subroutine read_attr_real_1d
+
+    !> Read a numeric attribute after checking its shape (`dims` empty: scalar or one value).
+    subroutine get_attribute(location, name, type_id, buffer, dims, error)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        integer(hid_t), intent(in) :: type_id
+        type(c_ptr), intent(in) :: buffer
+        integer(hsize_t), intent(in) :: dims(:)
+        type(error_type), allocatable, intent(out) :: error
+
+        integer(hid_t) :: space, attribute
+        integer(hsize_t) :: file_dims(1), max_dims(1)
+        integer :: hdferr, ignored, rank
+        integer(hsize_t) :: count, expected
+        type(c_ptr) :: destination
+
+        if (.not. hdf5_has_attribute(location, name)) then
+            call fatal_error(error, "'"//location%file//"' has no attribute '"//name// &
+                "' on '"//location%path//"'", exit_input)
+            return
+        end if
+        expected = product(dims)
+        space = -1
+        attribute = -1
+        steps: block
+            call h5aopen_f(location%id, name, attribute, hdferr)
+            if (hdferr /= 0) exit steps
+            call h5aget_space_f(attribute, space, hdferr)
+            if (hdferr /= 0) exit steps
+            call h5sget_simple_extent_ndims_f(space, rank, hdferr)
+            if (hdferr /= 0) exit steps
+            count = 1
+            if (rank == 1) then
+                call h5sget_simple_extent_dims_f(space, file_dims, max_dims, hdferr)
+                if (hdferr < 0) exit steps
+                hdferr = 0
+                count = file_dims(1)
+            end if
+            if (rank > 1 .or. count /= expected) then
+                call fatal_error(error, "the attribute '"//name//"' of '"//location%path// &
+                    "' in '"//location%file//"' has "//str(int(count))//" values, expected "// &
+                    str(int(expected)), exit_input)
+                exit steps
+            end if
+            if (expected > 0) then
+                destination = buffer
+                call h5aread_f(attribute, type_id, destination, hdferr)
+            end if
+        end block steps
+        if (attribute >= 0) call h5aclose_f(attribute, ignored)
+        if (space >= 0) call h5sclose_f(space, ignored)
+        if (allocated(error)) return
+        if (hdferr /= 0) then
+            call fatal_error(error, "cannot read the attribute '"//name//"' of '"// &
+                location%path//"' in '"//location%file//"'", exit_input)
+        end if
+    end subroutine get_attribute
+
+    subroutine read_attr_string(location, name, value, error)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        character(len=:), allocatable, intent(out) :: value
+            !! the string, without padding
+        type(error_type), allocatable, intent(out) :: error
+
+        type(text_type), allocatable :: values(:)
+
+        call get_string_attribute(location, name, values, error)
+        if (allocated(error)) return
+        if (size(values) /= 1) then
+            call fatal_error(error, "the attribute '"//name//"' of '"//location%path// &
+                "' in '"//location%file//"' has "//str(size(values))// &
+                " strings, expected one", exit_input)
+            return
+        end if
+        value = values(1)%text
+    end subroutine read_attr_string
+
+    subroutine read_attr_text_1d(location, name, values, error)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        type(text_type), allocatable, intent(out) :: values(:)
+            !! the strings, without padding
+        type(error_type), allocatable, intent(out) :: error
+
+        call get_string_attribute(location, name, values, error)
+    end subroutine read_attr_text_1d
+
+    !> Read a fixed-length string attribute (scalar or 1D), cutting each string at its first
+    !> null byte and dropping trailing blanks.
+    subroutine get_string_attribute(location, name, values, error)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        type(text_type), allocatable, intent(out) :: values(:)
+        type(error_type), allocatable, intent(out) :: error
+
+        integer(hid_t) :: space, attribute, file_type, memory_type
+        integer(hsize_t) :: file_dims(1), max_dims(1)
+        integer(size_t) :: length
+        integer :: hdferr, ignored, rank, type_class, count
+        logical :: variable
+
+        if (.not. hdf5_has_attribute(location, name)) then
+            call fatal_error(error, "'"//location%file//"' has no attribute '"//name// &
+                "' on '"//location%path//"'", exit_input)
+            return
+        end if
+        space = -1
+        attribute = -1
+        file_type = -1
+        memory_type = -1
+        variable = .false.
+        length = 1
+        count = 0
+        steps: block
+            call h5aopen_f(location%id, name, attribute, hdferr)
+            if (hdferr /= 0) exit steps
+            call h5aget_type_f(attribute, file_type, hdferr)
+            if (hdferr /= 0) exit steps
+            call h5tget_class_f(file_type, type_class, hdferr)
+            if (hdferr /= 0) exit steps
+            if (type_class == h5t_string_f) then
+                call h5tis_variable_str_f(file_type, variable, hdferr)
+                if (hdferr /= 0) exit steps
+            end if
+            if (type_class /= h5t_string_f .or. variable) then
+                call fatal_error(error, "the attribute '"//name//"' of '"//location%path// &
+                    "' in '"//location%file//"' is not a fixed-length string", exit_input)
+                exit steps
+            end if
+            call h5tget_size_f(file_type, length, hdferr)
+            if (hdferr /= 0) exit steps
+            call h5aget_space_f(attribute, space, hdferr)
+            if (hdferr /= 0) exit steps
+            call h5sget_simple_extent_ndims_f(space, rank, hdferr)
+            if (hdferr /= 0) exit steps
+            count = 1
+            if (rank == 1) then
+                call h5sget_simple_extent_dims_f(space, file_dims, max_dims, hdferr)
+                if (hdferr < 0) exit steps
+                hdferr = 0
+                count = int(file_dims(1))
+            else if (rank > 1) then
+                call fatal_error(error, "the attribute '"//name//"' of '"//location%path// &
+                    "' in '"//location%file//"' has more than one dimension", exit_input)
+                exit steps
+            end if
+            call h5tcopy_f(h5t_fortran_s1, memory_type, hdferr)
+            if (hdferr /= 0) exit steps
+            call h5tset_size_f(memory_type, length, hdferr)
+            if (hdferr /= 0) exit steps
+            call h5tset_strpad_f(memory_type, h5t_str_nullpad_f, hdferr)
+            if (hdferr /= 0) exit steps
+            call read_strings(int(length))
+        end block steps
+        if (attribute >= 0) call h5aclose_f(attribute, ignored)
+        if (space >= 0) call h5sclose_f(space, ignored)
+        if (file_type >= 0) call h5tclose_f(file_type, ignored)
+        if (memory_type >= 0) call h5tclose_f(memory_type, ignored)
+        if (allocated(error)) return
+        if (hdferr /= 0) then
+            call fatal_error(error, "cannot read the attribute '"//name//"' of '"// &
+                location%path//"' in '"//location%file//"'", exit_input)
+        end if
+
+    contains
+
+        subroutine read_strings(width)
+            integer, intent(in) :: width
+                !! bytes per string
+
+            character(kind=c_char, len=width), target :: buffer(count)
+            type(c_ptr) :: destination
+            integer :: i, cut
+
+            if (count > 0) then
+                ! the c_ptr interface of h5aread_f takes the pointer intent(inout)
+                destination = c_loc(buffer)
+                call h5aread_f(attribute, memory_type, destination, hdferr)
+                if (hdferr /= 0) return
+            end if
+            allocate (values(count))
+            do i = 1, count
+                cut = index(buffer(i), c_null_char)
+                if (cut == 0) cut = width + 1
+                values(i)%text = trim(buffer(i)(1:cut - 1))
+            end do
+        end subroutine read_strings
+
+    end subroutine get_string_attribute
+
+    ! ----------------------------------------------------------------------------------------
+    ! Text helpers
+    ! ----------------------------------------------------------------------------------------
+
+    !> Path of `name` inside the group at `path`.
+    pure function join(path, name) result(full)
+        character(len=*), intent(in) :: path, name
+        character(len=:), allocatable :: full
+
+        if (path == "/") then
+            full = "/"//name
+        else
+            full = path//"/"//name
+        end if
+    end function join
+
+    !> Dimensions as C/h5py order text: Fortran shape (3, 5) -> "5, 3".
+    pure function dims_text(dims) result(text)
+        integer(hsize_t), intent(in) :: dims(:)
+        character(len=:), allocatable :: text
+
+        integer :: i
+
+        text = ""
+        do i = size(dims), 1, -1
+            text = text//str(int(dims(i)))
+            if (i > 1) text = text//", "
+        end do
+    end function dims_text
+
+    pure function str(value) result(text)
+        integer, intent(in) :: value
+        character(len=:), allocatable :: text
+
+        character(len=24) :: buffer
+
+        write (buffer, "(i0)") value
+        text = trim(buffer)
+    end function str
+
+end module mpm_hdf5

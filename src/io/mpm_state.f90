@@ -1,0 +1,551 @@
+!> Save and load the particle state of a run (restart files), as HDF5.
+!>
+!> A state file holds every array of `particles_type` exactly as stored (no padding), the
+!> time and step, and what is needed to check that it fits the case it is loaded into: the
+!> grid (dimension, ncells, dx, origin) and the material names. Material indices are stored
+!> as in the saving case and remapped by name when loading, so a case may list its
+!> materials in another order or add new ones. The layout is described in docs/output.md.
+module mpm_state
+    use mpm_kinds, only: wp
+    use mpm_error, only: error_type, fatal_error, exit_other, exit_input
+    use mpm_case, only: case_type
+    use mpm_particles, only: particles_type, new_particles, nstress_of
+    use mpm_hdf5, only: hdf5_location_type, text_type, hdf5_initialize, hdf5_is_hdf5_file, &
+        hdf5_create_file, hdf5_open_file, hdf5_create_group, hdf5_open_group, hdf5_close, &
+        hdf5_has_attribute, hdf5_write_dataset, hdf5_read_dataset, hdf5_write_attribute, &
+        hdf5_read_attribute
+    use mpm_filesystem, only: make_directory, directory_exists, file_exists, rename_file, &
+        remove_file, parent_directory
+    use mpm_version, only: mpm_version_string
+    implicit none
+    private
+    public :: save_state, load_state
+    public :: state_format, state_format_version
+
+    character(len=*), parameter :: state_format = "mpm-geo-state"
+        !! value of the root attribute "format" of a state file
+    integer, parameter :: state_format_version = 1
+        !! layout version written by this build (and the only one it reads)
+    real(wp), parameter :: grid_rtol = 1.0e-12_wp
+        !! relative tolerance when comparing dx and origin with the case's [-]
+
+contains
+
+    !> Write the particle state to `path` (through `path.tmp` and a rename: never half a file).
+    subroutine save_state(path, case, particles, time, step, error)
+        character(len=*), intent(in) :: path
+            !! state file to write; its folder is created when missing
+        type(case_type), intent(in) :: case
+            !! the case of the run (grid and materials are recorded for checks at load)
+        type(particles_type), intent(in) :: particles
+            !! particles to save
+        real(wp), intent(in) :: time
+            !! simulated time [s]
+        integer, intent(in) :: step
+            !! time step number
+        type(error_type), allocatable, intent(out) :: error
+            !! set when the file cannot be written (the message names it)
+
+        character(len=:), allocatable :: folder, temporary
+        type(error_type), allocatable :: ignored
+
+        if (particles%dim /= case%dim) then
+            call fatal_error(error, "cannot save the state '"//path//"': the particles have "// &
+                "dimension "//int_text(particles%dim)//" but the case has "// &
+                int_text(case%dim), exit_other)
+            return
+        end if
+        folder = parent_directory(path)
+        if (len(folder) > 0) then
+            if (.not. directory_exists(folder)) then
+                call make_directory(folder, error)
+                if (allocated(error)) return
+            end if
+        end if
+        call hdf5_initialize(error)
+        if (allocated(error)) return
+
+        temporary = path//".tmp"
+        call write_state_file(temporary, case, particles, time, step, error)
+        if (allocated(error)) then
+            call remove_file(temporary, ignored)
+            return
+        end if
+        call rename_file(temporary, path, error)
+    end subroutine save_state
+
+    subroutine write_state_file(path, case, particles, time, step, error)
+        character(len=*), intent(in) :: path
+        type(case_type), intent(in) :: case
+        type(particles_type), intent(in) :: particles
+        real(wp), intent(in) :: time
+        integer, intent(in) :: step
+        type(error_type), allocatable, intent(out) :: error
+
+        type(hdf5_location_type) :: file, group
+        type(error_type), allocatable :: close_error
+        character(len=:), allocatable :: case_name
+
+        case_name = ""
+        if (allocated(case%name)) case_name = case%name
+        call hdf5_create_file(path, file, error)
+        if (allocated(error)) return
+        steps: block
+            call hdf5_write_attribute(file, "format", state_format, error)
+            if (allocated(error)) exit steps
+            call hdf5_write_attribute(file, "format_version", state_format_version, error)
+            if (allocated(error)) exit steps
+            call hdf5_write_attribute(file, "mpm_geo_version", mpm_version_string, error)
+            if (allocated(error)) exit steps
+            call hdf5_write_attribute(file, "case_name", case_name, error)
+            if (allocated(error)) exit steps
+            call hdf5_write_attribute(file, "dimension", case%dim, error)
+            if (allocated(error)) exit steps
+            call hdf5_write_attribute(file, "ncells", case%ncells, error)
+            if (allocated(error)) exit steps
+            call hdf5_write_attribute(file, "dx", case%dx, error)
+            if (allocated(error)) exit steps
+            call hdf5_write_attribute(file, "origin", case%origin, error)
+            if (allocated(error)) exit steps
+            call hdf5_write_attribute(file, "n", particles%n, error)
+            if (allocated(error)) exit steps
+            call hdf5_write_attribute(file, "nstress", particles%nstress, error)
+            if (allocated(error)) exit steps
+            call hdf5_write_attribute(file, "time", time, error)
+            if (allocated(error)) exit steps
+            call hdf5_write_attribute(file, "step", step, error)
+            if (allocated(error)) exit steps
+            call hdf5_write_attribute(file, "materials", material_names(case), error)
+            if (allocated(error)) exit steps
+
+            call hdf5_create_group(file, "particles", group, error)
+            if (allocated(error)) exit steps
+            call write_particles(group, particles, error)
+            call hdf5_close(group, close_error)
+            if (.not. allocated(error) .and. allocated(close_error)) then
+                call move_alloc(close_error, error)
+            end if
+        end block steps
+        call hdf5_close(file, close_error)
+        if (.not. allocated(error) .and. allocated(close_error)) call move_alloc(close_error, error)
+    end subroutine write_state_file
+
+    !> Every array of particles_type, raw, under the component's own name.
+    subroutine write_particles(group, particles, error)
+        type(hdf5_location_type), intent(in) :: group
+        type(particles_type), intent(in) :: particles
+        type(error_type), allocatable, intent(out) :: error
+
+        call hdf5_write_dataset(group, "x", particles%x, error, units="m")
+        if (allocated(error)) return
+        call hdf5_write_dataset(group, "u", particles%u, error, units="m")
+        if (allocated(error)) return
+        call hdf5_write_dataset(group, "v", particles%v, error, units="m/s")
+        if (allocated(error)) return
+        call hdf5_write_dataset(group, "mass", particles%mass, error, &
+            units=trim(merge("kg/m", "kg  ", particles%dim == 2)))
+        if (allocated(error)) return
+        call hdf5_write_dataset(group, "volume", particles%volume, error, &
+            units=merge("m2", "m3", particles%dim == 2))
+        if (allocated(error)) return
+        call hdf5_write_dataset(group, "volume0", particles%volume0, error, &
+            units=merge("m2", "m3", particles%dim == 2))
+        if (allocated(error)) return
+        call hdf5_write_dataset(group, "stress", particles%stress, error, units="Pa", &
+            components=voigt_components(particles%dim))
+        if (allocated(error)) return
+        call hdf5_write_dataset(group, "strain", particles%strain, error, units="-", &
+            components=voigt_components(particles%dim))
+        if (allocated(error)) return
+        call hdf5_write_dataset(group, "f", particles%f, error, units="-")
+        if (allocated(error)) return
+        call hdf5_write_dataset(group, "lp0", particles%lp0, error, units="m")
+        if (allocated(error)) return
+        call hdf5_write_dataset(group, "lp", particles%lp, error, units="m")
+        if (allocated(error)) return
+        call hdf5_write_dataset(group, "material", particles%material, error, units="-")
+    end subroutine write_particles
+
+    !> Read a state file written by save_state, after checking that it fits the case.
+    subroutine load_state(path, case, particles, time, step, error)
+        character(len=*), intent(in) :: path
+            !! state file
+        type(case_type), intent(in) :: case
+            !! the case to continue: grid and material names must match the state's
+        type(particles_type), intent(out) :: particles
+            !! particles read, material indices remapped to the case's order
+        real(wp), intent(out) :: time
+            !! simulated time of the state [s]
+        integer, intent(out) :: step
+            !! time step number of the state
+        type(error_type), allocatable, intent(out) :: error
+            !! set (code exit_input) when the file is not a state of this case
+
+        type(hdf5_location_type) :: file
+        type(error_type), allocatable :: close_error
+
+        time = 0.0_wp
+        step = 0
+        if (.not. file_exists(path)) then
+            call fatal_error(error, refusal(path, "the file does not exist"), exit_input)
+            return
+        end if
+        call hdf5_initialize(error)
+        if (allocated(error)) return
+        if (.not. hdf5_is_hdf5_file(path)) then
+            call fatal_error(error, refusal(path, "it is not an HDF5 file"), exit_input)
+            return
+        end if
+        call hdf5_open_file(path, file, error)
+        if (allocated(error)) return
+        call read_state_file(path, file, case, particles, time, step, error)
+        call hdf5_close(file, close_error)
+        if (.not. allocated(error) .and. allocated(close_error)) call move_alloc(close_error, error)
+    end subroutine load_state
+
+    subroutine read_state_file(path, file, case, particles, time, step, error)
+        character(len=*), intent(in) :: path
+        type(hdf5_location_type), intent(in) :: file
+        type(case_type), intent(in) :: case
+        type(particles_type), intent(out) :: particles
+        real(wp), intent(out) :: time
+        integer, intent(out) :: step
+        type(error_type), allocatable, intent(out) :: error
+
+        type(hdf5_location_type) :: group
+        type(error_type), allocatable :: close_error
+        character(len=:), allocatable :: format
+        type(text_type), allocatable :: names(:)
+        integer, allocatable :: remap(:)
+        integer :: version, dim, n, nstress
+
+        time = 0.0_wp
+        step = 0
+        if (.not. hdf5_has_attribute(file, "format")) then
+            call fatal_error(error, refusal(path, "it is not an mpm-geo state file "// &
+                "(no 'format' attribute; an output file of a run is not a state)"), exit_input)
+            return
+        end if
+        call hdf5_read_attribute(file, "format", format, error)
+        if (allocated(error)) return
+        if (format /= state_format) then
+            call fatal_error(error, refusal(path, "it is not an mpm-geo state file "// &
+                "(format '"//format//"', expected '"//state_format//"')"), exit_input)
+            return
+        end if
+        call hdf5_read_attribute(file, "format_version", version, error)
+        if (allocated(error)) return
+        if (version /= state_format_version) then
+            call fatal_error(error, refusal(path, "format_version "//int_text(version)// &
+                " is not supported (this build reads format_version "// &
+                int_text(state_format_version)//")"), exit_input)
+            return
+        end if
+
+        call check_grid(path, file, case, dim, error)
+        if (allocated(error)) return
+        call hdf5_read_attribute(file, "materials", names, error)
+        if (allocated(error)) return
+        call material_remap(path, names, case, remap, error)
+        if (allocated(error)) return
+
+        call hdf5_read_attribute(file, "n", n, error)
+        if (allocated(error)) return
+        call hdf5_read_attribute(file, "nstress", nstress, error)
+        if (allocated(error)) return
+        if (n < 0 .or. nstress /= nstress_of(dim)) then
+            call fatal_error(error, refusal(path, "n = "//int_text(n)//" and nstress = "// &
+                int_text(nstress)//" are not valid for dimension "//int_text(dim)), exit_input)
+            return
+        end if
+        call hdf5_read_attribute(file, "time", time, error)
+        if (allocated(error)) return
+        call hdf5_read_attribute(file, "step", step, error)
+        if (allocated(error)) return
+
+        call new_particles(particles, dim, n, error)
+        if (allocated(error)) return
+        call hdf5_open_group(file, "particles", group, error)
+        if (allocated(error)) return
+        call read_particles(group, particles, error)
+        call hdf5_close(group, close_error)
+        if (.not. allocated(error) .and. allocated(close_error)) call move_alloc(close_error, error)
+        if (allocated(error)) return
+
+        call apply_remap(path, remap, particles, error)
+        if (allocated(error)) return
+        call check_inside(path, case, particles, error)
+    end subroutine read_state_file
+
+    subroutine read_particles(group, particles, error)
+        type(hdf5_location_type), intent(in) :: group
+        type(particles_type), intent(inout) :: particles
+        type(error_type), allocatable, intent(out) :: error
+
+        call hdf5_read_dataset(group, "x", particles%x, error)
+        if (allocated(error)) return
+        call hdf5_read_dataset(group, "u", particles%u, error)
+        if (allocated(error)) return
+        call hdf5_read_dataset(group, "v", particles%v, error)
+        if (allocated(error)) return
+        call hdf5_read_dataset(group, "mass", particles%mass, error)
+        if (allocated(error)) return
+        call hdf5_read_dataset(group, "volume", particles%volume, error)
+        if (allocated(error)) return
+        call hdf5_read_dataset(group, "volume0", particles%volume0, error)
+        if (allocated(error)) return
+        call hdf5_read_dataset(group, "stress", particles%stress, error)
+        if (allocated(error)) return
+        call hdf5_read_dataset(group, "strain", particles%strain, error)
+        if (allocated(error)) return
+        call hdf5_read_dataset(group, "f", particles%f, error)
+        if (allocated(error)) return
+        call hdf5_read_dataset(group, "lp0", particles%lp0, error)
+        if (allocated(error)) return
+        call hdf5_read_dataset(group, "lp", particles%lp, error)
+        if (allocated(error)) return
+        call hdf5_read_dataset(group, "material", particles%material, error)
+    end subroutine read_particles
+
+    !> Refuse a state whose grid (dimension, ncells, dx, origin) is not the case's.
+    subroutine check_grid(path, file, case, dim, error)
+        character(len=*), intent(in) :: path
+        type(hdf5_location_type), intent(in) :: file
+        type(case_type), intent(in) :: case
+        integer, intent(out) :: dim
+            !! dimension of the state (= the case's when no error)
+        type(error_type), allocatable, intent(out) :: error
+
+        integer :: ncells(3), d
+        real(wp) :: dx, origin(3)
+
+        call hdf5_read_attribute(file, "dimension", dim, error)
+        if (allocated(error)) return
+        if (dim /= case%dim) then
+            call fatal_error(error, refusal(path, "the state has dimension "// &
+                int_text(dim)//" but the case has dimension "//int_text(case%dim)), exit_input)
+            return
+        end if
+        call hdf5_read_attribute(file, "ncells", ncells, error)
+        if (allocated(error)) return
+        call hdf5_read_attribute(file, "dx", dx, error)
+        if (allocated(error)) return
+        call hdf5_read_attribute(file, "origin", origin, error)
+        if (allocated(error)) return
+
+        if (any(ncells(1:dim) /= case%ncells(1:dim))) then
+            call fatal_error(error, refusal(path, "the state grid has ncells = "// &
+                ints_text(ncells(1:dim))//" but the case has ncells = "// &
+                ints_text(case%ncells(1:dim))), exit_input)
+            return
+        end if
+        if (.not. close_enough(dx, case%dx, 0.0_wp)) then
+            call fatal_error(error, refusal(path, "the state grid has dx = "// &
+                real_text(dx)//" m but the case has dx = "//real_text(case%dx)//" m"), &
+                exit_input)
+            return
+        end if
+        do d = 1, dim
+            if (.not. close_enough(origin(d), case%origin(d), case%dx)) then
+                call fatal_error(error, refusal(path, "the state grid has origin = "// &
+                    reals_text(origin(1:dim))//" m but the case has origin = "// &
+                    reals_text(case%origin(1:dim))//" m"), exit_input)
+                return
+            end if
+        end do
+    end subroutine check_grid
+
+    !> Index in the case of each material of the state, by name.
+    subroutine material_remap(path, names, case, remap, error)
+        character(len=*), intent(in) :: path
+        type(text_type), intent(in) :: names(:)
+            !! material names of the state, in the saving case's order
+        type(case_type), intent(in) :: case
+        integer, allocatable, intent(out) :: remap(:)
+            !! remap(k) = index in case%materials of the state's material k
+        type(error_type), allocatable, intent(out) :: error
+
+        integer :: k, m, ncase
+        character(len=:), allocatable :: known
+
+        ncase = 0
+        if (allocated(case%materials)) ncase = size(case%materials)
+        allocate (remap(size(names)))
+        remap = 0
+        do k = 1, size(names)
+            do m = 1, ncase
+                if (.not. allocated(case%materials(m)%name)) cycle
+                if (case%materials(m)%name == names(k)%text) then
+                    remap(k) = m
+                    exit
+                end if
+            end do
+            if (remap(k) == 0) then
+                known = ""
+                do m = 1, ncase
+                    if (.not. allocated(case%materials(m)%name)) cycle
+                    if (len(known) > 0) known = known//", "
+                    known = known//"'"//case%materials(m)%name//"'"
+                end do
+                if (len(known) == 0) known = "none"
+                call fatal_error(error, refusal(path, "material '"//names(k)%text// &
+                    "' of the state is not a material of the case (the case has: "// &
+                    known//")"), exit_input)
+                return
+            end if
+        end do
+    end subroutine material_remap
+
+    subroutine apply_remap(path, remap, particles, error)
+        character(len=*), intent(in) :: path
+        integer, intent(in) :: remap(:)
+        type(particles_type), intent(inout) :: particles
+        type(error_type), allocatable, intent(out) :: error
+
+        integer :: p
+
+        do p = 1, particles%n
+            if (particles%material(p) < 1 .or. particles%material(p) > size(remap)) then
+                call fatal_error(error, refusal(path, "particle "//int_text(p)// &
+                    " has material index "//int_text(particles%material(p))// &
+                    ", outside 1.."//int_text(size(remap))//" (damaged file?)"), exit_input)
+                return
+            end if
+            particles%material(p) = remap(particles%material(p))
+        end do
+    end subroutine apply_remap
+
+    !> Refuse a state with a particle outside the case's domain (boundary included).
+    subroutine check_inside(path, case, particles, error)
+        character(len=*), intent(in) :: path
+        type(case_type), intent(in) :: case
+        type(particles_type), intent(in) :: particles
+        type(error_type), allocatable, intent(out) :: error
+
+        integer :: p, d, k
+        real(wp) :: upper(3)
+        character(len=:), allocatable :: box
+
+        upper = case%origin + real(case%ncells, wp)*case%dx
+        do p = 1, particles%n
+            do d = 1, case%dim
+                ! written so that a NaN position counts as outside
+                if (.not. (particles%x(d, p) >= case%origin(d) .and. &
+                    particles%x(d, p) <= upper(d))) then
+                    box = ""
+                    do k = 1, case%dim
+                        if (k > 1) box = box//" x "
+                        box = box//"["//real_text(case%origin(k))//", "//real_text(upper(k))//"]"
+                    end do
+                    call fatal_error(error, refusal(path, "particle "//int_text(p)//" at "// &
+                        reals_text(particles%x(:, p))//" m lies outside the case domain "// &
+                        box//" m"), exit_input)
+                    return
+                end if
+            end do
+        end do
+    end subroutine check_inside
+
+    !> Material names of a case, in case order.
+    function material_names(case) result(names)
+        type(case_type), intent(in) :: case
+        type(text_type), allocatable :: names(:)
+
+        integer :: m, nmat
+
+        nmat = 0
+        if (allocated(case%materials)) nmat = size(case%materials)
+        allocate (names(nmat))
+        do m = 1, nmat
+            names(m)%text = ""
+            if (allocated(case%materials(m)%name)) names(m)%text = case%materials(m)%name
+        end do
+    end function material_names
+
+    !> Names of the stored Voigt components, as the "components" attribute of stress and strain.
+    pure function voigt_components(dim) result(text)
+        integer, intent(in) :: dim
+        character(len=:), allocatable :: text
+
+        if (dim == 2) then
+            text = "xx yy zz xy"
+        else
+            text = "xx yy zz xy yz zx"
+        end if
+    end function voigt_components
+
+    !> Equal within grid_rtol relative to the larger magnitude (or to `scale`).
+    pure logical function close_enough(a, b, scale)
+        real(wp), intent(in) :: a, b
+        real(wp), intent(in) :: scale
+            !! length of the problem, so that origins near 0 compare sensibly [m]
+
+        close_enough = abs(a - b) <= grid_rtol*max(abs(a), abs(b), abs(scale))
+    end function close_enough
+
+    pure function refusal(path, reason) result(message)
+        character(len=*), intent(in) :: path, reason
+        character(len=:), allocatable :: message
+
+        message = "cannot load the state file '"//path//"': "//reason
+    end function refusal
+
+    pure function int_text(value) result(text)
+        integer, intent(in) :: value
+        character(len=:), allocatable :: text
+
+        character(len=24) :: buffer
+
+        write (buffer, "(i0)") value
+        text = trim(buffer)
+    end function int_text
+
+    pure function ints_text(values) result(text)
+        integer, intent(in) :: values(:)
+        character(len=:), allocatable :: text
+
+        integer :: i
+
+        text = ""
+        do i = 1, size(values)
+            if (i > 1) text = text//" "
+            text = text//int_text(values(i))
+        end do
+    end function ints_text
+
+    !> The shortest text (up to 17 digits) that reads back as the same double.
+    pure function real_text(value) result(text)
+        real(wp), intent(in) :: value
+        character(len=:), allocatable :: text
+
+        character(len=40) :: buffer, form
+        character(len=80) :: message
+        real(wp) :: back
+        integer :: digits, stat
+
+        do digits = 1, 17
+            write (form, "(a,i0,a)") "(g0.", digits, ")"
+            write (buffer, form) value
+            read (buffer, *, iostat=stat, iomsg=message) back
+            if (stat == 0 .and. back == value) exit
+        end do
+        text = trim(adjustl(buffer))
+        ! g0.d writes 1.0 as "1."
+        if (text(len(text):) == ".") text = text(1:len(text) - 1)
+    end function real_text
+
+    pure function reals_text(values) result(text)
+        real(wp), intent(in) :: values(:)
+        character(len=:), allocatable :: text
+
+        integer :: i
+
+        text = "("
+        do i = 1, size(values)
+            if (i > 1) text = text//", "
+            text = text//real_text(values(i))
+        end do
+        text = text//")"
+    end function reals_text
+
+end module mpm_state

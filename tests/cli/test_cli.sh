@@ -1,0 +1,107 @@
+#!/usr/bin/env bash
+# Command-line behaviour of mpm_geo: options, exit codes, messages, output folder rules,
+# save_state/load_state, and that the written XDMF opens in ParaView (pvbatch) when present.
+# Usage: tests/cli/test_cli.sh path/to/mpm_geo   (run from the repository root)
+set -u
+exe=$(realpath "$1")
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+passed=0
+failed=0
+ok() { passed=$((passed + 1)); }
+bad() { failed=$((failed + 1)); echo "FAIL [cli] $1"; }
+
+# expect CODE DESCRIPTION -- command...   (stdout+stderr in $tmp/out)
+expect() {
+    local code=$1 what=$2
+    shift 3
+    "$@" > "$tmp/out" 2>&1
+    local rc=$?
+    if [ "$rc" -eq "$code" ]; then ok; else bad "$what: exit code $rc, expected $code"; cat "$tmp/out"; fi
+}
+contains() {
+    if grep -qF -- "$1" "$tmp/out"; then ok; else bad "$2: output lacks '$1'"; cat "$tmp/out"; fi
+}
+
+cat > "$tmp/small.json" <<'JSON'
+{
+  "name": "small",
+  "domain": {"nx": 12, "ny": 8, "dx": 0.05, "boundaries": {"ymin": "fixed", "xmin": "sliding", "xmax": "sliding"}},
+  "particles": {"ppc": 2},
+  "materials": [{"name": "soil", "type": "linear_elastic", "E": 1e5, "nu": 0.3, "rho": 1500}],
+  "bodies": [{"name": "block", "material": "soil", "min": [0.1, 0.0], "max": [0.4, 0.2]}],
+  "gravity": [0, -9.81],
+  "time": {"tend": 0.05, "cfl": 0.5},
+  "output": {"interval": 0.01},
+  "save_state": "STATE"
+}
+JSON
+sed -i "s#STATE#$tmp/state/small.h5#" "$tmp/small.json"
+
+expect 0 "--help" -- "$exe" --help
+contains "usage: mpm_geo" "--help"
+contains "exit codes" "--help"
+expect 0 "--version" -- "$exe" --version
+contains "mpm_geo " "--version"
+expect 2 "no arguments" -- "$exe"
+contains "no case file given" "no arguments"
+expect 2 "unknown option" -- "$exe" --frobnicate x.json
+contains "unknown option '--frobnicate'" "unknown option"
+expect 2 "missing case file" -- "$exe" "$tmp/does_not_exist.json"
+contains "does_not_exist.json" "missing case file"
+expect 2 "--output without value" -- "$exe" "$tmp/small.json" --output
+contains "needs a value" "--output without value"
+
+# --check validates and prints the set-up, writes nothing
+expect 0 "--check" -- "$exe" --check "$tmp/small.json" --output "$tmp/run"
+contains "is valid" "--check"
+[ ! -e "$tmp/run" ] && ok || bad "--check must not create the output folder"
+
+# a real run with the manual's --input form
+expect 0 "run" -- "$exe" --input "$tmp/small.json" --output "$tmp/run"
+contains "particle-steps/s" "run summary"
+for f in small.xdmf history.csv particles_000000.h5; do
+    [ -s "$tmp/run/$f" ] && ok || bad "run did not write $f"
+done
+[ -s "$tmp/state/small.h5" ] && ok || bad "save_state did not write the state file"
+head -1 "$tmp/run/history.csv" | grep -q "^time,step,kinetic_energy,strain_energy,potential_energy,damping_work,total$" \
+    && ok || bad "history.csv header"
+nhist=$(wc -l < "$tmp/run/history.csv")
+[ "$nhist" -ge 3 ] && ok || bad "history.csv has $nhist lines"
+
+# an existing output folder is not overwritten silently
+sum_before=$(md5sum "$tmp/run/history.csv")
+expect 2 "existing output folder" -- "$exe" "$tmp/small.json" --output "$tmp/run" --quiet
+contains "exists already" "existing output folder"
+contains "--overwrite" "existing output folder"
+[ "$(md5sum "$tmp/run/history.csv")" = "$sum_before" ] && ok || bad "refused run changed files"
+expect 0 "--overwrite" -- "$exe" "$tmp/small.json" --output "$tmp/run" --overwrite --quiet
+[ ! -s "$tmp/out" ] && ok || bad "--quiet printed output"
+
+# load_state: a new run starting from the saved state
+sed -e 's#"bodies": \[.*\],#"load_state": "LOAD",#' -e "s#\"save_state\": \".*\"#\"name\": \"loaded\"#" \
+    -e 's#"name": "small",##' "$tmp/small.json" > "$tmp/loaded.json"
+sed -i "s#LOAD#$tmp/state/small.h5#" "$tmp/loaded.json"
+expect 0 "load_state run" -- "$exe" "$tmp/loaded.json" --output "$tmp/loaded" --quiet
+# a state from an incompatible case is refused
+sed -e 's#"dx": 0.05#"dx": 0.04#' "$tmp/loaded.json" > "$tmp/incompatible.json"
+expect 2 "incompatible state" -- "$exe" "$tmp/incompatible.json" --output "$tmp/inc"
+contains "small.h5" "incompatible state names the state file"
+
+# a particle that leaves the grid is a numerical failure (exit 3), not silent loss
+sed -e 's#"max": \[0.4, 0.2\]}#"max": [0.4, 0.2], "velocity": [40, 0]}#' -e 's#"xmax": "sliding"#"xmax": "free"#' \
+    -e 's#"save_state": ".*"#"name": "escape"#' -e 's#"name": "small",##' "$tmp/small.json" > "$tmp/escape.json"
+expect 3 "particle leaving the grid" -- "$exe" "$tmp/escape.json" --output "$tmp/escape" --quiet
+contains "left the grid" "particle leaving the grid"
+
+# ParaView opens the XDMF time series (the real client, when installed)
+if command -v pvbatch > /dev/null 2>&1; then
+    n=$(grep -m1 -o 'NumberOfElements="[0-9]*"' "$tmp/run/small.xdmf" | grep -o '[0-9]*')
+    OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \
+        expect 0 "pvbatch opens the XDMF" -- pvbatch tests/cli/check_xdmf_paraview.py "$tmp/run/small.xdmf" "$n"
+else
+    echo "skip: pvbatch not installed, XDMF not opened in ParaView"
+fi
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]

@@ -1,0 +1,877 @@
+!> Tests of mpm_output (HDF5 + XDMF particle output), mpm_state (save/load) and mpm_filesystem.
+!>
+!> The files written are read back with the plain HDF5 Fortran API (not with mpm_hdf5, the
+!> helpers under test), so a mistake in the helpers cannot hide itself. Files go to a fresh
+!> folder under $TMPDIR (default /tmp), deleted at the end unless MPM_TEST_KEEP is set.
+program test_mpm_output
+    use, intrinsic :: iso_c_binding, only: c_char, c_ptr, c_null_char, c_associated, c_int, c_loc
+    use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5fopen_f, h5fclose_f, h5f_acc_rdonly_f, &
+        h5dopen_f, h5dclose_f, h5dget_space_f, h5dread_f, h5sget_simple_extent_ndims_f, &
+        h5sget_simple_extent_dims_f, h5sclose_f, h5aopen_by_name_f, h5aclose_f, h5aread_f, &
+        h5aget_space_f, h5tcopy_f, h5tset_size_f, h5tset_strpad_f, h5tclose_f, &
+        h5t_fortran_s1, h5t_str_nullpad_f, h5lexists_f, h5kind_to_type, h5_real_kind, &
+        h5_integer_kind, h5fget_obj_count_f, h5f_obj_all_f
+    use mpm_kinds, only: wp, i8
+    use mpm_error, only: error_type, exit_input
+    use mpm_case, only: case_type, field_displacement, field_strain
+    use mpm_particles, only: particles_type, new_particles
+    use mpm_grid, only: grid_type, new_grid
+    use mpm_output, only: output_writer_type, new_output_writer, write_output
+    use mpm_state, only: save_state, load_state
+    use mpm_filesystem, only: make_directory, directory_exists, file_exists, rename_file, &
+        remove_file, parent_directory
+    use mpm_hdf5, only: hdf5_location_type, hdf5_open_file, hdf5_write_attribute, hdf5_close
+    use mpm_testing, only: test_suite_type, new_suite, check, check_close, check_contains, &
+        finish
+    implicit none
+
+    ! allow(assumed-size, assumed-size-character-intent): C strings passed to libc
+    interface
+        function c_mkdtemp(template) bind(c, name="mkdtemp") result(path)
+            import :: c_char, c_ptr
+            character(kind=c_char), intent(inout) :: template(*)
+            type(c_ptr) :: path
+        end function c_mkdtemp
+
+        function c_rmdir(path) bind(c, name="rmdir") result(status)
+            import :: c_char, c_int
+            character(kind=c_char), intent(in) :: path(*)
+            integer(c_int) :: status
+        end function c_rmdir
+    end interface
+
+    type(test_suite_type) :: suite
+    character(len=:), allocatable :: root
+    integer :: hdferr
+    logical :: keep
+    type(error_type), allocatable :: error
+
+    call new_suite(suite, "mpm_output")
+    call h5open_f(hdferr)
+    call check(suite, hdferr == 0, "h5open_f")
+    call make_temporary_folder(root)
+    write (*, "(a)") "temporary folder: "//root
+    keep = .false.
+    call get_environment_variable("MPM_TEST_KEEP", status=hdferr)
+    keep = hdferr == 0
+
+    call test_filesystem(suite, root)
+    call test_output_2d(suite, root//"/out2d")
+    call test_output_3d(suite, root//"/out3d")
+    call test_state_round_trip(suite, root)
+    call test_state_refusals(suite, root)
+
+    if (.not. keep) call delete_tree(root, error)
+    if (.not. keep) call check(suite, .not. allocated(error), "temporary folder deleted")
+    if (allocated(error)) write (*, "(a)") error%message
+    call finish(suite)
+
+contains
+
+    ! ----------------------------------------------------------------------------------------
+    ! Fixtures
+    ! ----------------------------------------------------------------------------------------
+
+    !> A 2D case of 4 x 3 cells of 0.5 m from (1, -1), materials sand and clay.
+    subroutine tiny_case(case)
+        type(case_type), intent(out) :: case
+
+        case%name = "tiny"
+        case%dim = 2
+        case%ncells = [4, 3, 1]
+        case%dx = 0.5_wp
+        case%origin = [1.0_wp, -1.0_wp, 0.0_wp]
+        allocate (case%materials(2))
+        case%materials(1)%name = "sand"
+        case%materials(2)%name = "clay"
+        case%output_fields = .true.
+        case%output_grid = .true.
+    end subroutine tiny_case
+
+    !> n particles inside the case domain with a distinct value in every array element.
+    subroutine fill_particles(case, n, particles)
+        type(case_type), intent(in) :: case
+        integer, intent(in) :: n
+        type(particles_type), intent(out) :: particles
+
+        integer :: p, d, c, nmat
+        type(error_type), allocatable :: error
+
+        call new_particles(particles, case%dim, n, error)
+        call check(suite, .not. allocated(error), "new_particles")
+        nmat = size(case%materials)
+        do p = 1, n
+            do d = 1, case%dim
+                ! strictly inside the domain
+                particles%x(d, p) = case%origin(d) + case%ncells(d)*case%dx* &
+                    modulo(0.1_wp + 0.13_wp*p + 0.37_wp*d, 1.0_wp)
+                particles%u(d, p) = 1.0e-3_wp*(10*p + d)
+                particles%v(d, p) = -0.5_wp*p + 0.01_wp*d
+                particles%lp0(d, p) = 0.125_wp + 1.0e-3_wp*(p + d)
+                particles%lp(d, p) = 0.126_wp + 1.0e-3_wp*(p + d)
+                do c = 1, case%dim
+                    particles%f(c, d, p) = merge(1.0_wp, 0.0_wp, c == d) + 1.0e-4_wp*(p + 3*c + d)
+                end do
+            end do
+            do c = 1, particles%nstress
+                particles%stress(c, p) = -1000.0_wp*c - p/3.0_wp
+                particles%strain(c, p) = 1.0e-4_wp*(c + 10*p)/7.0_wp
+            end do
+            particles%mass(p) = 2.0_wp + p/9.0_wp
+            particles%volume(p) = 0.0625_wp*p/11.0_wp
+            particles%volume0(p) = 0.0625_wp*p/13.0_wp
+            particles%material(p) = 1 + mod(p + 1, nmat)
+        end do
+    end subroutine fill_particles
+
+    ! ----------------------------------------------------------------------------------------
+    ! Tests
+    ! ----------------------------------------------------------------------------------------
+
+    subroutine test_filesystem(suite, root)
+        type(test_suite_type), intent(inout) :: suite
+        character(len=*), intent(in) :: root
+
+        type(error_type), allocatable :: error
+        integer :: unit
+
+        call make_directory(root//"/a b/c//d/", error)
+        call check(suite, .not. allocated(error), "make_directory with blanks, // and trailing /")
+        call check(suite, directory_exists(root//"/a b/c/d"), "nested folder created")
+        call make_directory(root//"/a b/c/d", error)
+        call check(suite, .not. allocated(error), "make_directory on an existing folder")
+        call check(suite, .not. file_exists(root//"/a b"), "a folder is not a file")
+        open (newunit=unit, file=root//"/a b/f.txt", status="replace", action="write")
+        write (unit, "(a)") "x"
+        close (unit)
+        call check(suite, file_exists(root//"/a b/f.txt"), "file_exists")
+        call make_directory(root//"/a b/f.txt/g", error)
+        call check(suite, allocated(error), "make_directory through a file fails")
+        if (allocated(error)) call check_contains(suite, error%message, "f.txt' exists and", &
+            "make_directory message names the file")
+        call rename_file(root//"/a b/f.txt", root//"/a b/c/g.txt", error)
+        call check(suite, .not. allocated(error), "rename_file")
+        call check(suite, file_exists(root//"/a b/c/g.txt") .and. &
+            .not. file_exists(root//"/a b/f.txt"), "file moved")
+        call rename_file(root//"/a b/none", root//"/a b/x", error)
+        call check(suite, allocated(error), "rename_file of a missing file fails")
+        call remove_file(root//"/a b/c/g.txt", error)
+        call check(suite, .not. allocated(error) .and. .not. file_exists(root//"/a b/c/g.txt"), &
+            "remove_file")
+        call check(suite, parent_directory("a/b/c.h5") == "a/b", "parent_directory a/b/c.h5")
+        call check(suite, parent_directory("c.h5") == "", "parent_directory c.h5")
+        call check(suite, parent_directory("/c.h5") == "/", "parent_directory /c.h5")
+        call check(suite, parent_directory("a//c.h5") == "a", "parent_directory a//c.h5")
+    end subroutine test_filesystem
+
+    subroutine test_output_2d(suite, dir)
+        type(test_suite_type), intent(inout) :: suite
+        character(len=*), intent(in) :: dir
+
+        type(case_type) :: case
+        type(particles_type) :: particles
+        type(grid_type) :: grid
+        type(output_writer_type) :: writer
+        type(error_type), allocatable :: error
+        integer(hid_t) :: file
+        integer, parameter :: n = 5
+        integer :: hdferr, id
+        real(wp), allocatable :: values(:, :)
+        integer, allocatable :: ints(:)
+        character(len=:), allocatable :: xdmf
+
+        call tiny_case(case)
+        call fill_particles(case, n, particles)
+        call new_grid(grid, case, error)
+        call check(suite, .not. allocated(error), "new_grid")
+        do id = 1, grid%nnodes
+            grid%mass(id) = 0.5_wp*id
+            grid%velocity(:, id) = [real(id, wp), -real(id, wp)]
+        end do
+
+        call new_output_writer(writer, case, dir, error)
+        call check(suite, allocated(error), "new_output_writer refuses a missing folder")
+        if (allocated(error)) call check_contains(suite, error%message, dir, &
+            "missing folder message names it")
+        call make_directory(dir, error)
+        call new_output_writer(writer, case, dir//"/", error)
+        call check(suite, .not. allocated(error), "new_output_writer")
+        call write_output(writer, 10, 0.0_wp, particles, grid, error)
+        call check(suite, .not. allocated(error), "first write_output")
+        if (allocated(error)) write (*, "(a)") error%message
+        ! the index is complete after every write (a run stopped here still opens)
+        xdmf = read_text(dir//"/tiny.xdmf")
+        call check(suite, count_of(xdmf, 'GridType="Uniform"') == 2 .and. &
+            index(xdmf, "particles_000001") == 0 .and. index(xdmf, "</Xdmf>") > 0, &
+            "xdmf after the first write lists one time, closed")
+        particles%x(1, :) = particles%x(1, :) + 0.1_wp
+        call write_output(writer, 20, 0.25_wp, particles, grid, error)
+        call check(suite, .not. allocated(error), "second write_output")
+        if (allocated(error)) write (*, "(a)") error%message
+
+        call check(suite, file_exists(dir//"/particles_000000.h5"), "particles_000000.h5")
+        call check(suite, file_exists(dir//"/particles_000001.h5"), "particles_000001.h5")
+        call check(suite, file_exists(dir//"/tiny.xdmf"), "tiny.xdmf")
+        call check(suite, .not. file_exists(dir//"/tiny.xdmf.tmp"), "no xdmf .tmp left")
+        call check(suite, .not. file_exists(dir//"/particles_000001.h5.tmp"), "no h5 .tmp left")
+        call check(suite, open_hdf5_objects() == 0, "write_output leaves no HDF5 object open")
+
+        ! First file: only the time and step differ in what we check here
+        call h5fopen_f(dir//"/particles_000000.h5", h5f_acc_rdonly_f, file, hdferr)
+        call check(suite, hdferr == 0, "open particles_000000.h5")
+        call check(suite, attribute_real(file, ".", "time") == 0.0_wp, "time of output 0")
+        call check(suite, attribute_int(file, ".", "step") == 10, "step of output 0")
+        call h5fclose_f(file, hdferr)
+
+        call h5fopen_f(dir//"/particles_000001.h5", h5f_acc_rdonly_f, file, hdferr)
+        call check(suite, hdferr == 0, "open particles_000001.h5")
+        call check(suite, attribute_real(file, ".", "time") == 0.25_wp, "time attribute")
+        call check(suite, attribute_int(file, ".", "step") == 20, "step attribute")
+        call check(suite, attribute_int(file, ".", "dimension") == 2, "dimension attribute")
+        call check(suite, attribute_text(file, ".", "case_name") == "tiny", "case_name")
+        call check(suite, len(attribute_text(file, ".", "mpm_geo_version")) > 0, "version")
+        call check(suite, attribute_text(file, ".", "material_names", 1) == "sand", &
+            "material_names(1)")
+        call check(suite, attribute_text(file, ".", "material_names", 2) == "clay", &
+            "material_names(2)")
+
+        ! Fortran x(3, n) is HDF5 (n, 3): h5sget_simple_extent_dims_f reports Fortran order
+        values = read_reals(file, "particles/position", [3, n])
+        call check(suite, all(values(1:2, :) == particles%x), "position x y")
+        call check(suite, all(values(3, :) == 0.0_wp), "position z = 0 in 2D")
+        call check(suite, attribute_text(file, "particles/position", "units") == "m", &
+            "position units")
+        values = read_reals(file, "particles/displacement", [3, n])
+        call check(suite, all(values(1:2, :) == particles%u) .and. all(values(3, :) == 0.0_wp), &
+            "displacement padded")
+        values = read_reals(file, "particles/velocity", [3, n])
+        call check(suite, all(values(1:2, :) == particles%v) .and. all(values(3, :) == 0.0_wp), &
+            "velocity padded")
+        call check(suite, attribute_text(file, "particles/velocity", "units") == "m/s", &
+            "velocity units")
+        values = read_reals(file, "particles/stress", [4, n])
+        call check(suite, all(values == particles%stress), "stress values")
+        call check(suite, attribute_text(file, "particles/stress", "components") == &
+            "xx yy zz xy", "stress components")
+        call check(suite, attribute_text(file, "particles/stress", "units") == "Pa", &
+            "stress units")
+        values = read_reals(file, "particles/strain", [4, n])
+        call check(suite, all(values == particles%strain), "strain values")
+        call check(suite, attribute_text(file, "particles/strain", "units") == "-", &
+            "strain units")
+        ints = read_ints(file, "particles/material", n)
+        call check(suite, all(ints == particles%material), "material values")
+        values = read_reals(file, "particles/mass", [n])
+        call check(suite, all(values(:, 1) == particles%mass), "mass values")
+        call check(suite, attribute_text(file, "particles/mass", "units") == "kg/m", &
+            "2D mass units per metre")
+        values = read_reals(file, "particles/volume", [n])
+        call check(suite, all(values(:, 1) == particles%volume), "volume values")
+        call check(suite, attribute_text(file, "particles/volume", "units") == "m2", &
+            "2D volume units")
+
+        values = read_reals(file, "grid/position", [3, 20])
+        call check(suite, all(values(:, 1) == [1.0_wp, -1.0_wp, 0.0_wp]), "grid node 1")
+        call check(suite, all(values(:, 2) == [1.5_wp, -1.0_wp, 0.0_wp]), "grid node 2 (x fastest)")
+        call check(suite, all(values(:, 20) == [3.0_wp, 0.5_wp, 0.0_wp]), "grid last node")
+        values = read_reals(file, "grid/mass", [20])
+        call check(suite, all(values(:, 1) == grid%mass), "grid mass")
+        values = read_reals(file, "grid/velocity", [3, 20])
+        call check(suite, all(values(1:2, :) == grid%velocity) .and. &
+            all(values(3, :) == 0.0_wp), "grid velocity")
+        call h5fclose_f(file, hdferr)
+        call check(suite, hdferr == 0, "close particles_000001.h5")
+
+        xdmf = read_text(dir//"/tiny.xdmf")
+        call check_contains(suite, xdmf, '<Xdmf Version="3.0"', "xdmf version")
+        call check_contains(suite, xdmf, 'CollectionType="Temporal"', "xdmf temporal collection")
+        call check_contains(suite, xdmf, ">particles_000000.h5:/particles/position<", &
+            "xdmf lists file 0 (relative path)")
+        call check_contains(suite, xdmf, ">particles_000001.h5:/particles/position<", &
+            "xdmf lists file 1 (relative path)")
+        call check_contains(suite, xdmf, '<Time Value="0.0000000000000000E+000"/>', "time 0")
+        call check_contains(suite, xdmf, '<Time Value="2.5000000000000000E-001"/>', "time 0.25")
+        call check_contains(suite, xdmf, 'NumberOfElements="5"', "number of particles")
+        call check_contains(suite, xdmf, 'Name="stress_xy"', "stress_xy component")
+        call check_contains(suite, xdmf, &
+            ">particles_000001.h5:/particles/stress|0 3:1 1:5 1:5 4<", &
+            "stress_xy is column 4 of the (5, 4) stress dataset")
+        call check_contains(suite, xdmf, ">particles_000001.h5:/grid/velocity<", "grid velocity")
+        call check_contains(suite, xdmf, 'Dimensions="1 4 5"', "grid dimensions z y x")
+        call check(suite, index(xdmf, dir) == 0, "xdmf has no absolute path")
+        call check(suite, count_of(xdmf, 'GridType="Uniform"') == 4, "2 particle + 2 grid grids")
+        call check(suite, count_of(xdmf, 'CollectionType="Spatial"') == 2, &
+            "one spatial collection (particles + grid) per time")
+        call check(suite, index(xdmf, "stress_yz") == 0, "no 3D component in 2D")
+    end subroutine test_output_2d
+
+    !> 3D, some fields off, no grid.
+    subroutine test_output_3d(suite, dir)
+        type(test_suite_type), intent(inout) :: suite
+        character(len=*), intent(in) :: dir
+
+        type(case_type) :: case
+        type(particles_type) :: particles
+        type(grid_type) :: grid
+        type(output_writer_type) :: writer
+        type(error_type), allocatable :: error
+        integer(hid_t) :: file
+        integer, parameter :: n = 4
+        integer :: hdferr
+        real(wp), allocatable :: values(:, :)
+        character(len=:), allocatable :: xdmf
+
+        call tiny_case(case)
+        case%name = "cube"
+        case%dim = 3
+        case%ncells = [2, 3, 4]
+        case%output_fields(field_displacement) = .false.
+        case%output_fields(field_strain) = .false.
+        case%output_grid = .false.
+        call fill_particles(case, n, particles)
+        call make_directory(dir, error)
+        call new_output_writer(writer, case, dir, error)
+        call check(suite, .not. allocated(error), "3D new_output_writer")
+        ! grid not built: it must not be needed when output_grid is off
+        call write_output(writer, 3, 1.0e-3_wp, particles, grid, error)
+        call check(suite, .not. allocated(error), "3D write_output without grid")
+        if (allocated(error)) write (*, "(a)") error%message
+
+        call h5fopen_f(dir//"/particles_000000.h5", h5f_acc_rdonly_f, file, hdferr)
+        call check(suite, hdferr == 0, "open 3D output")
+        values = read_reals(file, "particles/position", [3, n])
+        call check(suite, all(values == particles%x), "3D position")
+        values = read_reals(file, "particles/stress", [6, n])
+        call check(suite, all(values == particles%stress), "3D stress")
+        call check(suite, attribute_text(file, "particles/stress", "components") == &
+            "xx yy zz xy yz zx", "3D stress components")
+        call check(suite, attribute_text(file, "particles/mass", "units") == "kg", "3D mass units")
+        call check(suite, attribute_text(file, "particles/volume", "units") == "m3", &
+            "3D volume units")
+        call check(suite, .not. has_link(file, "particles/strain"), "strain off")
+        call check(suite, .not. has_link(file, "particles/displacement"), "displacement off")
+        call check(suite, .not. has_link(file, "grid"), "no grid group")
+        call h5fclose_f(file, hdferr)
+
+        xdmf = read_text(dir//"/cube.xdmf")
+        call check_contains(suite, xdmf, 'Name="stress_zx"', "3D stress_zx")
+        call check_contains(suite, xdmf, &
+            ">particles_000000.h5:/particles/stress|0 5:1 1:4 1:4 6<", &
+            "stress_zx is column 6 of the (4, 6) stress dataset")
+        call check(suite, index(xdmf, "strain") == 0, "xdmf: no strain")
+        call check(suite, index(xdmf, "displacement") == 0, "xdmf: no displacement")
+        call check(suite, index(xdmf, 'Name="grid"') == 0, "xdmf: no grid")
+        call check_contains(suite, xdmf, '<Grid Name="particles" GridType="Collection" '// &
+            'CollectionType="Temporal">', "xdmf: particles-only temporal collection")
+
+        ! 3D grid: XDMF lists the node counts slowest first (z y x), nodes are x fastest
+        case%output_grid = .true.
+        call new_grid(grid, case, error)
+        grid%mass = 1.0_wp
+        grid%velocity = 0.0_wp
+        grid%velocity(3, :) = -1.0_wp
+        call make_directory(dir//"_grid", error)
+        call new_output_writer(writer, case, dir//"_grid", error)
+        call write_output(writer, 3, 1.0e-3_wp, particles, grid, error)
+        call check(suite, .not. allocated(error), "3D write_output with grid")
+        call h5fopen_f(dir//"_grid/particles_000000.h5", h5f_acc_rdonly_f, file, hdferr)
+        values = read_reals(file, "grid/position", [3, 60])
+        call check(suite, all(values(:, 2) - values(:, 1) == [0.5_wp, 0.0_wp, 0.0_wp]), &
+            "3D grid: x fastest")
+        call check(suite, all(values(:, 60) == [2.0_wp, 0.5_wp, 2.0_wp]), "3D grid: last node")
+        values = read_reals(file, "grid/velocity", [3, 60])
+        call check(suite, all(values(3, :) == -1.0_wp), "3D grid velocity not padded")
+        call h5fclose_f(file, hdferr)
+        xdmf = read_text(dir//"_grid/cube.xdmf")
+        call check_contains(suite, xdmf, 'TopologyType="3DCoRectMesh" Dimensions="5 4 3"', &
+            "3D grid dimensions z y x")
+        call check_contains(suite, xdmf, &
+            ">0.0000000000000000E+000 -1.0000000000000000E+000 1.0000000000000000E+000<", &
+            "3D grid origin z y x")
+    end subroutine test_output_3d
+
+    subroutine test_state_round_trip(suite, root)
+        type(test_suite_type), intent(inout) :: suite
+        character(len=*), intent(in) :: root
+
+        type(case_type) :: case, other
+        type(particles_type) :: saved, loaded
+        type(error_type), allocatable :: error
+        real(wp) :: time
+        integer :: step, dim
+        character(len=:), allocatable :: path
+
+        do dim = 2, 3
+            call tiny_case(case)
+            if (dim == 3) then
+                case%dim = 3
+                case%ncells = [4, 3, 2]
+                case%origin(3) = 7.0_wp
+            end if
+            call fill_particles(case, 6, saved)
+            path = root//"/states/d"//achar(iachar("0") + dim)//"/state.h5"
+            call save_state(path, case, saved, 1.5_wp, 42, error)
+            call check(suite, .not. allocated(error), "save_state creates its folder")
+            if (allocated(error)) write (*, "(a)") error%message
+            call check(suite, .not. file_exists(path//".tmp"), "no state .tmp left")
+
+            call load_state(path, case, loaded, time, step, error)
+            call check(suite, .not. allocated(error), "load_state")
+            if (allocated(error)) then
+                write (*, "(a)") error%message
+                cycle
+            end if
+            call check(suite, time == 1.5_wp .and. step == 42, "time and step")
+            call check(suite, loaded%n == saved%n .and. loaded%dim == saved%dim .and. &
+                loaded%nstress == saved%nstress, "sizes")
+            call check(suite, same_bits_2d(loaded%x, saved%x), "x bit for bit")
+            call check(suite, same_bits_2d(loaded%u, saved%u), "u bit for bit")
+            call check(suite, same_bits_2d(loaded%v, saved%v), "v bit for bit")
+            call check(suite, same_bits_1d(loaded%mass, saved%mass), "mass bit for bit")
+            call check(suite, same_bits_1d(loaded%volume, saved%volume), "volume bit for bit")
+            call check(suite, same_bits_1d(loaded%volume0, saved%volume0), "volume0 bit for bit")
+            call check(suite, same_bits_2d(loaded%stress, saved%stress), "stress bit for bit")
+            call check(suite, same_bits_2d(loaded%strain, saved%strain), "strain bit for bit")
+            call check(suite, same_bits_3d(loaded%f, saved%f), "f bit for bit")
+            call check(suite, same_bits_2d(loaded%lp0, saved%lp0), "lp0 bit for bit")
+            call check(suite, same_bits_2d(loaded%lp, saved%lp), "lp bit for bit")
+            call check(suite, all(loaded%material == saved%material), "material indices")
+        end do
+
+        ! No particles: empty datasets round-trip too
+        call tiny_case(case)
+        call new_particles(saved, 2, 0, error)
+        path = root//"/states/empty.h5"
+        call save_state(path, case, saved, 0.5_wp, 3, error)
+        call check(suite, .not. allocated(error), "save_state with no particles")
+        call load_state(path, case, loaded, time, step, error)
+        call check(suite, .not. allocated(error), "load_state with no particles")
+        if (.not. allocated(error)) then
+            call check(suite, loaded%n == 0 .and. size(loaded%x, 2) == 0 .and. &
+                time == 0.5_wp .and. step == 3, "empty state")
+        end if
+
+        ! Same grid, materials listed in another order plus a new one: indices follow names
+        call tiny_case(case)
+        call fill_particles(case, 6, saved)
+        path = root//"/states/remap.h5"
+        call save_state(path, case, saved, 0.0_wp, 0, error)
+        call check(suite, .not. allocated(error), "save_state for remap")
+        call tiny_case(other)
+        deallocate (other%materials)
+        allocate (other%materials(3))
+        other%materials(1)%name = "clay"
+        other%materials(2)%name = "rock"
+        other%materials(3)%name = "sand"
+        call load_state(path, other, loaded, time, step, error)
+        call check(suite, .not. allocated(error), "load_state with reordered materials")
+        if (.not. allocated(error)) then
+            call check(suite, all(pack(loaded%material, saved%material == 1) == 3), &
+                "sand remapped to 3")
+            call check(suite, all(pack(loaded%material, saved%material == 2) == 1), &
+                "clay remapped to 1")
+        end if
+    end subroutine test_state_round_trip
+
+    subroutine test_state_refusals(suite, root)
+        type(test_suite_type), intent(inout) :: suite
+        character(len=*), intent(in) :: root
+
+        type(case_type) :: case, other
+        type(particles_type) :: saved, loaded
+        type(error_type), allocatable :: error
+        type(hdf5_location_type) :: file
+        real(wp) :: time
+        integer :: step, unit
+        character(len=:), allocatable :: path
+
+        call tiny_case(case)
+        call fill_particles(case, 3, saved)
+        path = root//"/states/refuse.h5"
+        call save_state(path, case, saved, 2.0_wp, 7, error)
+        call check(suite, .not. allocated(error), "save_state for refusals")
+
+        other = case
+        other%dx = 0.25_wp
+        call expect_refusal(path, other, ["dx = 0.5 m ", "dx = 0.25 m"], "different dx")
+
+        other = case
+        other%dx = 0.5_wp*(1.0_wp + 1.0e-14_wp)
+        call load_state(path, other, loaded, time, step, error)
+        call check(suite, .not. allocated(error), "dx within 1e-12 relative is accepted")
+
+        other = case
+        other%dim = 3
+        call expect_refusal(path, other, ["state has dimension 2", "case has dimension 3 "], &
+            "different dimension")
+
+        other = case
+        other%ncells = [4, 6, 1]
+        call expect_refusal(path, other, ["ncells = 4 3", "ncells = 4 6"], "different ncells")
+
+        other = case
+        other%origin(2) = -2.0_wp
+        call expect_refusal(path, other, ["origin = (1, -1)", "origin = (1, -2)"], &
+            "different origin")
+
+        other = case
+        other%materials(2)%name = "rock"
+        call expect_refusal(path, other, [character(len=36) :: "material 'clay'", &
+            "the case has: 'sand', 'rock'"], "missing material")
+
+        ! not HDF5
+        open (newunit=unit, file=root//"/states/text.h5", status="replace", action="write")
+        write (unit, "(a)") "this is not HDF5"
+        close (unit)
+        call expect_refusal(root//"/states/text.h5", case, ["not an HDF5 file"], "text file")
+        call expect_refusal(root//"/states/none.h5", case, ["does not exist"], "missing file")
+        ! an output file is HDF5 but not a state
+        call expect_refusal(root//"/out2d/particles_000000.h5", case, &
+            ["not an mpm-geo state file"], "output file")
+
+        ! a future format_version
+        call save_state(root//"/states/v2.h5", case, saved, 2.0_wp, 7, error)
+        call hdf5_open_file(root//"/states/v2.h5", file, error, writable=.true.)
+        call check(suite, .not. allocated(error), "reopen state for writing")
+        if (.not. allocated(error)) then
+            call hdf5_write_attribute(file, "format_version", 2, error)
+            call hdf5_close(file, error)
+        end if
+        call expect_refusal(root//"/states/v2.h5", case, ["format_version 2 is not"], &
+            "format_version 2")
+
+        ! a particle outside the domain (x max is 1 + 4 * 0.5 = 3)
+        saved%x(1, 2) = 3.25_wp
+        call save_state(root//"/states/outside.h5", case, saved, 2.0_wp, 7, error)
+        call expect_refusal(root//"/states/outside.h5", case, [character(len=26) :: &
+            "particle 2 at (3.25,", "outside the case domain"], "particle outside")
+        call check(suite, open_hdf5_objects() == 0, &
+            "save_state and load_state (also refusing) leave no HDF5 object open")
+    end subroutine test_state_refusals
+
+    !> load_state must fail with exit_input, a message naming the file and each part.
+    subroutine expect_refusal(path, case, parts, what)
+        character(len=*), intent(in) :: path
+        type(case_type), intent(in) :: case
+        character(len=*), intent(in) :: parts(:)
+        character(len=*), intent(in) :: what
+
+        type(particles_type) :: loaded
+        type(error_type), allocatable :: error
+        real(wp) :: time
+        integer :: step, i
+
+        call load_state(path, case, loaded, time, step, error)
+        call check(suite, allocated(error), "load_state refuses: "//what)
+        if (.not. allocated(error)) return
+        call check(suite, error%code == exit_input, "exit_input code: "//what)
+        call check_contains(suite, error%message, "'"//path//"'", "message names the file: "//what)
+        do i = 1, size(parts)
+            call check_contains(suite, error%message, trim(parts(i)), what)
+        end do
+    end subroutine expect_refusal
+
+    ! ----------------------------------------------------------------------------------------
+    ! Independent readers (plain HDF5 API)
+    ! ----------------------------------------------------------------------------------------
+
+    !> A real dataset of Fortran shape `dims` (1 or 2 entries), as a 2D array (dims, 1) for 1D.
+    function read_reals(file, name, dims) result(values)
+        integer(hid_t), intent(in) :: file
+        character(len=*), intent(in) :: name
+        integer, intent(in) :: dims(:)
+        real(wp), allocatable, target :: values(:, :)
+
+        integer(hid_t) :: dataset, space
+        integer(hsize_t) :: file_dims(2), max_dims(2)
+        integer :: hdferr, rank
+        type(c_ptr) :: buffer
+
+        if (size(dims) == 1) then
+            allocate (values(dims(1), 1))
+        else
+            allocate (values(dims(1), dims(2)))
+        end if
+        values = -huge(1.0_wp)
+        call h5dopen_f(file, name, dataset, hdferr)
+        call check(suite, hdferr == 0, "open dataset "//name)
+        if (hdferr /= 0) return
+        call h5dget_space_f(dataset, space, hdferr)
+        call h5sget_simple_extent_ndims_f(space, rank, hdferr)
+        call check(suite, rank == size(dims), "rank of "//name)
+        if (rank == size(dims)) then
+            call h5sget_simple_extent_dims_f(space, file_dims(1:rank), max_dims(1:rank), hdferr)
+            call check(suite, all(int(file_dims(1:rank)) == dims), "dimensions of "//name)
+            if (all(int(file_dims(1:rank)) == dims)) then
+                buffer = c_loc(values)
+                call h5dread_f(dataset, h5kind_to_type(wp, h5_real_kind), buffer, hdferr)
+                call check(suite, hdferr == 0, "read "//name)
+            end if
+        end if
+        call h5sclose_f(space, hdferr)
+        call h5dclose_f(dataset, hdferr)
+    end function read_reals
+
+    function read_ints(file, name, n) result(values)
+        integer(hid_t), intent(in) :: file
+        character(len=*), intent(in) :: name
+        integer, intent(in) :: n
+        integer, allocatable, target :: values(:)
+
+        integer(hid_t) :: dataset
+        integer :: hdferr
+        type(c_ptr) :: buffer
+
+        allocate (values(n))
+        values = -1
+        call h5dopen_f(file, name, dataset, hdferr)
+        call check(suite, hdferr == 0, "open dataset "//name)
+        if (hdferr /= 0) return
+        buffer = c_loc(values)
+        call h5dread_f(dataset, h5kind_to_type(kind(values), h5_integer_kind), buffer, hdferr)
+        call check(suite, hdferr == 0, "read "//name)
+        call h5dclose_f(dataset, hdferr)
+    end function read_ints
+
+    real(wp) function attribute_real(file, object, name) result(value)
+        integer(hid_t), intent(in) :: file
+        character(len=*), intent(in) :: object, name
+
+        integer(hid_t) :: attribute
+        integer :: hdferr
+        real(wp), target :: buffer(1)
+        type(c_ptr) :: pointer
+
+        buffer = -huge(1.0_wp)
+        call h5aopen_by_name_f(file, object, name, attribute, hdferr)
+        call check(suite, hdferr == 0, "open attribute "//name)
+        if (hdferr == 0) then
+            pointer = c_loc(buffer)
+            call h5aread_f(attribute, h5kind_to_type(wp, h5_real_kind), pointer, hdferr)
+            call h5aclose_f(attribute, hdferr)
+        end if
+        value = buffer(1)
+    end function attribute_real
+
+    integer function attribute_int(file, object, name) result(value)
+        integer(hid_t), intent(in) :: file
+        character(len=*), intent(in) :: object, name
+
+        integer(hid_t) :: attribute
+        integer :: hdferr
+        integer, target :: buffer(1)
+        type(c_ptr) :: pointer
+
+        buffer = -huge(1)
+        call h5aopen_by_name_f(file, object, name, attribute, hdferr)
+        call check(suite, hdferr == 0, "open attribute "//name)
+        if (hdferr == 0) then
+            pointer = c_loc(buffer)
+            call h5aread_f(attribute, h5kind_to_type(kind(buffer), h5_integer_kind), pointer, &
+                hdferr)
+            call h5aclose_f(attribute, hdferr)
+        end if
+        value = buffer(1)
+    end function attribute_int
+
+    !> String attribute (element `item` of a 1D one), read as up to 64 null-padded bytes.
+    function attribute_text(file, object, name, item) result(value)
+        integer(hid_t), intent(in) :: file
+        character(len=*), intent(in) :: object, name
+        integer, intent(in), optional :: item
+        character(len=:), allocatable :: value
+
+        integer, parameter :: width = 64
+        integer(hid_t) :: attribute, memory_type, space
+        integer(hsize_t) :: dims(1), max_dims(1)
+        integer :: hdferr, rank, count, i, cut
+        character(kind=c_char, len=width), allocatable, target :: buffer(:)
+        type(c_ptr) :: pointer
+
+        value = "<missing>"
+        call h5aopen_by_name_f(file, object, name, attribute, hdferr)
+        call check(suite, hdferr == 0, "open attribute "//object//" "//name)
+        if (hdferr /= 0) return
+        call h5aget_space_f(attribute, space, hdferr)
+        call h5sget_simple_extent_ndims_f(space, rank, hdferr)
+        count = 1
+        if (rank == 1) then
+            call h5sget_simple_extent_dims_f(space, dims, max_dims, hdferr)
+            count = int(dims(1))
+        end if
+        call h5sclose_f(space, hdferr)
+        allocate (buffer(count))
+        call h5tcopy_f(h5t_fortran_s1, memory_type, hdferr)
+        call h5tset_size_f(memory_type, int(width, size_t), hdferr)
+        call h5tset_strpad_f(memory_type, h5t_str_nullpad_f, hdferr)
+        pointer = c_loc(buffer)
+        call h5aread_f(attribute, memory_type, pointer, hdferr)
+        call check(suite, hdferr == 0, "read attribute "//name)
+        call h5tclose_f(memory_type, hdferr)
+        call h5aclose_f(attribute, hdferr)
+        i = 1
+        if (present(item)) i = item
+        if (i > count) return
+        cut = index(buffer(i), c_null_char)
+        if (cut == 0) cut = width + 1
+        value = buffer(i)(1:cut - 1)
+    end function attribute_text
+
+    !> Number of HDF5 files, groups, datasets, types and attributes open in the process
+    !> (h5open_f itself leaves none).
+    integer function open_hdf5_objects() result(count)
+        integer(size_t) :: objects
+        integer :: hdferr
+
+        call h5fget_obj_count_f(int(h5f_obj_all_f, hid_t), h5f_obj_all_f, objects, hdferr)
+        count = int(objects)
+        if (hdferr /= 0) count = -1
+    end function open_hdf5_objects
+
+    logical function has_link(file, path)
+        integer(hid_t), intent(in) :: file
+        character(len=*), intent(in) :: path
+
+        integer :: hdferr, slash
+        logical :: exists
+
+        ! h5lexists_f needs every parent to exist
+        has_link = .false.
+        slash = index(path, "/")
+        if (slash > 0) then
+            call h5lexists_f(file, path(1:slash - 1), exists, hdferr)
+            if (.not. exists) return
+        end if
+        call h5lexists_f(file, path, exists, hdferr)
+        has_link = exists
+    end function has_link
+
+    ! ----------------------------------------------------------------------------------------
+    ! Small helpers
+    ! ----------------------------------------------------------------------------------------
+
+    logical function same_bits_1d(a, b)
+        real(wp), intent(in) :: a(:), b(:)
+        same_bits_1d = size(a) == size(b)
+        if (same_bits_1d) same_bits_1d = all(transfer(a, 0_i8, size(a)) == &
+            transfer(b, 0_i8, size(b)))
+    end function same_bits_1d
+
+    logical function same_bits_2d(a, b)
+        real(wp), intent(in) :: a(:, :), b(:, :)
+        same_bits_2d = all(shape(a) == shape(b))
+        if (same_bits_2d) same_bits_2d = all(transfer(a, 0_i8, size(a)) == &
+            transfer(b, 0_i8, size(b)))
+    end function same_bits_2d
+
+    logical function same_bits_3d(a, b)
+        real(wp), intent(in) :: a(:, :, :), b(:, :, :)
+        same_bits_3d = all(shape(a) == shape(b))
+        if (same_bits_3d) same_bits_3d = all(transfer(a, 0_i8, size(a)) == &
+            transfer(b, 0_i8, size(b)))
+    end function same_bits_3d
+
+    !> Whole text file as one string, lines joined by new_line.
+    function read_text(path) result(text)
+        character(len=*), intent(in) :: path
+        character(len=:), allocatable :: text
+
+        integer :: unit, stat
+        character(len=1000) :: line
+        character(len=200) :: message
+
+        text = ""
+        open (newunit=unit, file=path, status="old", action="read", iostat=stat, iomsg=message)
+        call check(suite, stat == 0, "open "//path//": "//trim(message))
+        if (stat /= 0) return
+        do
+            read (unit, "(a)", iostat=stat, iomsg=message) line
+            if (stat /= 0) exit
+            text = text//trim(line)//new_line("a")
+        end do
+        close (unit)
+    end function read_text
+
+    integer function count_of(text, part)
+        character(len=*), intent(in) :: text, part
+
+        integer :: start, found
+
+        count_of = 0
+        start = 1
+        do
+            found = index(text(start:), part)
+            if (found == 0) exit
+            count_of = count_of + 1
+            start = start + found + len(part) - 1
+        end do
+    end function count_of
+
+    !> A new, empty folder with a unique name under $TMPDIR (or /tmp).
+    subroutine make_temporary_folder(path)
+        character(len=:), allocatable, intent(out) :: path
+
+        character(len=4096) :: base
+        character(kind=c_char) :: template(4200)
+        character(len=:), allocatable :: name
+        integer :: length, stat, i
+
+        call get_environment_variable("TMPDIR", base, length, stat)
+        if (stat /= 0 .or. length == 0) base = "/tmp"
+        name = trim(base)//"/mpm_output_test_XXXXXX"
+        do i = 1, len(name)
+            template(i) = name(i:i)
+        end do
+        template(len(name) + 1) = c_null_char
+        if (.not. c_associated(c_mkdtemp(template))) error stop "mkdtemp failed in "//name
+        path = ""
+        do i = 1, len(name)
+            path = path//template(i)
+        end do
+    end subroutine make_temporary_folder
+
+    !> Delete the files this test writes, then the folders, deepest first.
+    subroutine delete_tree(root, error)
+        character(len=*), intent(in) :: root
+        type(error_type), allocatable, intent(out) :: error
+
+        character(len=*), parameter :: files(*) = [character(len=32) :: &
+            "out2d/particles_000000.h5", "out2d/particles_000001.h5", "out2d/tiny.xdmf", &
+            "out3d/particles_000000.h5", "out3d/cube.xdmf", "out3d_grid/particles_000000.h5", &
+            "out3d_grid/cube.xdmf", "states/d2/state.h5", &
+            "states/d3/state.h5", "states/empty.h5", "states/remap.h5", "states/refuse.h5", &
+            "states/text.h5", &
+            "states/v2.h5", "states/outside.h5"]
+        character(len=*), parameter :: folders(*) = [character(len=16) :: "a b/c/d", "a b/c", &
+            "a b", "out2d", "out3d", "out3d_grid", "states/d2", "states/d3", "states", ""]
+        integer :: i
+        character(len=:), allocatable :: path
+
+        do i = 1, size(files)
+            call remove_file(root//"/"//trim(files(i)), error)
+            if (allocated(error)) return
+        end do
+        do i = 1, size(folders)
+            path = root
+            if (len_trim(folders(i)) > 0) path = root//"/"//trim(folders(i))
+            if (c_rmdir(c_path(path)) /= 0) then
+                allocate (error)
+                error%message = "cannot remove the folder "//path
+                return
+            end if
+        end do
+    end subroutine delete_tree
+
+    pure function c_path(text) result(c_text)
+        character(len=*), intent(in) :: text
+        character(kind=c_char) :: c_text(len(text) + 1)
+
+        integer :: i
+
+        do i = 1, len(text)
+            c_text(i) = text(i:i)
+        end do
+        c_text(len(text) + 1) = c_null_char
+    end function c_path
+
+end program test_mpm_output
