@@ -14,11 +14,11 @@ module mpm_output
     use mpm_grid, only: grid_type, node_position
     use mpm_hdf5, only: hdf5_location_type, text_type, hdf5_initialize, hdf5_create_file, &
         hdf5_create_group, hdf5_close, hdf5_write_dataset, hdf5_write_attribute
-    use mpm_filesystem, only: directory_exists, rename_file, remove_file
+    use mpm_filesystem, only: directory_exists, rename_file, remove_file, file_exists
     use mpm_version, only: mpm_version_string
     implicit none
     private
-    public :: output_writer_type, new_output_writer, write_output
+    public :: output_writer_type, new_output_writer, write_output, remove_outputs
 
     !> One output file already written.
     type :: output_record_type
@@ -137,7 +137,6 @@ contains
             !! set when a file cannot be written (the message names it)
 
         character(len=:), allocatable :: name, path
-        character(len=6) :: index_text
         type(output_record_type), allocatable :: grown(:)
         type(error_type), allocatable :: ignored
 
@@ -158,8 +157,7 @@ contains
             end if
         end if
 
-        write (index_text, "(i6.6)") writer%count
-        name = "particles_"//index_text//".h5"
+        name = particle_file_name(writer%count)
         path = writer%dir//"/"//name
         call write_hdf5_file(writer, path//".tmp", step, time, particles, grid, error)
         if (allocated(error)) then
@@ -593,5 +591,40 @@ contains
         write (buffer, "(es24.16e3)") value
         text = trim(adjustl(buffer))
     end function real_text
+
+    !> Name of the particle file of output number `index` (0-based).
+    pure function particle_file_name(index) result(name)
+        integer, intent(in) :: index
+            !! output index
+        character(len=:), allocatable :: name
+            !! "particles_NNNNNN.h5"
+
+        character(len=6) :: index_text
+
+        write (index_text, "(i6.6)") index
+        name = "particles_"//index_text//".h5"
+    end function particle_file_name
+
+    !> Delete the particle files and the XDMF index an earlier run of a case left in `dir`,
+    !> so an overwritten folder holds no stale outputs of a longer earlier run.
+    subroutine remove_outputs(dir, case_name, error)
+        character(len=*), intent(in) :: dir
+            !! output folder
+        character(len=*), intent(in) :: case_name
+            !! case name (names the XDMF index)
+        type(error_type), allocatable, intent(out) :: error
+            !! set when a file cannot be deleted
+
+        integer :: index
+
+        call remove_file(dir//"/"//case_name//".xdmf", error)
+        if (allocated(error)) return
+        index = 0
+        do while (file_exists(dir//"/"//particle_file_name(index)))
+            call remove_file(dir//"/"//particle_file_name(index), error)
+            if (allocated(error)) return
+            index = index + 1
+        end do
+    end subroutine remove_outputs
 
 end module mpm_output

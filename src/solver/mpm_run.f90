@@ -9,7 +9,7 @@ module mpm_run
     use mpm_case, only: case_type
     use mpm_solver, only: simulation_type, new_simulation, advance, stable_time_step, &
         compute_energies, has_text
-    use mpm_output, only: output_writer_type, new_output_writer, write_output
+    use mpm_output, only: output_writer_type, new_output_writer, write_output, remove_outputs
     use mpm_state, only: save_state
     use mpm_filesystem, only: make_directory, directory_exists
     implicit none
@@ -168,6 +168,8 @@ contains
             return
         end if
         call make_directory(case%output_dir, error)
+        if (allocated(error)) return
+        call remove_outputs(case%output_dir, case%name, error)
     end subroutine prepare_output_dir
 
     subroutine write_history(unit, sim)
@@ -219,7 +221,7 @@ contains
         character(len=32) :: buf
 
         if (s < 120.0_wp) then
-            write (buf, "(f0.0,a)") s, " s"
+            write (buf, "(i0,a)") nint(s), " s"
         else if (s < 7200.0_wp) then
             write (buf, "(f0.1,a)") s/60.0_wp, " min"
         else

@@ -77,6 +77,11 @@ contains "--overwrite" "existing output folder"
 [ "$(md5sum "$tmp/run/history.csv")" = "$sum_before" ] && ok || bad "refused run changed files"
 expect 0 "--overwrite" -- "$exe" "$tmp/small.json" --output "$tmp/run" --overwrite --quiet
 [ ! -s "$tmp/out" ] && ok || bad "--quiet printed output"
+# overwriting with fewer outputs leaves no stale particle files of the longer run
+sed -e 's#"interval": 0.01#"interval": 0.025#' "$tmp/small.json" > "$tmp/fewer.json"
+expect 0 "--overwrite with fewer outputs" -- "$exe" "$tmp/fewer.json" --output "$tmp/run" --overwrite --quiet
+[ -e "$tmp/run/particles_000002.h5" ] && [ ! -e "$tmp/run/particles_000003.h5" ] && ok \
+    || bad "overwritten folder keeps stale particle files: $(ls "$tmp/run")"
 
 # load_state: a new run starting from the saved state
 sed -e 's#"bodies": \[.*\],#"load_state": "LOAD",#' -e "s#\"save_state\": \".*\"#\"name\": \"loaded\"#" \
@@ -94,11 +99,31 @@ sed -e 's#"max": \[0.4, 0.2\]}#"max": [0.4, 0.2], "velocity": [40, 0]}#' -e 's#"
 expect 3 "particle leaving the grid" -- "$exe" "$tmp/escape.json" --output "$tmp/escape" --quiet
 contains "left the grid" "particle leaving the grid"
 
+# a 3D case runs end to end
+cat > "$tmp/cube.json" <<'JSON'
+{
+  "name": "cube",
+  "domain": {"nx": 6, "ny": 6, "nz": 6, "dx": 0.1,
+             "boundaries": {"zmin": "fixed", "xmin": "sliding", "ymin": "sliding"}},
+  "particles": {"ppc": 2},
+  "materials": [{"name": "soil", "type": "linear_elastic", "E": 1e6, "nu": 0.25, "rho": 2000}],
+  "bodies": [{"material": "soil", "min": [0, 0, 0], "max": [0.3, 0.3, 0.3]}],
+  "gravity": [0, 0, -9.81],
+  "solver": {"scheme": "USL", "shape_function": "linear"},
+  "time": {"tend": 0.02},
+  "output": {"interval": 0.01, "grid": true}
+}
+JSON
+expect 0 "3D run" -- "$exe" "$tmp/cube.json" --output "$tmp/cube" --quiet
+[ -s "$tmp/cube/cube.xdmf" ] && [ -s "$tmp/cube/particles_000002.h5" ] && ok || bad "3D run outputs"
+
 # ParaView opens the XDMF time series (the real client, when installed)
 if command -v pvbatch > /dev/null 2>&1; then
     n=$(grep -m1 -o 'NumberOfElements="[0-9]*"' "$tmp/run/small.xdmf" | grep -o '[0-9]*')
     OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \
         expect 0 "pvbatch opens the XDMF" -- pvbatch tests/cli/check_xdmf_paraview.py "$tmp/run/small.xdmf" "$n"
+    OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \
+        expect 0 "pvbatch opens the 3D XDMF with grid" -- pvbatch tests/cli/check_xdmf_paraview.py "$tmp/cube/cube.xdmf" 216
 else
     echo "skip: pvbatch not installed, XDMF not opened in ParaView"
 fi
