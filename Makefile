@@ -21,7 +21,8 @@ LINT_DIRS        = $(wildcard src app)
 help:
 	@echo "mpm-geo make targets:"
 	@echo "  make run         install what is missing, build, run $(CASE) into outputs/"
-	@echo "  make test        install what is missing (with ParaView), build, run all tests + linter"
+	@echo "  make test        install what is missing (with ParaView), build, run all tests (Release"
+	@echo "                   and Debug builds) + linter"
 	@echo "  make deps        install missing system packages and the Python environment ($(VENV))"
 	@echo "  make build       configure $(BUILD_DIR)/ (Release) if needed and build"
 	@echo "  make debug       configure $(DEBUG_DIR)/ (Debug: runtime checks, FPE traps) and build"
@@ -52,11 +53,12 @@ run: deps
 	@$(MAKE) --no-print-directory build
 	./$(BUILD_DIR)/mpm_geo $(CASE) --overwrite
 
-# The three suites run one after the other; --keep-going runs all of them even when one fails
-# (make still exits non-zero), so one CI run reports every failure.
+# The suites run one after the other; --keep-going runs all of them even when one fails
+# (make still exits non-zero), so one CI run reports every failure. The Fortran suite runs in
+# the Release build and again in the Debug build (bounds checks, floating-point traps).
 test: deps-paraview
 	@$(MAKE) --no-print-directory build
-	@$(MAKE) --no-print-directory --keep-going -j1 test-fortran test-python lint
+	@$(MAKE) --no-print-directory --keep-going -j1 test-fortran test-debug test-python lint
 
 test-fortran:
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(CTEST_JOBS)
