@@ -44,7 +44,7 @@ contains
 
         write (error_unit, "(a)") "mpm_geo: error: "//err%message
         flush (error_unit)
-        error stop err%code, quiet=.true.
+        stop err%code, quiet=.true.
     end subroutine fail
 
     subroutine parse_arguments(case_path, output_dir, check_only, overwrite, options, done, error)

@@ -18,6 +18,12 @@ expect() {
     "$@" > "$tmp/out" 2>&1
     local rc=$?
     if [ "$rc" -eq "$code" ]; then ok; else bad "$what: exit code $rc, expected $code"; cat "$tmp/out"; fi
+    # one clear message, never a crash report
+    if grep -qE "Backtrace|Error termination|Segmentation|SIGSEGV" "$tmp/out"; then
+        bad "$what: output holds a crash report"; cat "$tmp/out"
+    else
+        ok
+    fi
 }
 contains() {
     if grep -qF -- "$1" "$tmp/out"; then ok; else bad "$2: output lacks '$1'"; cat "$tmp/out"; fi
