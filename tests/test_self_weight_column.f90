@@ -1,6 +1,6 @@
 !> Verification: laterally confined column under its own weight (../shared/REFERENCES.md s. 2).
 !>
-!> Column of height H = 1 m between sliding walls on a fixed base, rho = 1800, E = 1 MPa,
+!> Column of height H = 1 m between sliding walls on a fixed base (2D, and 3D with z up), rho = 1800, E = 1 MPa,
 !> nu = 0.3, gravity 9.81, brought to rest by local damping. Exact small-strain solution:
 !> s_yy = -rho g (H - y), s_xx = nu / (1 - nu) s_yy. Checked: the stress of the lowest row
 !> of particles within 2 % of the exact value at their height, with cpGIMP and MUSL.
@@ -18,14 +18,16 @@ program test_self_weight_column
     type(test_suite_type) :: suite
 
     call new_suite(suite, "self_weight_column")
-    call run_column("local", '"damping": {"type": "local", "value": 0.15}')
-    call run_column("kinetic", '"damping": {"type": "kinetic"}')
+    call run_column("local", '"damping": {"type": "local", "value": 0.15}', 2)
+    call run_column("kinetic", '"damping": {"type": "kinetic"}', 2)
+    call run_column("3D kinetic", '"damping": {"type": "kinetic"}', 3)
     call finish(suite)
 
 contains
 
-    subroutine run_column(label, damping)
+    subroutine run_column(label, damping, dim)
         character(len=*), intent(in) :: label, damping
+        integer, intent(in) :: dim
 
         real(wp), parameter :: height = 1.0_wp, rho = 1800.0_wp, g = 9.81_wp, nu = 0.3_wp
         type(case_type) :: case
@@ -34,11 +36,25 @@ contains
         real(wp) :: ymin, y0, exact, syy, sxx, mass_row
         integer :: p
 
-        call read_case_string('{"name": "column", "domain": {"nx": 4, "ny": 44, "dx": 0.025, '// &
-            '"boundaries": {"xmin": "sliding", "xmax": "sliding", "ymin": "fixed"}}, '// &
+        character(len=:), allocatable :: geometry
+        integer :: up
+
+        if (dim == 2) then
+            ! vertical axis y
+            geometry = '"domain": {"nx": 4, "ny": 44, "dx": 0.025, "boundaries": {"xmin": '// &
+                '"sliding", "xmax": "sliding", "ymin": "fixed"}}, "bodies": [{"material": '// &
+                '"soil", "min": [0, 0], "max": [0.1, 1.0]}], "gravity": [0, -9.81], '
+        else
+            ! vertical axis z, a coarser grid: 2 x 2 x 22 cells of 5 cm
+            geometry = '"domain": {"nx": 2, "ny": 2, "nz": 22, "dx": 0.05, "boundaries": '// &
+                '{"xmin": "sliding", "xmax": "sliding", "ymin": "sliding", "ymax": "sliding", '// &
+                '"zmin": "fixed"}}, "bodies": [{"material": "soil", "min": [0, 0, 0], '// &
+                '"max": [0.1, 0.1, 1.0]}], "gravity": [0, 0, -9.81], '
+        end if
+        up = dim
+        call read_case_string('{"name": "column", '//geometry// &
             '"particles": {"ppc": 2}, "materials": [{"name": "soil", "type": "linear_elastic", '// &
-            '"E": 1e6, "nu": 0.3, "rho": 1800}], "bodies": [{"material": "soil", '// &
-            '"min": [0, 0], "max": [0.1, 1.0]}], "gravity": [0, -9.81], '// &
+            '"E": 1e6, "nu": 0.3, "rho": 1800}], '// &
             '"solver": {"scheme": "MUSL", "shape_function": "cpgimp"}, '// &
             '"time": {"tend": 3.0, "cfl": 0.5}, '//damping//'}', case, error, "column")
         call check(suite, .not. allocated(error), label//": case is valid")
@@ -56,14 +72,14 @@ contains
             end if
         end do
         ! lowest row of particles (initial y = dx / 4): mass-weighted mean stress
-        ymin = minval(sim%particles%x(2, :) - sim%particles%u(2, :))
+        ymin = minval(sim%particles%x(up, :) - sim%particles%u(up, :))
         syy = 0.0_wp
         sxx = 0.0_wp
         mass_row = 0.0_wp
         y0 = ymin
         do p = 1, sim%particles%n
-            if (sim%particles%x(2, p) - sim%particles%u(2, p) < ymin + 1.0e-9_wp) then
-                syy = syy + sim%particles%mass(p)*sim%particles%stress(2, p)
+            if (sim%particles%x(up, p) - sim%particles%u(up, p) < ymin + 1.0e-9_wp) then
+                syy = syy + sim%particles%mass(p)*sim%particles%stress(up, p)
                 sxx = sxx + sim%particles%mass(p)*sim%particles%stress(1, p)
                 mass_row = mass_row + sim%particles%mass(p)
             end if
