@@ -10,20 +10,39 @@ module mpm_case
     private
     public :: case_type, material_spec_type, body_spec_type
     public :: read_case_file, read_case_string, case_summary, critical_time_step
-    public :: bc_free, bc_sliding, bc_fixed, bc_names
+    public :: bc_free, bc_sliding, bc_fixed, bc_frictional, bc_names
+    public :: cone_plane_strain, cone_compression, cone_extension, cone_names
+    public :: softening_none, softening_linear, softening_exponential, softening_names
     public :: scheme_usf, scheme_usl, scheme_musl, scheme_names
     public :: shape_linear, shape_cpgimp, shape_names
     public :: damping_none, damping_local, damping_kinetic, damping_names
     public :: dist_regular, dist_random, distribution_names
     public :: field_position, field_displacement, field_velocity, field_stress, field_strain
     public :: field_material, field_mass, field_volume, field_names, nfields
-    public :: p_wave_speed, body_subcell_range
+    public :: p_wave_speed, viscous_time_step, body_subcell_range
 
     ! Boundary condition of a domain face
     integer, parameter :: bc_free = 0     !! no constraint
     integer, parameter :: bc_sliding = 1  !! normal velocity zero, tangential free
-    integer, parameter :: bc_fixed = 2    !! all velocity components zero (no slip)
-    character(len=*), parameter :: bc_names(0:2) = [character(len=7) :: "free", "sliding", "fixed"]
+    integer, parameter :: bc_fixed = 2    !! all velocity components zero (no slip, sticking)
+    integer, parameter :: bc_frictional = 3
+        !! Coulomb friction with coefficient mu; the material may separate from the face
+    character(len=*), parameter :: bc_names(0:3) = [character(len=10) :: "free", "sliding", &
+        "fixed", "frictional"]
+
+    ! Drucker-Prager cone matched to Mohr-Coulomb
+    integer, parameter :: cone_plane_strain = 1  !! same collapse load in plane strain
+    integer, parameter :: cone_compression = 2   !! outer cone: through the compression corners
+    integer, parameter :: cone_extension = 3     !! inner cone: through the extension corners
+    character(len=*), parameter :: cone_names(3) = [character(len=12) :: "plane_strain", &
+        "compression", "extension"]
+
+    ! Softening of strength parameters with the accumulated plastic shear strain
+    integer, parameter :: softening_none = 0         !! constant strength
+    integer, parameter :: softening_linear = 1       !! linear from peak to residual
+    integer, parameter :: softening_exponential = 2  !! exponential decay to residual
+    character(len=*), parameter :: softening_names(0:2) = [character(len=11) :: "none", &
+        "linear", "exponential"]
 
     ! Update scheme (when the stress is updated within a step)
     integer, parameter :: scheme_usf = 1   !! update stress first
@@ -55,18 +74,44 @@ module mpm_case
     character(len=*), parameter :: field_names(nfields) = [character(len=12) :: "position", &
         "displacement", "velocity", "stress", "strain", "material", "mass", "volume"]
 
-    !> One material of the case (linear elastic for now; more types in later versions).
+    !> One material of the case. Which parameters are used depends on `type`.
     type :: material_spec_type
         character(len=:), allocatable :: name
             !! name used by bodies to refer to this material
         character(len=:), allocatable :: type
-            !! constitutive model: "linear_elastic"
+            !! constitutive model: "linear_elastic", "mohr_coulomb", "drucker_prager", "newtonian"
         real(wp) :: young = 0.0_wp
-            !! Young's modulus E [Pa]
+            !! Young's modulus E [Pa] (elastic and elasto-plastic types)
         real(wp) :: poisson = 0.0_wp
-            !! Poisson's ratio nu [-]
+            !! Poisson's ratio nu [-] (elastic and elasto-plastic types)
         real(wp) :: density = 0.0_wp
             !! mass density rho [kg/m3]
+        real(wp) :: friction = 0.0_wp
+            !! peak friction angle phi [rad] (input in degrees)
+        real(wp) :: cohesion = 0.0_wp
+            !! peak cohesion c [Pa]
+        real(wp) :: dilatancy = 0.0_wp
+            !! peak dilatancy angle psi [rad] (input in degrees), 0 <= psi <= phi
+        real(wp) :: tension_cutoff = -1.0_wp
+            !! tensile strength: largest mean (DP) or principal (MC) stress allowed [Pa];
+            !! negative when not given (then the apex of the cone, c / tan(phi), limits it)
+        integer :: softening = softening_none
+            !! softening law of phi, c and psi with the plastic shear strain
+        real(wp) :: friction_residual = 0.0_wp
+            !! residual friction angle [rad] (softening only)
+        real(wp) :: cohesion_residual = 0.0_wp
+            !! residual cohesion [Pa] (softening only)
+        real(wp) :: dilatancy_residual = 0.0_wp
+            !! residual dilatancy angle [rad] (softening only)
+        real(wp) :: softening_strain = 0.0_wp
+            !! linear: plastic shear strain at which the residual values are reached;
+            !! exponential: strain scale eta_0 in x = x_r + (x_p - x_r) exp(-eps_p / eta_0) [-]
+        integer :: cone = cone_plane_strain
+            !! Drucker-Prager cone matched to the Mohr-Coulomb parameters
+        real(wp) :: viscosity = 0.0_wp
+            !! dynamic viscosity mu of a Newtonian fluid [Pa s]
+        real(wp) :: bulk_modulus = 0.0_wp
+            !! bulk modulus K of a Newtonian fluid [Pa] (sets the pressure and the wave speed)
     end type material_spec_type
 
     !> A box of particles of one material.
@@ -101,6 +146,8 @@ module mpm_case
             !! coordinates of the lowest domain corner [m]
         integer :: bc(2, 3) = bc_free
             !! boundary condition of each face: bc(1, axis) at the min face, bc(2, axis) at max
+        real(wp) :: bc_friction(2, 3) = 0.0_wp
+            !! Coulomb friction coefficient mu of each frictional face [-]
         integer :: ppc = 2
             !! particles per cell along each direction (ppc**dim per cell)
         integer :: distribution = dist_regular
@@ -181,35 +228,60 @@ module mpm_case
 
 contains
 
-    !> P-wave speed of a linear elastic material, sqrt((K + 4G/3)/rho) [m/s].
+    !> P-wave speed of a material, sqrt((K + 4G/3)/rho) [m/s]; sqrt(K/rho) for a fluid.
     pure real(wp) function p_wave_speed(mat)
         type(material_spec_type), intent(in) :: mat
             !! material
 
         real(wp) :: bulk, shear
 
+        if (mat%type == "newtonian") then
+            p_wave_speed = sqrt(mat%bulk_modulus/mat%density)
+            return
+        end if
         bulk = mat%young/(3.0_wp*(1.0_wp - 2.0_wp*mat%poisson))
         shear = mat%young/(2.0_wp*(1.0_wp + mat%poisson))
         p_wave_speed = sqrt((bulk + 4.0_wp*shear/3.0_wp)/mat%density)
     end function p_wave_speed
 
-    !> Critical time step of the case at t = 0: dx / max over bodies (c_p + |v0|) [s].
+    !> Stable time step of explicit viscous diffusion, rho dx^2 / (2 dim mu) [s]; huge when
+    !> the material has no viscosity.
+    pure real(wp) function viscous_time_step(mat, dx, dim)
+        type(material_spec_type), intent(in) :: mat
+            !! material
+        real(wp), intent(in) :: dx
+            !! cell size [m]
+        integer, intent(in) :: dim
+            !! space dimensions
+
+        if (mat%type == "newtonian" .and. mat%viscosity > 0.0_wp) then
+            viscous_time_step = mat%density*dx*dx/(2.0_wp*real(dim, wp)*mat%viscosity)
+        else
+            viscous_time_step = huge(1.0_wp)
+        end if
+    end function viscous_time_step
+
+    !> Critical time step of the case at t = 0 [s]: dx / max over bodies (c_p + |v0|), and the
+    !> viscous limit of the materials in use.
     pure real(wp) function critical_time_step(case)
         type(case_type), intent(in) :: case
             !! resolved case (materials and bodies set)
 
         integer :: b
-        real(wp) :: speed
+        real(wp) :: speed, viscous
 
         speed = 0.0_wp
+        viscous = huge(1.0_wp)
         do b = 1, size(case%bodies)
-            speed = max(speed, p_wave_speed(case%materials(case%bodies(b)%material)) &
-                + norm2(case%bodies(b)%velocity(1:case%dim)))
+            associate (mat => case%materials(case%bodies(b)%material))
+                speed = max(speed, p_wave_speed(mat) + norm2(case%bodies(b)%velocity(1:case%dim)))
+                viscous = min(viscous, viscous_time_step(mat, case%dx, case%dim))
+            end associate
         end do
         if (speed > 0.0_wp) then
-            critical_time_step = case%dx/speed
+            critical_time_step = min(case%dx/speed, viscous)
         else
-            critical_time_step = huge(1.0_wp)
+            critical_time_step = viscous
         end if
     end function critical_time_step
 

@@ -110,6 +110,8 @@ contains
             call hdf5_write_attribute(file, "n", particles%n, error)
             if (allocated(error)) exit steps
             call hdf5_write_attribute(file, "nstress", particles%nstress, error)
+        if (allocated(error)) return
+        call hdf5_write_attribute(file, "nstate", particles%nstate, error)
             if (allocated(error)) exit steps
             call hdf5_write_attribute(file, "time", time, error)
             if (allocated(error)) exit steps
@@ -164,10 +166,14 @@ contains
         call hdf5_write_dataset(group, "lp", particles%lp, error, units="m")
         if (allocated(error)) return
         call hdf5_write_dataset(group, "material", particles%material, error, units="-")
+        if (allocated(error)) return
+        if (particles%nstate > 0) then
+            call hdf5_write_dataset(group, "state", particles%state, error, units="-")
+        end if
     end subroutine write_particles
 
     !> Read a state file written by save_state, after checking that it fits the case.
-    subroutine load_state(path, case, particles, time, step, error)
+    subroutine load_state(path, case, particles, time, step, error, nstate)
         character(len=*), intent(in) :: path
             !! state file
         type(case_type), intent(in) :: case
@@ -180,6 +186,8 @@ contains
             !! time step number of the state
         type(error_type), allocatable, intent(out) :: error
             !! set (code exit_input) when the file is not a state of this case
+        integer, intent(in), optional :: nstate
+            !! material state variables the case needs per particle (default 0)
 
         type(hdf5_location_type) :: file
         type(error_type), allocatable :: close_error
@@ -198,12 +206,12 @@ contains
         end if
         call hdf5_open_file(path, file, error)
         if (allocated(error)) return
-        call read_state_file(path, file, case, particles, time, step, error)
+        call read_state_file(path, file, case, particles, time, step, error, nstate)
         call hdf5_close(file, close_error)
         if (.not. allocated(error) .and. allocated(close_error)) call move_alloc(close_error, error)
     end subroutine load_state
 
-    subroutine read_state_file(path, file, case, particles, time, step, error)
+    subroutine read_state_file(path, file, case, particles, time, step, error, nstate)
         character(len=*), intent(in) :: path
         type(hdf5_location_type), intent(in) :: file
         type(case_type), intent(in) :: case
@@ -211,13 +219,15 @@ contains
         real(wp), intent(out) :: time
         integer, intent(out) :: step
         type(error_type), allocatable, intent(out) :: error
+        integer, intent(in), optional :: nstate
 
         type(hdf5_location_type) :: group
         type(error_type), allocatable :: close_error
         character(len=:), allocatable :: format
         type(text_type), allocatable :: names(:)
         integer, allocatable :: remap(:)
-        integer :: version, dim, n, nstress
+        integer :: version, dim, n, nstress, file_nstate, case_nstate
+        real(wp), allocatable :: state(:, :)
 
         time = 0.0_wp
         step = 0
@@ -263,11 +273,25 @@ contains
         call hdf5_read_attribute(file, "step", step, error)
         if (allocated(error)) return
 
-        call new_particles(particles, dim, n, error)
+        ! material state: the file's variables, padded with zeros to what the case's materials
+        ! need (an elastic geostatic stage may precede a plastic run)
+        file_nstate = 0
+        if (hdf5_has_attribute(file, "nstate")) then
+            call hdf5_read_attribute(file, "nstate", file_nstate, error)
+            if (allocated(error)) return
+        end if
+        case_nstate = 0
+        if (present(nstate)) case_nstate = nstate
+        call new_particles(particles, dim, n, error, max(file_nstate, case_nstate))
         if (allocated(error)) return
         call hdf5_open_group(file, "particles", group, error)
         if (allocated(error)) return
         call read_particles(group, particles, error)
+        if (.not. allocated(error) .and. file_nstate > 0) then
+            allocate (state(file_nstate, n))
+            call hdf5_read_dataset(group, "state", state, error)
+            if (.not. allocated(error)) particles%state(1:file_nstate, :) = state
+        end if
         call hdf5_close(group, close_error)
         if (.not. allocated(error) .and. allocated(close_error)) call move_alloc(close_error, error)
         if (allocated(error)) return

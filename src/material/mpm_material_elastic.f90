@@ -19,7 +19,6 @@ module mpm_material_elastic
             !! shear modulus G [Pa]
     contains
         procedure :: update_stress => elastic_update_stress
-        procedure :: wave_speed => elastic_wave_speed
     end type elastic_material_type
 
 contains
@@ -46,11 +45,13 @@ contains
     end subroutine new_elastic_material
 
     !> sigma_{n+1} = sigma_n + (Omega sigma_n - sigma_n Omega) + lambda tr(de) I + 2 G de.
-    pure subroutine elastic_update_stress(self, stress, dstrain, omega)
+    pure subroutine elastic_update_stress(self, stress, dstrain, omega, dt, state)
         class(elastic_material_type), intent(in) :: self
         real(wp), intent(inout) :: stress(:)
         real(wp), intent(in) :: dstrain(:)
         real(wp), intent(in) :: omega(3)
+        real(wp), intent(in) :: dt
+        real(wp), intent(inout) :: state(:)
 
         real(wp) :: dvol
 
@@ -58,10 +59,5 @@ contains
         stress = stress + jaumann_rotation(stress, omega) + 2.0_wp*self%shear*dstrain
         stress(1:3) = stress(1:3) + self%lame*dvol
     end subroutine elastic_update_stress
-
-    pure real(wp) function elastic_wave_speed(self)
-        class(elastic_material_type), intent(in) :: self
-        elastic_wave_speed = sqrt((self%lame + 2.0_wp*self%shear)/self%density)
-    end function elastic_wave_speed
 
 end module mpm_material_elastic

@@ -27,13 +27,15 @@ contains
     end function count_body_particles
 
     !> Create the particles of every body: positions, volumes, masses, velocities, sizes.
-    subroutine create_particles(case, particles, error)
+    subroutine create_particles(case, particles, error, nstate)
         type(case_type), intent(in) :: case
             !! resolved case
         type(particles_type), intent(out) :: particles
             !! the particles, body by body in case order
         type(error_type), allocatable, intent(out) :: error
             !! set when memory cannot be allocated
+        integer, intent(in), optional :: nstate
+            !! material state variables per particle (default 0)
 
         integer :: b, a, p, lo(3), hi(3), s(3), i, j, k, dim
         integer(i8) :: total
@@ -44,7 +46,7 @@ contains
         do b = 1, size(case%bodies)
             total = total + count_body_particles(case, b)
         end do
-        call new_particles(particles, dim, int(total), error)
+        call new_particles(particles, dim, int(total), error, nstate)
         if (allocated(error)) return
 
         h = case%dx/real(case%ppc, wp)

@@ -44,6 +44,10 @@ module mpm_particles
             !! current GIMP half-size of the particle domain (dim, n) [m]
         integer, allocatable :: material(:)
             !! material index into case%materials (n)
+        integer :: nstate = 0
+            !! material state variables per particle (0 when no material of the case has any)
+        real(wp), allocatable :: state(:, :)
+            !! material state (nstate, n), e.g. accumulated plastic shear strain [-]
     end type particles_type
 
 contains
@@ -60,7 +64,7 @@ contains
     end function nstress_of
 
     !> Allocate storage for n particles, zeroed (F set to the identity).
-    subroutine new_particles(particles, dim, n, error)
+    subroutine new_particles(particles, dim, n, error, nstate)
         type(particles_type), intent(out) :: particles
             !! particles to create
         integer, intent(in) :: dim
@@ -69,6 +73,8 @@ contains
             !! number of particles
         type(error_type), allocatable, intent(out) :: error
             !! set when memory cannot be allocated
+        integer, intent(in), optional :: nstate
+            !! material state variables per particle (default 0)
 
         integer :: stat, d
         character(len=256) :: msg
@@ -82,6 +88,11 @@ contains
             particles%stress(particles%nstress, n), particles%strain(particles%nstress, n), &
             particles%f(dim, dim, n), particles%lp0(dim, n), particles%lp(dim, n), &
             particles%material(n), stat=stat, errmsg=msg)
+        if (stat == 0) then
+            particles%nstate = 0
+            if (present(nstate)) particles%nstate = nstate
+            allocate (particles%state(particles%nstate, n), stat=stat, errmsg=msg)
+        end if
         if (stat /= 0) then
             write (buf, "(i0)") n
             call fatal_error(error, "cannot allocate "//trim(buf)//" particles: "//trim(msg), &
@@ -103,6 +114,7 @@ contains
         particles%lp0 = 0.0_wp
         particles%lp = 0.0_wp
         particles%material = 0
+        particles%state = 0.0_wp
     end subroutine new_particles
 
     !> Bytes of particle storage per particle (all per-particle arrays).
@@ -117,8 +129,9 @@ contains
         ns = particles%nstress
         real_bytes = storage_size(1.0_wp)/8
         int_bytes = storage_size(1)/8
-        ! x, u, v, lp0, lp: d each; mass, volume, volume0: 1; stress, strain: ns; f: d*d
-        particle_bytes = real_bytes*(5*d + 3 + 2*ns + d*d) + int_bytes
+        ! x, u, v, lp0, lp: d each; mass, volume, volume0: 1; stress, strain: ns; f: d*d;
+        ! material state: nstate
+        particle_bytes = real_bytes*(5*d + 3 + 2*ns + d*d + particles%nstate) + int_bytes
     end function particle_bytes
 
 end module mpm_particles

@@ -9,7 +9,8 @@
 module mpm_solver
     use mpm_kinds, only: wp, i8
     use mpm_error, only: error_type, fatal_error, exit_numerical
-    use mpm_case, only: case_type, scheme_usf, scheme_usl, scheme_musl, damping_kinetic
+    use mpm_case, only: case_type, scheme_usf, scheme_usl, scheme_musl, damping_kinetic, &
+        p_wave_speed, viscous_time_step
     use mpm_grid, only: grid_type, new_grid
     use mpm_particles, only: particles_type
     use mpm_bodies, only: create_particles
@@ -51,6 +52,8 @@ module mpm_solver
             !! shape function
         real(wp), allocatable :: wave_speed(:)
             !! P-wave speed of each material [m/s]
+        real(wp), allocatable :: time_step_limit(:)
+            !! other stable-step limit of each material (viscosity), huge when none [s]
         real(wp), allocatable :: dxp(:, :)
             !! scratch: position increments of the step (dim, n) [m]
         real(wp) :: time = 0.0_wp
@@ -78,7 +81,7 @@ contains
             !! set on allocation failure or an incompatible state file
 
         real(wp) :: state_time
-        integer :: state_step, i, stat
+        integer :: state_step, i, stat, nstate
         character(len=256) :: msg
 
         sim%case = case
@@ -86,18 +89,22 @@ contains
         if (allocated(error)) return
         call new_materials(sim%materials, case, error)
         if (allocated(error)) return
-        allocate (sim%wave_speed(size(sim%materials)))
+        allocate (sim%wave_speed(size(sim%materials)), sim%time_step_limit(size(sim%materials)))
+        nstate = 0
         do i = 1, size(sim%materials)
-            sim%wave_speed(i) = sim%materials(i)%m%wave_speed()
+            sim%wave_speed(i) = p_wave_speed(case%materials(i))
+            sim%time_step_limit(i) = viscous_time_step(case%materials(i), case%dx, case%dim)
+            nstate = max(nstate, sim%materials(i)%m%nstate())
         end do
         call new_shape(sim%shape, case%shape)
         if (has_text(case%load_state)) then
-            call load_state(case%load_state, case, sim%particles, state_time, state_step, error)
+            call load_state(case%load_state, case, sim%particles, state_time, state_step, error, &
+                nstate)
             if (allocated(error)) return
             ! a new run starts from the loaded state: displacements count from here
             sim%particles%u = 0.0_wp
         else
-            call create_particles(case, sim%particles, error)
+            call create_particles(case, sim%particles, error, nstate)
             if (allocated(error)) return
         end if
         allocate (sim%dxp(case%dim, sim%particles%n), stat=stat, errmsg=msg)
@@ -137,7 +144,8 @@ contains
                 + norm2(sim%particles%v(:, p)))
         end do
         !$omp end parallel do
-        stable_time_step = sim%case%cfl*sim%case%dx/max(speed, tiny(1.0_wp))
+        stable_time_step = sim%case%cfl*min(sim%case%dx/max(speed, tiny(1.0_wp)), &
+            minval(sim%time_step_limit))
     end function stable_time_step
 
     !> Advance the simulation by one step of length dt.

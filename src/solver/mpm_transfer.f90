@@ -339,7 +339,7 @@ contains
             end if
             sold(1:ns) = particles%stress(:, p)
             call materials(particles%material(p))%m%update_stress(particles%stress(:, p), &
-                de(1:ns), omega)
+                de(1:ns), omega, dt, particles%state(:, p))
             particles%strain(:, p) = particles%strain(:, p) + de(1:ns)
             ! deformation gradient, volume and particle domain
             dF = 0.0_wp
