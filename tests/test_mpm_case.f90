@@ -5,9 +5,11 @@ program test_mpm_case
     use mpm_kinds, only: wp
     use mpm_error, only: error_type, exit_input
     use mpm_case, only: case_type, read_case_file, read_case_string, case_summary, &
-        critical_time_step, p_wave_speed, bc_free, bc_sliding, bc_fixed, scheme_musl, &
-        scheme_usl, shape_cpgimp, shape_linear, damping_none, damping_local, dist_regular, &
-        dist_random, field_position, field_velocity, field_stress
+        critical_time_step, p_wave_speed, bc_free, bc_sliding, bc_fixed, bc_frictional, &
+        scheme_musl, scheme_usl, shape_cpgimp, shape_linear, damping_none, damping_local, &
+        dist_regular, dist_random, field_position, field_velocity, field_stress, &
+        softening_none, softening_linear, softening_exponential, cone_plane_strain, &
+        cone_compression
     use mpm_testing, only: test_suite_type, new_suite, check, check_close, check_contains, finish
     implicit none
 
@@ -27,6 +29,11 @@ program test_mpm_case
     character(len=*), parameter :: case_file = "test_mpm_case_tmp.json"
     real(wp), parameter :: tol = 10*epsilon(1.0_wp)
         !! values pass through one decimal-to-binary conversion: round-off only
+    real(wp), parameter :: degree = acos(-1.0_wp)/180.0_wp
+        !! one degree [rad]; an angle read in degrees is stored as degrees * (pi / 180), so it
+        !! matches within a few ulps (tol relative to the angle)
+    character(len=*), parameter :: elastic_part = '"E": 1e7, "nu": 0.3, "rho": 1800'
+        !! elastic parameters of the soil materials of the plasticity tests
 
     type(test_suite_type) :: suite
 
@@ -44,6 +51,13 @@ program test_mpm_case
     call test_time_errors()
     call test_section_errors()
     call test_document_errors()
+    call test_material_types()
+    call test_material_summary()
+    call test_strength_errors()
+    call test_softening_errors()
+    call test_material_key_errors()
+    call test_newtonian_errors()
+    call test_frictional_faces()
     call delete_file(state_file)
     call delete_file(case_file)
     call finish(suite)
@@ -63,6 +77,23 @@ contains
         if (text(len(text):len(text)) == ",") text = text(1:len(text) - 1)
         text = text//"}"
     end function case_text
+
+    !> The default case with one material "soil" made of the given keys (all but the name).
+    function soil_case(keys) result(text)
+        character(len=*), intent(in) :: keys
+        character(len=:), allocatable :: text
+
+        text = case_text(materials='"materials": [{"name": "soil", '//keys//"}]")
+    end function soil_case
+
+    !> The default case with the given domain.boundaries object.
+    function faces_case(faces) result(text)
+        character(len=*), intent(in) :: faces
+        character(len=:), allocatable :: text
+
+        text = case_text(domain='"domain": {"nx": 4, "ny": 2, "dx": 0.1, "boundaries": ' &
+            //faces//"}")
+    end function faces_case
 
     !> The given piece (or the default) followed by a comma; nothing for "".
     function piece(given, default) result(text)
@@ -553,6 +584,336 @@ contains
         call expect_error(case_text(materials='"materials": [1]'), [character(len=200) :: &
             "materials[1] has the wrong type: expected an object"], "material not an object")
     end subroutine test_document_errors
+
+    !> Each material type resolves with its values; angles are stored in radians.
+    subroutine test_material_types()
+        type(case_type) :: case
+
+        call read_valid(soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30, ' &
+            //'"c": 1000, "psi": 5, "tension_cutoff": 500, "softening": {"type": "linear", ' &
+            //'"phi_residual": 25, "c_residual": 100, "strain": 0.1}'), case, "Mohr-Coulomb")
+        if (allocated(case%materials)) then
+            associate (mat => case%materials(1))
+                call check(suite, mat%type == "mohr_coulomb", "MC: type")
+                call check_close(suite, mat%young, 1.0e7_wp, tol*1.0e7_wp, "MC: E")
+                call check_close(suite, mat%friction, 30*degree, tol, "MC: phi 30 deg in rad")
+                call check_close(suite, mat%cohesion, 1000.0_wp, tol*1000, "MC: c")
+                call check_close(suite, mat%dilatancy, 5*degree, tol, "MC: psi 5 deg in rad")
+                call check_close(suite, mat%tension_cutoff, 500.0_wp, tol*500, "MC: cutoff")
+                call check(suite, mat%softening == softening_linear, "MC: linear softening")
+                call check_close(suite, mat%friction_residual, 25*degree, tol, &
+                    "MC: residual phi in rad")
+                call check_close(suite, mat%cohesion_residual, 100.0_wp, tol*100, "MC: c_r")
+                call check(suite, mat%dilatancy_residual == 0.0_wp, &
+                    "MC: psi_residual defaults to 0")
+                call check_close(suite, mat%softening_strain, 0.1_wp, tol, "MC: strain")
+            end associate
+        end if
+        call read_valid(soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30'), &
+            case, "Mohr-Coulomb defaults")
+        if (allocated(case%materials)) then
+            associate (mat => case%materials(1))
+                call check(suite, mat%cohesion == 0.0_wp .and. mat%dilatancy == 0.0_wp, &
+                    "MC: c and psi default to 0")
+                call check(suite, mat%tension_cutoff < 0.0_wp, "MC: no tension cutoff given")
+                call check(suite, mat%softening == softening_none, "MC: no softening")
+                call check(suite, mat%friction_residual == mat%friction .and. &
+                    mat%cohesion_residual == mat%cohesion .and. &
+                    mat%dilatancy_residual == mat%dilatancy, &
+                    "MC: residual = peak without softening")
+            end associate
+        end if
+        ! phi = 0 (Tresca): no apex, any tension cutoff >= 0 is accepted
+        call read_valid(soil_case('"type": "Mohr_Coulomb", '//elastic_part//', "phi": 0, ' &
+            //'"c": 1000, "tension_cutoff": 5000'), case, "Tresca with a tension cutoff")
+        call read_valid(soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30, ' &
+            //'"c": 0, "tension_cutoff": 0, "softening": {"type": "none"}'), case, &
+            "cohesionless soil with zero tension cutoff at the apex")
+        call read_valid(soil_case('"type": "Drucker_Prager", '//elastic_part//', "phi": 20, ' &
+            //'"c": 5000, "psi": 20, "cone": "Compression", "softening": {"type": ' &
+            //'"exponential", "c_residual": 500, "psi_residual": 10, "strain": 0.05}'), case, &
+            "Drucker-Prager")
+        if (allocated(case%materials)) then
+            associate (mat => case%materials(1))
+                call check(suite, mat%type == "drucker_prager", "DP: type (any case)")
+                call check(suite, mat%cone == cone_compression, "DP: compression cone")
+                call check_close(suite, mat%friction, 20*degree, tol, "DP: phi in rad")
+                call check_close(suite, mat%dilatancy, 20*degree, tol, "DP: psi = phi allowed")
+                call check(suite, mat%softening == softening_exponential, "DP: exponential")
+                call check(suite, mat%friction_residual == mat%friction, &
+                    "DP: phi_residual defaults to the peak phi")
+                call check_close(suite, mat%cohesion_residual, 500.0_wp, tol*500, "DP: c_r")
+                call check_close(suite, mat%dilatancy_residual, 10*degree, tol, "DP: psi_r")
+                call check_close(suite, mat%softening_strain, 0.05_wp, tol, "DP: strain scale")
+            end associate
+        end if
+        call read_valid(soil_case('"type": "drucker_prager", '//elastic_part//', "phi": 20'), &
+            case, "Drucker-Prager defaults")
+        if (allocated(case%materials)) then
+            call check(suite, case%materials(1)%cone == cone_plane_strain, &
+                "DP: plane strain cone by default")
+        end if
+        call read_valid(soil_case('"type": "newtonian", "rho": 1000, "viscosity": 1e-3, ' &
+            //'"bulk_modulus": 2.2e9'), case, "Newtonian fluid")
+        if (allocated(case%materials)) then
+            associate (mat => case%materials(1))
+                call check(suite, mat%type == "newtonian", "fluid: type")
+                call check_close(suite, mat%viscosity, 1.0e-3_wp, tol*1.0e-3_wp, "fluid: mu")
+                call check_close(suite, mat%bulk_modulus, 2.2e9_wp, tol*2.2e9_wp, "fluid: K")
+                call check(suite, mat%young == 0.0_wp, "fluid: no E")
+                ! c_p = sqrt(K/rho) = sqrt(2.2e6) m/s
+                call check_close(suite, p_wave_speed(mat), sqrt(2.2e6_wp), &
+                    tol*sqrt(2.2e6_wp), "fluid: c_p = sqrt(K/rho)")
+            end associate
+        end if
+        call read_valid(soil_case('"type": "newtonian", "rho": 1000, "viscosity": 0, ' &
+            //'"bulk_modulus": 1e5'), case, "inviscid fluid")
+    end subroutine test_material_types
+
+    !> The summary shows the parameters of each type (angles in degrees) and the limit that
+    !> sets the critical time step.
+    subroutine test_material_summary()
+        type(case_type) :: case
+        character(len=:), allocatable :: text
+
+        call read_valid(soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30, ' &
+            //'"c": 1000, "psi": 5, "tension_cutoff": 500, "softening": {"type": "linear", ' &
+            //'"phi_residual": 25, "c_residual": 100, "strain": 0.1}'), case, "MC summary case")
+        text = case_summary(case)
+        call check_contains(suite, text, '"soil" mohr_coulomb: E = 1e7 Pa, nu = 0.3, ' &
+            //"rho = 1800 kg/m3", "summary: MC elasticity")
+        call check_contains(suite, text, "phi = 30 deg, c = 1000 Pa, psi = 5 deg, tension " &
+            //"cutoff 500 Pa", "summary: MC strength in degrees")
+        call check_contains(suite, text, "softening linear to phi = 25 deg, c = 100 Pa, " &
+            //"psi = 0 deg at plastic shear strain 0.1", "summary: MC softening")
+        call read_valid(soil_case('"type": "drucker_prager", '//elastic_part//', "phi": 20, ' &
+            //'"c": 5000, "cone": "extension"'), case, "DP summary case")
+        text = case_summary(case)
+        call check_contains(suite, text, "phi = 20 deg, c = 5000 Pa, psi = 0 deg, tension " &
+            //"cutoff at the apex, cone extension", "summary: DP")
+        call check_contains(suite, text, "no softening", "summary: DP without softening")
+        ! viscous limit rho dx^2 / (2 dim mu) = 1000 * 0.01 / (4 * 1e6) = 2.5e-6 s, below
+        ! dx / c_p = 0.1 / sqrt(2.2e6) = 6.7e-5 s
+        call read_valid(soil_case('"type": "newtonian", "rho": 1000, "viscosity": 1e6, ' &
+            //'"bulk_modulus": 2.2e9'), case, "viscous fluid summary case")
+        text = case_summary(case)
+        call check_contains(suite, text, '"soil" newtonian: rho = 1000 kg/m3, viscosity = ' &
+            //"1000000 Pa s, bulk modulus = 2.2e9 Pa, c_p = 1483.24 m/s", "summary: fluid")
+        call check_contains(suite, text, "critical time step 2.5e-6 s at t = 0 (viscous " &
+            //"limit)", "summary: viscous limit of the time step")
+        call expect_error(case_text(materials='"materials": [{"name": "soil", "type": ' &
+            //'"newtonian", "rho": 1000, "viscosity": 1e6, "bulk_modulus": 2.2e9}]', &
+            time='"time": {"tend": 0.1, "dt": 1e-5}'), [character(len=200) :: "time.dt = " &
+            //"1e-5 s is above the critical time step 2.5e-6 s of this case (the viscous " &
+            //"limit"], "dt above the viscous limit")
+        ! from a state file the viscous limit of the materials applies as well
+        call expect_error("{"//domain_2d//', "materials": [{"name": "soil", "type": ' &
+            //'"newtonian", "rho": 1000, "viscosity": 1e6, "bulk_modulus": 2.2e9}], ' &
+            //'"load_state": "'//state_file//'", "time": {"tend": 0.1, "dt": 1e-5}}', &
+            [character(len=200) :: "time.dt = 1e-5 s is above the critical time step " &
+            //"2.5e-6 s of this case (the viscous limit"], "viscous limit with load_state")
+    end subroutine test_material_summary
+
+    !> Strength parameters: ranges (in degrees), psi <= phi, the apex, phi = c = 0, the cone.
+    subroutine test_strength_errors()
+        character(len=*), parameter :: mc = '"type": "mohr_coulomb", '//elastic_part//", "
+
+        call expect_error(soil_case(mc//'"phi": 90'), [character(len=200) :: &
+            "materials[1].phi = 90 is out of range: must be >= 0 and < 90 [deg]"], "phi = 90")
+        call expect_error(soil_case(mc//'"phi": -1'), [character(len=200) :: &
+            "materials[1].phi = -1 is out of range: must be >= 0 and < 90 [deg]"], "phi < 0")
+        call expect_error(soil_case(mc//'"c": 1000'), [character(len=200) :: &
+            "missing required key 'materials[1].phi' (a number >= 0 and < 90 [deg])"], &
+            "phi missing")
+        call expect_error(soil_case(mc//'"phi": 30, "psi": 35'), [character(len=200) :: &
+            "materials[1].psi = 35 deg is above materials[1].phi = 30 deg", &
+            "must be >= 0 and <= phi = 30 [deg]"], "psi > phi")
+        call expect_error(soil_case(mc//'"phi": 30, "psi": -2'), [character(len=200) :: &
+            "materials[1].psi = -2 is out of range: must be >= 0 [deg]"], "psi < 0")
+        call expect_error(soil_case(mc//'"phi": 30, "c": -5'), [character(len=200) :: &
+            "materials[1].c = -5 is out of range: must be >= 0 [Pa]"], "c < 0")
+        ! apex c / tan(phi) = 1000 / tan(30 deg) = 1732.0508 Pa
+        call expect_error(soil_case(mc//'"phi": 30, "c": 1000, "tension_cutoff": 2000'), &
+            [character(len=200) :: "materials[1].tension_cutoff = 2000 Pa is above the apex " &
+            //"of the yield surface, c / tan(phi) = 1732.05 Pa", "c = 1000 Pa, phi = 30 deg", &
+            "must be >= 0 and <= 1732.05 [Pa]"], "tension cutoff above the apex")
+        call expect_error(soil_case(mc//'"phi": 30, "tension_cutoff": 1'), &
+            [character(len=200) :: "materials[1].tension_cutoff = 1 Pa is above the apex", &
+            "c / tan(phi) = 0 Pa"], "tension cutoff of a cohesionless soil")
+        call expect_error(soil_case(mc//'"phi": 30, "c": 1000, "tension_cutoff": -1'), &
+            [character(len=200) :: &
+            "materials[1].tension_cutoff = -1 is out of range: must be >= 0 [Pa]"], &
+            "negative tension cutoff")
+        call expect_error(soil_case(mc//'"phi": 0, "c": 0'), [character(len=200) :: &
+            "materials[1].phi = 0 and materials[1].c = 0", "a Mohr-Coulomb material with " &
+            //"phi = 0 and c = 0 has no strength; use a newtonian fluid"], "phi = c = 0")
+        call expect_error(soil_case(mc//'"phi": 0'), [character(len=200) :: &
+            "a Mohr-Coulomb material with phi = 0 and c = 0 has no strength"], &
+            "phi = 0 with c defaulting to 0")
+        call expect_error(soil_case('"type": "drucker_prager", '//elastic_part//', "phi": 0'), &
+            [character(len=200) :: "a Drucker-Prager material with phi = 0 and c = 0 has no " &
+            //"strength"], "Drucker-Prager phi = c = 0")
+        call expect_error(soil_case('"type": "drucker_prager", '//elastic_part//', "phi": 30, ' &
+            //'"cone": "outer"'), [character(len=200) :: 'materials[1].cone = "outer" is not ' &
+            //'allowed: must be one of "plane_strain", "compression", "extension"'], &
+            "unknown cone")
+        call expect_error(soil_case('"type": "drucker_prager", '//elastic_part//', "phi": 30, ' &
+            //'"cone": 1'), [character(len=200) :: "materials[1].cone has the wrong type"], &
+            "cone not a string")
+    end subroutine test_strength_errors
+
+    !> Softening: type, residual values not above peak, a positive strain.
+    subroutine test_softening_errors()
+        character(len=*), parameter :: mc = '"type": "mohr_coulomb", '//elastic_part &
+            //', "phi": 30, "c": 1000, "psi": 10, '
+
+        call expect_error(soil_case(mc//'"softening": {"type": "linear", "phi_residual": 35, ' &
+            //'"strain": 0.1}'), [character(len=200) :: "materials[1].softening.phi_residual " &
+            //"= 35 deg is above the peak value materials[1].phi = 30 deg: residual strength " &
+            //"above peak", "must be >= 0 and <= 30 [deg]"], "residual phi above peak")
+        call expect_error(soil_case(mc//'"softening": {"type": "linear", "c_residual": 2000, ' &
+            //'"strain": 0.1}'), [character(len=200) :: "materials[1].softening.c_residual " &
+            //"= 2000 Pa is above the peak value materials[1].c = 1000 Pa: residual strength " &
+            //"above peak"], "residual c above peak")
+        call expect_error(soil_case(mc//'"softening": {"type": "linear", "psi_residual": 12, ' &
+            //'"strain": 0.1}'), [character(len=200) :: "materials[1].softening.psi_residual " &
+            //"= 12 deg is above the peak value materials[1].psi = 10 deg"], &
+            "residual psi above peak")
+        call expect_error(soil_case(mc//'"softening": {"type": "linear", "phi_residual": 5, ' &
+            //'"psi_residual": 8, "strain": 0.1}'), [character(len=200) :: &
+            "materials[1].softening.psi_residual = 8 deg is above the residual friction " &
+            //"angle 5 deg"], &
+            "residual psi above residual phi")
+        call expect_error(soil_case(mc//'"softening": {"type": "linear", "phi_residual": 0, ' &
+            //'"c_residual": 0, "strain": 0.1}'), [character(len=200) :: &
+            "materials[1].softening: phi_residual = 0 and c_residual = 0 leave no strength"], &
+            "no residual strength")
+        call expect_error(soil_case(mc//'"softening": {"type": "linear", "phi_residual": -1, ' &
+            //'"strain": 0.1}'), [character(len=200) :: "materials[1].softening.phi_residual" &
+            //" = -1 is out of range: must be >= 0 [deg]"], "negative residual phi")
+        call expect_error(soil_case(mc//'"softening": {"type": "exponential", "strain": 0}'), &
+            [character(len=200) :: &
+            "materials[1].softening.strain = 0 is out of range: must be > 0"], "strain = 0")
+        call expect_error(soil_case(mc//'"softening": {"type": "linear", "strain": -0.1}'), &
+            [character(len=200) :: &
+            "materials[1].softening.strain = -0.1 is out of range: must be > 0"], "strain < 0")
+        call expect_error(soil_case(mc//'"softening": {"type": "linear", "c_residual": 0}'), &
+            [character(len=200) :: "missing required key 'materials[1].softening.strain' " &
+            //"(a number > 0)"], "softening without strain")
+        call expect_error(soil_case(mc//'"softening": {"type": "none", "strain": 0.1}'), &
+            [character(len=200) :: "materials[1].softening.strain only applies to " &
+            //'softening.type = "linear" or "exponential" (here "none")'], &
+            "strain with softening none")
+        call expect_error(soil_case(mc//'"softening": {"type": "cubic"}'), &
+            [character(len=200) :: 'materials[1].softening.type = "cubic" is not allowed: ' &
+            //'must be one of "none", "linear", "exponential"'], "unknown softening type")
+        call expect_error(soil_case(mc//'"softening": {"strain": 0.1}'), &
+            [character(len=200) :: "missing required key 'materials[1].softening.type'"], &
+            "softening without type")
+        call expect_error(soil_case(mc//'"softening": {"type": "linear", "strian": 0.1}'), &
+            [character(len=200) :: "unknown key 'materials[1].softening.strian'; did you " &
+            //"mean 'strain'?"], "misspelt softening key")
+        call expect_error(soil_case(mc//'"softening": "linear"'), [character(len=200) :: &
+            "materials[1].softening has the wrong type: expected an object"], &
+            "softening not an object")
+    end subroutine test_softening_errors
+
+    !> The keys allowed in a material depend on its type.
+    subroutine test_material_key_errors()
+        call expect_error(soil_case('"type": "newtonian", "E": 1e6, "rho": 1000, ' &
+            //'"viscosity": 1e-3, "bulk_modulus": 2.2e9'), [character(len=200) :: &
+            "unknown key 'materials[1].E'", "E is not a parameter of a newtonian material", &
+            "the keys of a newtonian material are: name, type, rho, viscosity, bulk_modulus"], &
+            "E in a newtonian material")
+        call expect_error(soil_case('"type": "linear_elastic", '//elastic_part//', "phi": 30'), &
+            [character(len=200) :: "unknown key 'materials[1].phi'", "phi is not a parameter " &
+            //"of a linear_elastic material; the keys of a linear_elastic material are: " &
+            //"name, type, E, nu, rho"], "phi in an elastic material")
+        call expect_error(soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30, ' &
+            //'"cone": "compression"'), [character(len=200) :: "unknown key " &
+            //"'materials[1].cone'", "cone is not a parameter of a mohr_coulomb material", &
+            "name, type, E, nu, rho, phi, c, psi, tension_cutoff, softening"], &
+            "cone in a Mohr-Coulomb material")
+        call expect_error(soil_case('"type": "mohr_coulomb", '//elastic_part//', "phy": 30'), &
+            [character(len=200) :: "unknown key 'materials[1].phy'; did you mean 'phi'? The " &
+            //"keys of a mohr_coulomb material are: name, type, E"], "misspelt phi")
+        call expect_error(soil_case('"type": "drucker_prager", '//elastic_part//', "phi": 30, ' &
+            //'"Cone": "compression"'), [character(len=200) :: "unknown key " &
+            //"'materials[1].Cone'; did you mean 'cone'? (keys are case-sensitive)"], &
+            "cone in the wrong case")
+        call expect_error(soil_case('"tpye": "elastic", '//elastic_part), &
+            [character(len=200) :: "unknown key 'materials[1].tpye'; did you mean 'type'?"], &
+            "misspelt type")
+        call expect_error(soil_case(elastic_part), [character(len=200) :: "missing required " &
+            //"key 'materials[1].type' (one of ""linear_elastic"", ""elastic"", " &
+            //"""mohr_coulomb"", ""drucker_prager"", ""newtonian"")"], "type missing")
+        call expect_error(soil_case('"type": "mohr-coulomb", '//elastic_part//', "phi": 30'), &
+            [character(len=200) :: 'materials[1].type = "mohr-coulomb" is not allowed'], &
+            "mohr-coulomb with a hyphen")
+    end subroutine test_material_key_errors
+
+    subroutine test_newtonian_errors()
+        character(len=*), parameter :: fluid = '"type": "newtonian", "rho": 1000, '
+
+        call expect_error(soil_case(fluid//'"viscosity": -1, "bulk_modulus": 2.2e9'), &
+            [character(len=200) :: &
+            "materials[1].viscosity = -1 is out of range: must be >= 0 [Pa s]"], &
+            "viscosity < 0")
+        call expect_error(soil_case(fluid//'"viscosity": 1e-3, "bulk_modulus": 0'), &
+            [character(len=200) :: &
+            "materials[1].bulk_modulus = 0 is out of range: must be > 0 [Pa]"], &
+            "bulk_modulus = 0")
+        call expect_error(soil_case(fluid//'"bulk_modulus": 2.2e9'), [character(len=200) :: &
+            "missing required key 'materials[1].viscosity' (a number >= 0 [Pa s])"], &
+            "viscosity missing")
+        call expect_error(soil_case(fluid//'"viscosity": 1e-3'), [character(len=200) :: &
+            "missing required key 'materials[1].bulk_modulus' (a number > 0 [Pa])"], &
+            "bulk_modulus missing")
+    end subroutine test_newtonian_errors
+
+    !> Frictional faces are objects with a coefficient mu >= 0; other faces take no mu.
+    subroutine test_frictional_faces()
+        type(case_type) :: case
+
+        call read_valid(faces_case('{"ymin": {"type": "Frictional", "mu": 0.4}, ' &
+            //'"xmin": {"type": "fixed"}, "xmax": "sliding", "ymax": {"type": "frictional", ' &
+            //'"mu": 0}}'), case, "frictional faces")
+        call check(suite, case%bc(1, 2) == bc_frictional, "ymin is frictional")
+        call check_close(suite, case%bc_friction(1, 2), 0.4_wp, tol, "ymin mu")
+        call check(suite, case%bc(2, 2) == bc_frictional .and. case%bc_friction(2, 2) == 0, &
+            "mu = 0 is allowed")
+        call check(suite, case%bc(1, 1) == bc_fixed, "object form of a fixed face")
+        call check(suite, case%bc(2, 1) == bc_sliding, "string form beside object forms")
+        call check(suite, all(case%bc_friction(:, 1) == 0.0_wp), "no mu on other faces")
+        call check_contains(suite, case_summary(case), "boundaries  xmin fixed, xmax sliding, " &
+            //"ymin frictional (mu = 0.4), ymax frictional (mu = 0)", "summary: frictional faces")
+        call expect_error(faces_case('{"ymin": {"type": "frictional"}}'), &
+            [character(len=200) :: "missing required key 'domain.boundaries.ymin.mu' " &
+            //"(a number >= 0)"], "frictional face without mu")
+        call expect_error(faces_case('{"ymin": {"type": "frictional", "mu": -0.1}}'), &
+            [character(len=200) :: &
+            "domain.boundaries.ymin.mu = -0.1 is out of range: must be >= 0"], "mu < 0")
+        call expect_error(faces_case('{"ymin": {"type": "frictional", "mu": 1e999}}'), &
+            [character(len=200) :: "domain.boundaries.ymin.mu is not a finite number"], &
+            "mu not finite")
+        call expect_error(faces_case('{"ymin": {"type": "fixed", "mu": 0.4}}'), &
+            [character(len=200) :: "domain.boundaries.ymin.mu applies to frictional faces " &
+            //'only (here domain.boundaries.ymin.type = "fixed")'], "mu on a fixed face")
+        call expect_error(faces_case('{"ymin": "frictional"}'), [character(len=200) :: &
+            'domain.boundaries.ymin = "frictional" needs a friction coefficient', &
+            '{"type": "frictional", "mu": 0.4}'], "frictional as a string")
+        call expect_error(faces_case('{"ymin": {"mu": 0.4}}'), [character(len=200) :: &
+            "missing required key 'domain.boundaries.ymin.type'"], "face object without type")
+        call expect_error(faces_case('{"ymin": {"type": "glued"}}'), [character(len=200) :: &
+            'domain.boundaries.ymin.type = "glued" is not allowed: must be one of "free", ' &
+            //'"sliding", "fixed", "frictional"'], "unknown face type in an object")
+        call expect_error(faces_case('{"ymin": {"type": "frictional", "mu": 0.4, ' &
+            //'"friction": 1}}'), [character(len=200) :: "unknown key " &
+            //"'domain.boundaries.ymin.friction'", "are: type, mu"], "unknown key of a face")
+        call expect_error(faces_case('{"ymin": 0.4}'), [character(len=200) :: &
+            "domain.boundaries.ymin has the wrong type", "found a number (0.4)"], &
+            "face given as a number")
+    end subroutine test_frictional_faces
 
     subroutine write_text(path, text)
         character(len=*), intent(in) :: path

@@ -25,8 +25,19 @@ submodule (mpm_case) mpm_case_reader
         "ymin", "ymax", "zmin", "zmax"]
     character(len=*), parameter :: particle_keys(*) = [character(len=12) :: "ppc", &
         "distribution", "seed"]
-    character(len=*), parameter :: material_keys(*) = [character(len=4) :: "name", "type", &
+    character(len=*), parameter :: elastic_keys(*) = [character(len=4) :: "name", "type", &
         "E", "nu", "rho"]
+    character(len=*), parameter :: mohr_coulomb_keys(*) = [character(len=14) :: "name", &
+        "type", "E", "nu", "rho", "phi", "c", "psi", "tension_cutoff", "softening"]
+    character(len=*), parameter :: drucker_prager_keys(*) = [character(len=14) :: &
+        mohr_coulomb_keys, "cone"]
+    character(len=*), parameter :: newtonian_keys(*) = [character(len=12) :: "name", "type", &
+        "rho", "viscosity", "bulk_modulus"]
+    character(len=*), parameter :: any_material_keys(*) = [character(len=14) :: &
+        drucker_prager_keys, "viscosity", "bulk_modulus"]
+        !! keys of every material type, to tell a misplaced key from a misspelt one
+    character(len=*), parameter :: softening_keys(*) = [character(len=12) :: "type", &
+        "phi_residual", "c_residual", "psi_residual", "strain"]
     character(len=*), parameter :: body_keys(*) = [character(len=8) :: "name", "material", &
         "min", "max", "velocity"]
     character(len=*), parameter :: solver_keys(*) = [character(len=14) :: "scheme", &
@@ -38,7 +49,21 @@ submodule (mpm_case) mpm_case_reader
         "grid", "directory", "overwrite", "history_interval"]
     character(len=*), parameter :: progress_keys(*) = [character(len=8) :: "interval"]
 
+    ! Material models (codes used only inside the reader; the case stores the model name)
+    integer, parameter :: model_elastic = 1, model_mohr_coulomb = 2, model_drucker_prager = 3, &
+        model_newtonian = 4
+    character(len=*), parameter :: model_names(4) = [character(len=14) :: "linear_elastic", &
+        "mohr_coulomb", "drucker_prager", "newtonian"]
+        !! name stored in material_spec_type%type for each model code
+    character(len=*), parameter :: model_choices(5) = [character(len=14) :: "linear_elastic", &
+        "elastic", "mohr_coulomb", "drucker_prager", "newtonian"]
+        !! names accepted for materials[i].type (aliases included)
+    integer, parameter :: model_choice_codes(5) = [model_elastic, model_elastic, &
+        model_mohr_coulomb, model_drucker_prager, model_newtonian]
+
     character(len=*), parameter :: axis_names = "xyz"
+    real(wp), parameter :: degree = acos(-1.0_wp)/180.0_wp
+        !! one degree [rad]: angles are given in degrees and stored in radians
     real(wp), parameter :: box_tolerance = 1.0e-9_wp
         !! tolerance of box tests, relative to dx: absorbs round-off of corners like 3*0.1
     real(wp), parameter :: max_steps = 1.0e9_wp
@@ -87,7 +112,8 @@ contains
         character(len=:), allocatable :: line
         integer :: d, m, b, f, dim
         integer(i8) :: count, total
-        real(wp) :: extent(3)
+        logical :: viscous
+        real(wp) :: extent(3), critical
 
         dim = case%dim
         text = ""
@@ -106,8 +132,7 @@ contains
             //" m (origin "//fmt_vector(case%origin(1:dim))//")"//nl
         line = "boundaries "
         do d = 1, dim
-            line = line//" "//axis_names(d:d)//"min "//trim(bc_names(case%bc(1, d)))//", " &
-                //axis_names(d:d)//"max "//trim(bc_names(case%bc(2, d)))
+            line = line//" "//face_text(case, 1, d)//", "//face_text(case, 2, d)
             if (d < dim) line = line//","
         end do
         text = text//line//nl
@@ -118,12 +143,7 @@ contains
         if (allocated(case%materials)) then
             text = text//"materials   "//itoa(size(case%materials))//nl
             do m = 1, size(case%materials)
-                associate (mat => case%materials(m))
-                    text = text//'  "'//text_or(mat%name, "?")//'" '//text_or(mat%type, "?") &
-                        //": E = "//fmt_real(mat%young)//" Pa, nu = "//fmt_real(mat%poisson) &
-                        //", rho = "//fmt_real(mat%density)//" kg/m3, c_p = " &
-                        //fmt_real(p_wave_speed(mat), 6)//" m/s"//nl
-                end associate
+                text = text//material_text(case%materials(m))
             end do
         end if
         if (allocated(case%bodies)) then
@@ -162,8 +182,11 @@ contains
             line = line//"dt from CFL = "//fmt_real(case%cfl)
         end if
         if (allocated(case%materials)) then
-            if (size(case%materials) > 0) line = line//", critical time step " &
-                //fmt_real(case_critical_step(case), 6)//" s at t = 0"
+            if (size(case%materials) > 0) then
+                call case_critical_step(case, critical, viscous)
+                line = line//", critical time step "//fmt_real(critical, 6)//" s at t = 0"
+                if (viscous) line = line//" (viscous limit)"
+            end if
         end if
         text = text//line//nl
         line = "damping     "//trim(damping_names(case%damping))
@@ -361,11 +384,74 @@ contains
                 end if
                 cycle
             end if
-            call get_choice(faces, trim(face_keys(k)), path, src, bc_names, &
-                [bc_free, bc_sliding, bc_fixed], case%bc(side, axis), error)
+            call read_face(faces, trim(face_keys(k)), src, case%bc(side, axis), &
+                case%bc_friction(side, axis), error)
             if (allocated(error)) return
         end do
     end subroutine read_boundaries
+
+    !> One face of `domain.boundaries`: a name ("free", "sliding", "fixed") or an object
+    !> {"type": ..., "mu": ...}; a frictional face is only written as an object, with its mu.
+    subroutine read_face(faces, key, src, bc, mu, error)
+        type(json_value_type), intent(in) :: faces
+            !! the boundaries object
+        character(len=*), intent(in) :: key
+            !! face key ("xmin", ...)
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        integer, intent(inout) :: bc
+            !! condition of the face (unchanged when the face is not given)
+        real(wp), intent(inout) :: mu
+            !! Coulomb friction coefficient of a frictional face [-]
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        character(len=*), parameter :: face_object_keys(*) = [character(len=4) :: "type", "mu"]
+        character(len=*), parameter :: frictional_form = '{"type": "frictional", "mu": 0.4}'
+        character(len=*), parameter :: allowed = 'one of "free", "sliding", "fixed", or an ' &
+            //"object "//frictional_form//" for a face with Coulomb friction"
+        type(json_value_type) :: val
+        character(len=:), allocatable :: path, name
+        integer :: i
+
+        path = "domain.boundaries."//key
+        val = json_get(faces, key)
+        if (.not. json_is_valid(val)) return
+        if (json_type_name(val) == "string") then
+            name = json_string(val)
+            do i = bc_free, bc_fixed
+                if (same(lower(name), trim(bc_names(i)))) then
+                    bc = i
+                    return
+                end if
+            end do
+            if (same(lower(name), trim(bc_names(bc_frictional)))) then
+                call input_error(error, src, path//' = "'//name//'" needs a friction ' &
+                    //"coefficient: write the face as an object, "//frictional_form)
+            else
+                call input_error(error, src, path//' = "'//name//'" is not allowed: must be ' &
+                    //allowed)
+            end if
+            return
+        end if
+        if (json_type_name(val) /= "object") then
+            call input_error(error, src, path//" has the wrong type: expected "//allowed &
+                //", found "//describe(val))
+            return
+        end if
+        call check_keys(val, path, face_object_keys, src, error)
+        if (allocated(error)) return
+        call get_choice(val, "type", path, src, bc_names, [bc_free, bc_sliding, bc_fixed, &
+            bc_frictional], bc, error, required=.true.)
+        if (allocated(error)) return
+        if (bc == bc_frictional) then
+            call get_real(val, "mu", path, src, mu, error, required=.true., at_least=0.0_wp)
+        else if (json_is_valid(json_get(val, "mu"))) then
+            call input_error(error, src, path//".mu applies to frictional faces only (here " &
+                //path//'.type = "'//trim(bc_names(bc))//'"); remove mu or set "type": ' &
+                //'"frictional"')
+        end if
+    end subroutine read_face
 
     !> `particles`: particles per cell and their placement.
     subroutine read_particles(root, src, case, error)
@@ -408,7 +494,8 @@ contains
         call get_int(particles, "seed", "particles", src, case%seed, error, at_least=0)
     end subroutine read_particles
 
-    !> `materials`: a non-empty array of uniquely named materials.
+    !> `materials`: a non-empty array of uniquely named materials. The keys allowed in a
+    !> material depend on its type, so the type is read before the keys are checked.
     subroutine read_materials(root, src, case, error)
         type(json_value_type), intent(in) :: root
             !! top-level object
@@ -429,9 +516,12 @@ contains
         do i = 1, size(case%materials)
             path = "materials["//itoa(i)//"]"
             item = json_item(list, i)
-            call check_object(item, path, material_keys, src, error)
+            call check_type(item, path, "object", "an object", src, error)
+            if (allocated(error)) return
+            call read_material_type(item, path, src, model, error)
             if (allocated(error)) return
             associate (mat => case%materials(i))
+                mat%type = trim(model_names(model))
                 call get_string(item, "name", path, src, mat%name, error, required=.true.)
                 if (allocated(error)) return
                 do j = 1, i - 1
@@ -442,25 +532,289 @@ contains
                         return
                     end if
                 end do
-                ! one constitutive model so far: the choice only validates the name
-                model = 0
-                call get_choice(item, "type", path, src, &
-                    [character(len=14) :: "linear_elastic", "elastic"], [1, 1], model, error, &
-                    required=.true.)
-                if (allocated(error)) return
-                mat%type = "linear_elastic"
-                call get_real(item, "E", path, src, mat%young, error, required=.true., &
-                    above=0.0_wp, unit="Pa")
-                if (allocated(error)) return
-                call get_real(item, "nu", path, src, mat%poisson, error, required=.true., &
-                    at_least=0.0_wp, below=0.5_wp)
-                if (allocated(error)) return
-                call get_real(item, "rho", path, src, mat%density, error, required=.true., &
-                    above=0.0_wp, unit="kg/m3")
-                if (allocated(error)) return
+                if (model == model_newtonian) then
+                    call read_newtonian(item, path, src, mat, error)
+                    if (allocated(error)) return
+                else
+                    call read_elasticity(item, path, src, mat, error)
+                    if (allocated(error)) return
+                    if (model /= model_elastic) then
+                        call read_strength(item, path, src, model, mat, error)
+                        if (allocated(error)) return
+                    end if
+                end if
             end associate
         end do
     end subroutine read_materials
+
+    !> `materials[i].type`, then the keys of a material of that type.
+    subroutine read_material_type(item, path, src, model, error)
+        type(json_value_type), intent(in) :: item
+            !! the material object
+        character(len=*), intent(in) :: path
+            !! its path ("materials[i]")
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        integer, intent(out) :: model
+            !! model code (model_elastic, ...)
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        character(len=:), allocatable :: owner
+
+        model = 0
+        if (.not. json_is_valid(json_get(item, "type"))) then
+            ! a misspelt "type" is reported as such rather than as a missing type
+            call check_keys(item, path, any_material_keys, src, error)
+            if (allocated(error)) return
+        end if
+        call get_choice(item, "type", path, src, model_choices, model_choice_codes, model, &
+            error, required=.true.)
+        if (allocated(error)) return
+        owner = "a "//trim(model_names(model))//" material"
+        select case (model)
+        case (model_elastic)
+            call check_keys(item, path, elastic_keys, src, error, owner, any_material_keys)
+        case (model_mohr_coulomb)
+            call check_keys(item, path, mohr_coulomb_keys, src, error, owner, any_material_keys)
+        case (model_drucker_prager)
+            call check_keys(item, path, drucker_prager_keys, src, error, owner, &
+                any_material_keys)
+        case default
+            call check_keys(item, path, newtonian_keys, src, error, owner, any_material_keys)
+        end select
+    end subroutine read_material_type
+
+    !> Elastic parameters of a solid: `E`, `nu`, `rho`.
+    subroutine read_elasticity(item, path, src, mat, error)
+        type(json_value_type), intent(in) :: item
+            !! the material object
+        character(len=*), intent(in) :: path
+            !! its path ("materials[i]")
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        type(material_spec_type), intent(inout) :: mat
+            !! material being resolved
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        call get_real(item, "E", path, src, mat%young, error, required=.true., above=0.0_wp, &
+            unit="Pa")
+        if (allocated(error)) return
+        call get_real(item, "nu", path, src, mat%poisson, error, required=.true., &
+            at_least=0.0_wp, below=0.5_wp)
+        if (allocated(error)) return
+        call get_real(item, "rho", path, src, mat%density, error, required=.true., &
+            above=0.0_wp, unit="kg/m3")
+    end subroutine read_elasticity
+
+    !> Strength of a Mohr-Coulomb or Drucker-Prager material: `phi`, `c`, `psi`,
+    !> `tension_cutoff`, `softening` and (Drucker-Prager) `cone`. Angles are read in degrees
+    !> and stored in radians.
+    subroutine read_strength(item, path, src, model, mat, error)
+        type(json_value_type), intent(in) :: item
+            !! the material object
+        character(len=*), intent(in) :: path
+            !! its path ("materials[i]")
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        integer, intent(in) :: model
+            !! model_mohr_coulomb or model_drucker_prager
+        type(material_spec_type), intent(inout) :: mat
+            !! material being resolved
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        character(len=:), allocatable :: family, limit
+        logical :: found
+        real(wp) :: phi, c, psi, cutoff, apex
+
+        family = "Mohr-Coulomb"
+        if (model == model_drucker_prager) family = "Drucker-Prager"
+        phi = 0.0_wp
+        c = 0.0_wp
+        psi = 0.0_wp
+        cutoff = -1.0_wp
+        call get_real(item, "phi", path, src, phi, error, required=.true., at_least=0.0_wp, &
+            below=90.0_wp, unit="deg")
+        if (allocated(error)) return
+        call get_real(item, "c", path, src, c, error, at_least=0.0_wp, unit="Pa")
+        if (allocated(error)) return
+        if (phi == 0.0_wp .and. c == 0.0_wp) then
+            call input_error(error, src, path//".phi = 0 and "//path//".c = 0: a "//family &
+                //" material with phi = 0 and c = 0 has no strength; use a newtonian fluid, " &
+                //"or give phi > 0 [deg] or c > 0 [Pa]")
+            return
+        end if
+        call get_real(item, "psi", path, src, psi, error, at_least=0.0_wp, unit="deg")
+        if (allocated(error)) return
+        if (psi > phi) then
+            call input_error(error, src, path//".psi = "//fmt_real(psi)//" deg is above " &
+                //path//".phi = "//fmt_real(phi)//" deg: the dilatancy angle must be >= 0 " &
+                //"and <= phi = "//fmt_real(phi)//" [deg]")
+            return
+        end if
+        call get_real(item, "tension_cutoff", path, src, cutoff, error, at_least=0.0_wp, &
+            unit="Pa", found=found)
+        if (allocated(error)) return
+        if (found .and. phi > 0.0_wp) then
+            ! the cone ends at the mean stress c / tan(phi): no stress state lies beyond it
+            apex = c/tan(phi*degree)
+            if (cutoff > apex) then
+                limit = fmt_below(apex, cutoff)
+                call input_error(error, src, path//".tension_cutoff = "//fmt_real(cutoff) &
+                    //" Pa is above the apex of the yield surface, c / tan(phi) = "//limit &
+                    //" Pa (c = "//fmt_real(c)//" Pa, phi = "//fmt_real(phi)//" deg): must " &
+                    //"be >= 0 and <= "//limit//" [Pa]")
+                return
+            end if
+        end if
+        mat%friction = phi*degree
+        mat%cohesion = c
+        mat%dilatancy = psi*degree
+        mat%tension_cutoff = cutoff
+        call read_softening(item, path, src, phi, c, psi, mat, error)
+        if (allocated(error)) return
+        if (model == model_drucker_prager) then
+            call get_choice(item, "cone", path, src, cone_names, [cone_plane_strain, &
+                cone_compression, cone_extension], mat%cone, error)
+        end if
+    end subroutine read_strength
+
+    !> `materials[i].softening`: residual strength and the plastic shear strain that reaches
+    !> it. Residual values default to the peak values (psi_residual to 0) and never exceed them.
+    subroutine read_softening(item, path, src, phi, c, psi, mat, error)
+        type(json_value_type), intent(in) :: item
+            !! the material object
+        character(len=*), intent(in) :: path
+            !! its path ("materials[i]")
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        real(wp), intent(in) :: phi
+            !! peak friction angle [deg]
+        real(wp), intent(in) :: c
+            !! peak cohesion [Pa]
+        real(wp), intent(in) :: psi
+            !! peak dilatancy angle [deg]
+        type(material_spec_type), intent(inout) :: mat
+            !! material being resolved (peak values set)
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(json_value_type) :: softening
+        character(len=:), allocatable :: spath
+        logical :: found
+        integer :: k
+        real(wp) :: phi_r, c_r, psi_r
+
+        ! without softening the residual values are the peak values
+        mat%softening = softening_none
+        mat%friction_residual = mat%friction
+        mat%cohesion_residual = mat%cohesion
+        mat%dilatancy_residual = mat%dilatancy
+        call get_section(item, "softening", path, src, softening_keys, softening, error, &
+            found=found)
+        if (allocated(error) .or. .not. found) return
+        spath = join(path, "softening")
+        call get_choice(softening, "type", spath, src, softening_names, [softening_none, &
+            softening_linear, softening_exponential], mat%softening, error, required=.true.)
+        if (allocated(error)) return
+        if (mat%softening == softening_none) then
+            do k = 2, size(softening_keys)
+                if (json_is_valid(json_get(softening, trim(softening_keys(k))))) then
+                    call input_error(error, src, spath//"."//trim(softening_keys(k)) &
+                        //' only applies to softening.type = "linear" or "exponential" ' &
+                        //'(here "none"); remove it')
+                    return
+                end if
+            end do
+            return
+        end if
+        phi_r = phi
+        c_r = c
+        psi_r = 0.0_wp
+        call get_real(softening, "phi_residual", spath, src, phi_r, error, at_least=0.0_wp, &
+            unit="deg")
+        if (allocated(error)) return
+        call check_residual(spath//".phi_residual", phi_r, path//".phi", phi, "deg", src, error)
+        if (allocated(error)) return
+        call get_real(softening, "c_residual", spath, src, c_r, error, at_least=0.0_wp, &
+            unit="Pa")
+        if (allocated(error)) return
+        call check_residual(spath//".c_residual", c_r, path//".c", c, "Pa", src, error)
+        if (allocated(error)) return
+        call get_real(softening, "psi_residual", spath, src, psi_r, error, at_least=0.0_wp, &
+            unit="deg")
+        if (allocated(error)) return
+        call check_residual(spath//".psi_residual", psi_r, path//".psi", psi, "deg", src, error)
+        if (allocated(error)) return
+        if (psi_r > phi_r) then
+            call input_error(error, src, spath//".psi_residual = "//fmt_real(psi_r)//" deg " &
+                //"is above the residual friction angle "//fmt_real(phi_r)//" deg: the " &
+                //"dilatancy angle must be >= 0 and <= phi, also at residual strength [deg]")
+            return
+        end if
+        if (phi_r == 0.0_wp .and. c_r == 0.0_wp) then
+            call input_error(error, src, spath//": phi_residual = 0 and c_residual = 0 leave " &
+                //"no strength once softened; keep phi_residual > 0 [deg] or c_residual > 0 " &
+                //"[Pa] (a material without strength is a newtonian fluid)")
+            return
+        end if
+        call get_real(softening, "strain", spath, src, mat%softening_strain, error, &
+            required=.true., above=0.0_wp)
+        if (allocated(error)) return
+        mat%friction_residual = phi_r*degree
+        mat%cohesion_residual = c_r
+        mat%dilatancy_residual = psi_r*degree
+    end subroutine read_softening
+
+    !> Refuse a residual strength parameter above its peak value.
+    subroutine check_residual(key, residual, peak_key, peak, unit, src, error)
+        character(len=*), intent(in) :: key
+            !! full key path of the residual value
+        real(wp), intent(in) :: residual
+            !! residual value [unit]
+        character(len=*), intent(in) :: peak_key
+            !! full key path of the peak value
+        real(wp), intent(in) :: peak
+            !! peak value [unit]
+        character(len=*), intent(in) :: unit
+            !! unit of both values
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        type(error_type), allocatable, intent(out) :: error
+            !! set when residual > peak
+
+        if (residual > peak) then
+            call input_error(error, src, key//" = "//fmt_real(residual)//" "//unit//" is " &
+                //"above the peak value "//peak_key//" = "//fmt_real(peak)//" "//unit &
+                //": residual strength above peak; must be >= 0 and <= "//fmt_real(peak) &
+                //" ["//unit//"]")
+        end if
+    end subroutine check_residual
+
+    !> A Newtonian fluid: `rho`, `viscosity`, `bulk_modulus`.
+    subroutine read_newtonian(item, path, src, mat, error)
+        type(json_value_type), intent(in) :: item
+            !! the material object
+        character(len=*), intent(in) :: path
+            !! its path ("materials[i]")
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        type(material_spec_type), intent(inout) :: mat
+            !! material being resolved
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        call get_real(item, "rho", path, src, mat%density, error, required=.true., &
+            above=0.0_wp, unit="kg/m3")
+        if (allocated(error)) return
+        call get_real(item, "viscosity", path, src, mat%viscosity, error, required=.true., &
+            at_least=0.0_wp, unit="Pa s")
+        if (allocated(error)) return
+        call get_real(item, "bulk_modulus", path, src, mat%bulk_modulus, error, &
+            required=.true., above=0.0_wp, unit="Pa")
+    end subroutine read_newtonian
 
     !> `save_state` and `load_state`: state files to write at the end and to start from.
     subroutine read_states(root, src, case, error)
@@ -670,6 +1024,8 @@ contains
             !! first error found
 
         type(json_value_type) :: time
+        character(len=:), allocatable :: rule
+        logical :: viscous
         real(wp) :: critical, step
 
         call get_section(root, "time", "", src, time_keys, time, error, required=.true.)
@@ -677,7 +1033,10 @@ contains
         call get_real(time, "tend", "time", src, case%tend, error, required=.true., &
             above=0.0_wp, unit="s")
         if (allocated(error)) return
-        critical = case_critical_step(case)
+        call case_critical_step(case, critical, viscous)
+        rule = "dx / max(c_p + |v|)"
+        if (viscous) rule = "the viscous limit rho dx^2 / (2 dim viscosity) of a newtonian " &
+            //"material"
         if (json_is_valid(json_get(time, "dt"))) then
             if (json_is_valid(json_get(time, "cfl"))) then
                 call input_error(error, src, "time.dt and time.cfl are alternatives, give only " &
@@ -690,7 +1049,7 @@ contains
             if (case%dt > critical) then
                 call input_error(error, src, "time.dt = "//fmt_real(case%dt)//" s is above the " &
                     //"critical time step "//fmt_below(critical, case%dt)//" s of this case " &
-                    //"(dx / max(c_p + |v|)); use a smaller dt or set time.cfl instead")
+                    //"("//rule//"); use a smaller dt or set time.cfl instead")
                 return
             end if
             step = case%dt
@@ -951,7 +1310,11 @@ contains
     end subroutine check_object
 
     !> Refuse unknown keys (suggesting the nearest allowed key) and duplicate keys.
-    subroutine check_keys(obj, path, allowed, src, error)
+    !>
+    !> With `owner` (objects whose keys depend on a type, like a material) the message also
+    !> lists the keys of that owner, and a key of `known` (valid for another type) is named
+    !> as such rather than matched to a look-alike.
+    subroutine check_keys(obj, path, allowed, src, error, owner, known)
         type(json_value_type), intent(in) :: obj
             !! object to check
         character(len=*), intent(in) :: path
@@ -962,12 +1325,18 @@ contains
             !! case file name for messages
         type(error_type), allocatable, intent(out) :: error
             !! set on the first unknown or duplicate key
+        character(len=*), intent(in), optional :: owner
+            !! what the object is, for messages ("a newtonian material")
+        character(len=*), intent(in), optional :: known(:)
+            !! keys valid for other types of the same object (only with `owner`)
 
-        character(len=:), allocatable :: key, where
+        character(len=:), allocatable :: key, where, message, keys_text
         integer :: i, j, k, best, dist, best_dist
 
         where = "the top level"
         if (len(path) > 0) where = path
+        keys_text = "; the keys allowed in "//where//" are: "//plain_list(allowed)
+        if (present(owner)) keys_text = "; the keys of "//owner//" are: "//plain_list(allowed)
         do i = 1, json_size(obj)
             key = json_key(json_item(obj, i))
             best = 0
@@ -975,22 +1344,34 @@ contains
             do k = 1, size(allowed)
                 dist = levenshtein(lower(key), lower(trim(allowed(k))))
                 if (same(key, trim(allowed(k)))) dist = -1
+                ! a suggestion sharing no letter with the key would only mislead
+                if (dist > 0 .and. dist >= max(len(key), len_trim(allowed(k)))) dist = huge(1)
                 if (dist < best_dist) then
                     best = k
                     best_dist = dist
                 end if
             end do
-            if (best_dist == 0) then
-                call input_error(error, src, "unknown key '"//join(path, key)//"'; did you " &
-                    //"mean '"//trim(allowed(best))//"'? (keys are case-sensitive)")
-                return
-            else if (best_dist > 0 .and. best_dist <= 3) then
-                call input_error(error, src, "unknown key '"//join(path, key)//"'; did you " &
-                    //"mean '"//trim(allowed(best))//"'?")
-                return
-            else if (best_dist > 3) then
-                call input_error(error, src, "unknown key '"//join(path, key)//"'; the keys " &
-                    //"allowed in "//where//" are: "//plain_list(allowed))
+            if (best_dist >= 0) then
+                message = "unknown key '"//join(path, key)//"'"
+                if (present(owner) .and. present(known)) then
+                    if (any_same(known, key)) then
+                        call input_error(error, src, message//": "//key//" is not a " &
+                            //"parameter of "//owner//keys_text)
+                        return
+                    end if
+                end if
+                if (best_dist == 0) then
+                    message = message//"; did you mean '"//trim(allowed(best))//"'? (keys " &
+                        //"are case-sensitive)"
+                else if (best_dist <= 3) then
+                    message = message//"; did you mean '"//trim(allowed(best))//"'?"
+                else
+                    message = message//keys_text
+                end if
+                if (present(owner) .and. best_dist <= 3) then
+                    message = message//" The keys of "//owner//" are: "//plain_list(allowed)
+                end if
+                call input_error(error, src, message)
                 return
             end if
             do j = 1, i - 1
@@ -1333,27 +1714,40 @@ contains
     ! ----------------------------------------------------------------------------------------
 
     !> Critical time step at t = 0: over the bodies, or over the materials when the particles
-    !> come from a state file (no bodies, velocities unknown here) [s].
-    pure real(wp) function case_critical_step(case) result(dt)
+    !> come from a state file (no bodies, velocities unknown here) [s]. Either way the viscous
+    !> limit of the newtonian materials in use applies too.
+    pure subroutine case_critical_step(case, dt, viscous)
         type(case_type), intent(in) :: case
             !! case with materials (and bodies) set
+        real(wp), intent(out) :: dt
+            !! critical time step [s]
+        logical, intent(out) :: viscous
+            !! whether the viscous limit sets the step
 
-        real(wp) :: speed
-        integer :: m
+        real(wp) :: speed, limit
+        integer :: m, b
 
+        limit = huge(1.0_wp)
         if (allocated(case%bodies)) then
             if (size(case%bodies) > 0) then
                 dt = critical_time_step(case)
+                do b = 1, size(case%bodies)
+                    limit = min(limit, viscous_time_step(case%materials(case%bodies(b)%material), &
+                        case%dx, case%dim))
+                end do
+                viscous = limit < huge(1.0_wp) .and. dt >= limit
                 return
             end if
         end if
         speed = 0.0_wp
         do m = 1, size(case%materials)
             speed = max(speed, p_wave_speed(case%materials(m)))
+            limit = min(limit, viscous_time_step(case%materials(m), case%dx, case%dim))
         end do
-        dt = huge(1.0_wp)
-        if (speed > 0.0_wp) dt = case%dx/speed
-    end function case_critical_step
+        dt = limit
+        if (speed > 0.0_wp) dt = min(case%dx/speed, limit)
+        viscous = limit < huge(1.0_wp) .and. dt >= limit
+    end subroutine case_critical_step
 
     !> Number of grid nodes of the case.
     pure integer(i8) function node_count(case)
@@ -1407,6 +1801,67 @@ contains
             list = list//'"'//materials(m)%name//'"'
         end do
     end function material_list
+
+    !> Summary lines of one material: its type and every parameter the type uses, angles in
+    !> degrees.
+    pure function material_text(mat) result(text)
+        type(material_spec_type), intent(in) :: mat
+            !! resolved material
+        character(len=:), allocatable :: text
+
+        character(len=*), parameter :: nl = new_line("a")
+        character(len=:), allocatable :: head, line
+
+        head = '  "'//text_or(mat%name, "?")//'" '//text_or(mat%type, "?")//": "
+        if (mat%type == "newtonian") then
+            text = head//"rho = "//fmt_real(mat%density)//" kg/m3, viscosity = " &
+                //fmt_real(mat%viscosity)//" Pa s, bulk modulus = "//fmt_real(mat%bulk_modulus) &
+                //" Pa, c_p = "//fmt_real(p_wave_speed(mat), 6)//" m/s"//nl
+            return
+        end if
+        text = head//"E = "//fmt_real(mat%young)//" Pa, nu = "//fmt_real(mat%poisson) &
+            //", rho = "//fmt_real(mat%density)//" kg/m3, c_p = " &
+            //fmt_real(p_wave_speed(mat), 6)//" m/s"//nl
+        if (mat%type /= "mohr_coulomb" .and. mat%type /= "drucker_prager") return
+        line = "    phi = "//fmt_deg(mat%friction)//" deg, c = "//fmt_real(mat%cohesion) &
+            //" Pa, psi = "//fmt_deg(mat%dilatancy)//" deg, tension cutoff "
+        if (mat%tension_cutoff >= 0.0_wp) then
+            line = line//fmt_real(mat%tension_cutoff)//" Pa"
+        else
+            line = line//"at the apex"
+        end if
+        if (mat%type == "drucker_prager") line = line//", cone "//trim(cone_names(mat%cone))
+        text = text//line//nl
+        if (mat%softening == softening_none) then
+            text = text//"    no softening"//nl
+        else
+            text = text//"    softening "//trim(softening_names(mat%softening))//" to phi = " &
+                //fmt_deg(mat%friction_residual)//" deg, c = "//fmt_real(mat%cohesion_residual) &
+                //" Pa, psi = "//fmt_deg(mat%dilatancy_residual)//" deg"
+            if (mat%softening == softening_linear) then
+                text = text//" at plastic shear strain "//fmt_real(mat%softening_strain)//nl
+            else
+                text = text//", plastic shear strain scale "//fmt_real(mat%softening_strain)//nl
+            end if
+        end if
+    end function material_text
+
+    !> "xmin fixed", "ymin frictional (mu = 0.4)"
+    pure function face_text(case, side, axis) result(text)
+        type(case_type), intent(in) :: case
+            !! resolved case
+        integer, intent(in) :: side
+            !! 1: min face, 2: max face
+        integer, intent(in) :: axis
+            !! axis of the face
+        character(len=:), allocatable :: text
+
+        text = axis_names(axis:axis)//trim(merge("min", "max", side == 1))//" " &
+            //trim(bc_names(case%bc(side, axis)))
+        if (case%bc(side, axis) == bc_frictional) then
+            text = text//" (mu = "//fmt_real(case%bc_friction(side, axis))//")"
+        end if
+    end function face_text
 
     ! ----------------------------------------------------------------------------------------
     ! Text helpers
@@ -1572,6 +2027,16 @@ contains
             if (y < limit) return
         end do
     end function fmt_below
+
+    !> An angle given in radians, as degrees: enough digits to hide the round-off of the
+    !> conversion, so 30 degrees shows as "30".
+    pure function fmt_deg(angle) result(text)
+        real(wp), intent(in) :: angle
+            !! angle [rad]
+        character(len=:), allocatable :: text
+
+        text = fmt_real(angle/degree, 12)
+    end function fmt_deg
 
     !> "(1, 2.5)"
     pure function fmt_vector(v, digits) result(text)
@@ -1785,6 +2250,21 @@ contains
         dot = index(name, ".", back=.true.)
         if (dot > 1) name = name(1:dot - 1)
     end function base_name
+
+    !> Whether `key` is one of `names` (exactly, trailing blanks of the names ignored).
+    pure logical function any_same(names, key)
+        character(len=*), intent(in) :: names(:)
+            !! names (trailing blanks ignored)
+        character(len=*), intent(in) :: key
+            !! key to find
+
+        integer :: i
+
+        any_same = .false.
+        do i = 1, size(names)
+            if (same(trim(names(i)), key)) any_same = .true.
+        end do
+    end function any_same
 
     !> True when the optional flag is present and true.
     pure logical function is_true(flag)

@@ -3,6 +3,9 @@ module mpm_material_factory
     use mpm_case, only: case_type
     use mpm_material, only: material_holder_type
     use mpm_material_elastic, only: elastic_material_type, new_elastic_material
+    use mpm_material_drucker_prager, only: drucker_prager_material_type, &
+        new_drucker_prager_material
+    use mpm_material_newtonian, only: newtonian_material_type, new_newtonian_material
     use mpm_error, only: error_type, fatal_error, exit_input
     implicit none
     private
@@ -21,6 +24,8 @@ contains
 
         integer :: i
         type(elastic_material_type) :: elastic
+        type(drucker_prager_material_type) :: drucker_prager
+        type(newtonian_material_type) :: newtonian
 
         allocate (materials(size(case%materials)))
         do i = 1, size(case%materials)
@@ -30,6 +35,12 @@ contains
                     call new_elastic_material(elastic, spec%name, spec%young, spec%poisson, &
                         spec%density)
                     allocate (materials(i)%m, source=elastic)
+                case ("drucker_prager")
+                    call new_drucker_prager_material(drucker_prager, spec)
+                    allocate (materials(i)%m, source=drucker_prager)
+                case ("newtonian")
+                    call new_newtonian_material(newtonian, spec)
+                    allocate (materials(i)%m, source=newtonian)
                 case default
                     call fatal_error(error, "material '"//spec%name//"': type '"//spec%type// &
                         "' is not available in this build", exit_input)

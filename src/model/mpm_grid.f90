@@ -5,10 +5,10 @@
 module mpm_grid
     use mpm_kinds, only: wp
     use mpm_error, only: error_type, fatal_error, exit_other
-    use mpm_case, only: case_type
+    use mpm_case, only: case_type, bc_sliding, bc_fixed, bc_frictional
     implicit none
     private
-    public :: grid_type, new_grid, node_index, node_position
+    public :: grid_type, new_grid, node_index, node_position, contact_index
 
     !> Geometry of the grid and the nodal fields of one step.
     type :: grid_type
@@ -40,6 +40,22 @@ module mpm_grid
             !! nodal acceleration of the step (dim, nnodes) [m/s2]
         logical, allocatable :: constrained(:, :)
             !! velocity component held at zero by a boundary condition (dim, nnodes)
+        integer :: ncontacts = 0
+            !! number of (node, frictional face) pairs
+        integer, allocatable :: contact_node(:)
+            !! node of each pair (ncontacts)
+        integer, allocatable :: contact_axis(:)
+            !! axis normal to the face of each pair (ncontacts)
+        real(wp), allocatable :: contact_normal(:)
+            !! outward normal of the face along contact_axis: -1 (min face) or +1 (ncontacts)
+        real(wp), allocatable :: contact_mu(:)
+            !! Coulomb friction coefficient of the face (ncontacts) [-]
+        real(wp), allocatable :: contact_gap(:)
+            !! gap between the material and the face at each pair, set by P2G (ncontacts) [m]
+        real(wp), allocatable :: contact_load(:)
+            !! running mean of the normal impulse the face takes at each pair (ncontacts) [N s]
+        integer :: contact_offset(2, 3) = -1
+            !! index before the first pair of each face (side, axis); -1: face not frictional
     end type grid_type
 
 contains
@@ -53,7 +69,7 @@ contains
         type(error_type), allocatable, intent(out) :: error
             !! set when memory cannot be allocated
 
-        integer :: stat, i, j, k, a, id, ijk(3), d
+        integer :: stat, i, j, k, a, id, d, side, face, c, lo(3), hi(3)
         character(len=256) :: msg
 
         grid%dim = case%dim
@@ -81,34 +97,57 @@ contains
         grid%velocity = 0.0_wp
         grid%acceleration = 0.0_wp
         grid%constrained = .false.
-        ! 1 = sliding (normal component held), 2 = fixed (all components held)
-        do k = 0, grid%nn(3) - 1
-            do j = 0, grid%nn(2) - 1
-                do i = 0, grid%nn(1) - 1
-                    ijk = [i, j, k]
-                    id = node_index(grid, ijk)
-                    do a = 1, d
-                        if (ijk(a) == 0) call constrain(grid%bc(1, a), a, id)
-                        if (ijk(a) == grid%nn(a) - 1) call constrain(grid%bc(2, a), a, id)
+        ! sliding faces hold the normal component, fixed faces all components; frictional
+        ! faces are applied during the nodal update (contact with friction, lift-off allowed)
+        grid%ncontacts = 0
+        do a = 1, d
+            do side = 1, 2
+                if (grid%bc(side, a) == bc_frictional) grid%ncontacts = grid%ncontacts &
+                    + grid%nnodes/grid%nn(a)
+            end do
+        end do
+        allocate (grid%contact_node(grid%ncontacts), grid%contact_axis(grid%ncontacts), &
+            grid%contact_normal(grid%ncontacts), grid%contact_mu(grid%ncontacts), &
+            grid%contact_gap(grid%ncontacts), grid%contact_load(grid%ncontacts), &
+            stat=stat, errmsg=msg)
+        if (stat /= 0) then
+            call fatal_error(error, "cannot allocate the grid: "//trim(msg), exit_other)
+            return
+        end if
+        grid%contact_load = 0.0_wp
+        grid%contact_gap = huge(1.0_wp)
+        c = 0
+        do a = 1, d
+            do side = 1, 2
+                face = merge(0, grid%nn(a) - 1, side == 1)
+                if (grid%bc(side, a) == bc_frictional) grid%contact_offset(side, a) = c
+                lo = 0
+                hi = grid%nn - 1
+                lo(a) = face
+                hi(a) = face
+                do k = lo(3), hi(3)
+                    do j = lo(2), hi(2)
+                        do i = lo(1), hi(1)
+                            id = node_index(grid, [i, j, k])
+                            select case (grid%bc(side, a))
+                            case (bc_sliding)
+                                grid%constrained(a, id) = .true.
+                            case (bc_fixed)
+                                grid%constrained(:, id) = .true.
+                            case (bc_frictional)
+                                c = c + 1
+                                grid%contact_node(c) = id
+                                grid%contact_axis(c) = a
+                                grid%contact_normal(c) = merge(-1.0_wp, 1.0_wp, side == 1)
+                                grid%contact_mu(c) = case%bc_friction(side, a)
+                            case default
+                                continue
+                            end select
+                        end do
                     end do
                 end do
             end do
         end do
-
-    contains
-
-        subroutine constrain(kind, axis, node)
-            integer, intent(in) :: kind, axis, node
-            select case (kind)
-            case (1)
-                grid%constrained(axis, node) = .true.
-            case (2)
-                grid%constrained(:, node) = .true.
-            case default
-                continue
-            end select
-        end subroutine constrain
-
     end subroutine new_grid
 
     !> Linear index of node (i, j, k), 0-based per direction.
@@ -119,6 +158,39 @@ contains
             !! 0-based node coordinates
         node_index = 1 + ijk(1) + grid%nn(1)*(ijk(2) + grid%nn(2)*ijk(3))
     end function node_index
+
+    !> Index of the (node, face) pair of node `id` on the face (side, axis) in the contact
+    !> arrays, or 0 when the node is not on that face or the face is not frictional.
+    !>
+    !> Pairs of one face are numbered like its nodes, the lowest remaining axis fastest.
+    pure integer function contact_index(grid, id, side, axis)
+        type(grid_type), intent(in) :: grid
+            !! grid
+        integer, intent(in) :: id
+            !! linear node index
+        integer, intent(in) :: side
+            !! 1: min face, 2: max face
+        integer, intent(in) :: axis
+            !! axis normal to the face
+
+        integer :: r, ijk(3), b, stride
+
+        contact_index = 0
+        if (grid%contact_offset(side, axis) < 0) return
+        r = id - 1
+        ijk(1) = mod(r, grid%nn(1))
+        r = r/grid%nn(1)
+        ijk(2) = mod(r, grid%nn(2))
+        ijk(3) = r/grid%nn(2)
+        if (ijk(axis) /= merge(0, grid%nn(axis) - 1, side == 1)) return
+        contact_index = grid%contact_offset(side, axis) + 1
+        stride = 1
+        do b = 1, 3
+            if (b == axis) cycle
+            contact_index = contact_index + ijk(b)*stride
+            stride = stride*grid%nn(b)
+        end do
+    end function contact_index
 
     !> Position of node `id` [m].
     pure function node_position(grid, id) result(x)

@@ -35,7 +35,7 @@ module mpm_solver
         real(wp) :: potential = 0.0_wp
             !! gravitational potential relative to the start, - sum m g . u [J]
         real(wp) :: damping = 0.0_wp
-            !! energy removed by damping since the start (positive) [J]
+            !! energy removed by damping and boundary friction since the start (positive) [J]
     end type energies_type
 
     !> A model in time: case, grid, particles, materials and the clock.

@@ -8,7 +8,7 @@
 module mpm_transfer
     use mpm_kinds, only: wp
     use mpm_error, only: error_type, fatal_error, exit_numerical
-    use mpm_grid, only: grid_type
+    use mpm_grid, only: grid_type, contact_index
     use mpm_particles, only: particles_type
     use mpm_shape, only: shape_type, stencil_type
     use mpm_material, only: material_holder_type
@@ -18,6 +18,11 @@ module mpm_transfer
     private
     public :: reset_grid, p2g, nodal_velocity, integrate_nodes, g2p, move_particles, remap_momentum
     public :: update_stress
+
+    real(wp), parameter :: contact_tolerance = 1.0e-3_wp
+        !! material closer to a frictional face than this fraction of dx touches it [-]
+    real(wp), parameter :: load_smoothing = 0.1_wp
+        !! weight of the newest step in the running mean of the normal contact impulse [-]
 
 contains
 
@@ -30,6 +35,7 @@ contains
         grid%momentum = 0.0_wp
         grid%fint = 0.0_wp
         grid%fext = 0.0_wp
+        if (grid%ncontacts > 0) grid%contact_gap = huge(1.0_wp)
     end subroutine reset_grid
 
     !> Scatter particle mass, momentum and gravity (and the internal force when asked).
@@ -70,8 +76,39 @@ contains
                     grid%fint(:, id) = grid%fint(:, id) - particles%volume(p)*f(1:dim)
                 end if
             end do
+            if (with_mass .and. grid%ncontacts > 0) call contact_gaps(grid, particles, p, st)
         end do
     end subroutine p2g
+
+    !> Record, for the frictional-face nodes a particle maps to, the gap between the
+    !> particle's domain and the face (negative when it reaches past it).
+    subroutine contact_gaps(grid, particles, p, st)
+        type(grid_type), intent(inout) :: grid
+        type(particles_type), intent(in) :: particles
+        integer, intent(in) :: p
+        type(stencil_type), intent(in) :: st
+
+        integer :: a, side, c, k
+        real(wp) :: gap, face
+
+        do a = 1, grid%dim
+            do side = 1, 2
+                if (grid%contact_offset(side, a) < 0) cycle
+                if (side == 1) then
+                    face = grid%origin(a)
+                    gap = particles%x(a, p) - particles%lp(a, p) - face
+                else
+                    face = grid%origin(a) + grid%dx*real(grid%nn(a) - 1, wp)
+                    gap = face - particles%x(a, p) - particles%lp(a, p)
+                end if
+                if (gap > 2.0_wp*grid%dx) cycle
+                do k = 1, st%count
+                    c = contact_index(grid, st%node(k), side, a)
+                    if (c > 0) grid%contact_gap(c) = min(grid%contact_gap(c), gap)
+                end do
+            end do
+        end do
+    end subroutine contact_gaps
 
     !> sigma . grad N for Voigt-stored stress.
     pure subroutine internal_force(s, dw, dim, f)
@@ -91,13 +128,15 @@ contains
         end if
     end subroutine internal_force
 
-    !> Nodal velocity v_i = p_i / m_i with the boundary constraints applied.
+    !> Nodal velocity v_i = p_i / m_i with the boundary conditions applied.
     subroutine nodal_velocity(grid)
         type(grid_type), intent(inout) :: grid
             !! grid with mass and momentum set
 
         integer :: i
+        real(wp) :: work
 
+        call apply_contacts(grid, 0.0_wp, work)
         do i = 1, grid%nnodes
             if (grid%mass(i) > 0.0_wp) then
                 where (grid%constrained(:, i)) grid%momentum(:, i) = 0.0_wp
@@ -111,9 +150,10 @@ contains
     !> Advance the nodal momentum over dt with damping and boundary conditions.
     !>
     !> Local damping adds f_d = - alpha |f| sign(v) per component, f = f_int + f_ext the
-    !> unbalanced force and v the nodal velocity at the start of the step. Returns the
-    !> energy the damping removed in this step (positive).
-    subroutine integrate_nodes(grid, dt, damping, alpha, damping_work)
+    !> unbalanced force and v the nodal velocity at the start of the step. Frictional faces
+    !> then act on the updated velocities (apply_contacts). Returns the energy damping and
+    !> boundary friction removed in this step (positive).
+    subroutine integrate_nodes(grid, dt, damping, alpha, dissipated)
         type(grid_type), intent(inout) :: grid
             !! grid with mass, momentum and forces set
         real(wp), intent(in) :: dt
@@ -122,40 +162,110 @@ contains
             !! case%damping
         real(wp), intent(in) :: alpha
             !! local damping coefficient [-]
-        real(wp), intent(out) :: damping_work
-            !! energy removed by local damping in this step [J]
+        real(wp), intent(out) :: dissipated
+            !! energy removed by local damping and boundary friction in this step [J]
 
         integer :: i
-        real(wp) :: f(3), v0(3), fd(3)
+        real(wp) :: f(3), v0(3), fd(3), contact_work
         integer :: dim
 
         dim = grid%dim
-        damping_work = 0.0_wp
+        dissipated = 0.0_wp
         do i = 1, grid%nnodes
             if (grid%mass(i) <= 0.0_wp) then
-                grid%velocity(:, i) = 0.0_wp
+                grid%momentum(:, i) = 0.0_wp
                 grid%acceleration(:, i) = 0.0_wp
                 cycle
             end if
             f(1:dim) = grid%fint(:, i) + grid%fext(:, i)
+            where (grid%constrained(:, i)) grid%momentum(:, i) = 0.0_wp
             v0(1:dim) = grid%momentum(:, i)/grid%mass(i)
             if (damping == damping_local) then
                 fd(1:dim) = -alpha*abs(f(1:dim))*sign(1.0_wp, v0(1:dim))
                 where (v0(1:dim) == 0.0_wp) fd(1:dim) = 0.0_wp
+                where (grid%constrained(:, i)) fd(1:dim) = 0.0_wp
                 f(1:dim) = f(1:dim) + fd(1:dim)
+                dissipated = dissipated - dt*sum(fd(1:dim)*(v0(1:dim) &
+                    + 0.5_wp*dt*f(1:dim)/grid%mass(i)))
             end if
             where (grid%constrained(:, i)) f(1:dim) = 0.0_wp
             grid%acceleration(:, i) = f(1:dim)/grid%mass(i)
             grid%momentum(:, i) = grid%momentum(:, i) + dt*f(1:dim)
-            where (grid%constrained(:, i)) grid%momentum(:, i) = 0.0_wp
-            grid%velocity(:, i) = grid%momentum(:, i)/grid%mass(i)
-            if (damping == damping_local) then
-                where (grid%constrained(:, i)) fd(1:dim) = 0.0_wp
-                damping_work = damping_work - dt*sum(fd(1:dim)*0.5_wp*(v0(1:dim) &
-                    + grid%velocity(:, i)))
+        end do
+        call apply_contacts(grid, dt, contact_work)
+        dissipated = dissipated + contact_work
+        do i = 1, grid%nnodes
+            if (grid%mass(i) > 0.0_wp) then
+                grid%velocity(:, i) = grid%momentum(:, i)/grid%mass(i)
+            else
+                grid%velocity(:, i) = 0.0_wp
             end if
         end do
     end subroutine integrate_nodes
+
+    !> Coulomb friction on frictional faces, node by node.
+    !>
+    !> A face node is in contact when the material touches the face (P2G records the gap
+    !> between the particle domains and the face) and moves into it: its normal velocity is
+    !> removed, and the normal impulse that takes enters a running mean over about ten steps
+    !> (contact_load). Friction then reduces the tangential velocity by at most
+    !> mu * contact_load / m (to zero: sticking). A node moving away from the face is free
+    !> (lift-off), and a node the material no longer touches takes no normal impulse.
+    !>
+    !> Why the running mean (found with the sliding-block test): the normal velocity of a
+    !> face node carries the particles' numerical noise, so some steps the node moves away
+    !> from the face and takes no impulse, and in others it takes more. Friction limited by
+    !> the impulse of the same step then has no grip in the steps without one, and a block
+    !> that should stick creeps down the slope; limited by the mean it sees the steady
+    !> normal load. A two-sided normal constraint is no cure: the positive part of a noisy
+    !> normal impulse is far larger than its mean, and friction locks sliding blocks.
+    !>
+    !> Acts on grid%momentum; when dt > 0 the velocity change also enters grid%acceleration,
+    !> so the particles (FLIP update) see the contact force, and friction is applied; with
+    !> dt = 0 only the normal constraint is (velocities remapped within a step).
+    subroutine apply_contacts(grid, dt, work)
+        type(grid_type), intent(inout) :: grid
+            !! grid with mass and momentum set
+        real(wp), intent(in) :: dt
+            !! time step [s]; 0 when only velocities are corrected
+        real(wp), intent(out) :: work
+            !! kinetic energy the contacts removed (normal impact and friction) [J]
+
+        integer :: c, id, a, dim
+        real(wp) :: v(3), vnew(3), vn, vt_norm, factor
+        logical :: touching
+
+        dim = grid%dim
+        work = 0.0_wp
+        do c = 1, grid%ncontacts
+            id = grid%contact_node(c)
+            if (grid%mass(id) <= 0.0_wp) then
+                if (dt > 0.0_wp) grid%contact_load(c) = 0.0_wp
+                cycle
+            end if
+            a = grid%contact_axis(c)
+            v(1:dim) = grid%momentum(:, id)/grid%mass(id)
+            vn = v(a)*grid%contact_normal(c)
+            touching = grid%contact_gap(c) <= contact_tolerance*grid%dx
+            if (.not. touching) vn = 0.0_wp
+            vnew(1:dim) = v(1:dim)
+            if (vn > 0.0_wp) vnew(a) = 0.0_wp
+            if (dt > 0.0_wp) then
+                grid%contact_load(c) = (1.0_wp - load_smoothing)*grid%contact_load(c) &
+                    + load_smoothing*max(vn, 0.0_wp)*grid%mass(id)
+                vt_norm = norm2(vnew(1:dim) - vnew(a)*unit(a, dim))
+                if (vt_norm > 0.0_wp) then
+                    factor = max(0.0_wp, &
+                        1.0_wp - grid%contact_mu(c)*grid%contact_load(c)/(grid%mass(id)*vt_norm))
+                    vnew(1:dim) = factor*(vnew(1:dim) - vnew(a)*unit(a, dim)) &
+                        + vnew(a)*unit(a, dim)
+                end if
+                grid%acceleration(:, id) = grid%acceleration(:, id) + (vnew(1:dim) - v(1:dim))/dt
+            end if
+            grid%momentum(:, id) = grid%mass(id)*vnew(1:dim)
+            work = work + 0.5_wp*grid%mass(id)*(sum(v(1:dim)**2) - sum(vnew(1:dim)**2))
+        end do
+    end subroutine apply_contacts
 
     !> Gather nodal accelerations and velocities: v_p += dt sum N_i a_i (FLIP), and the
     !> position increment dx_p = dt sum N_i v_i, applied later by move_particles so that every
@@ -358,6 +468,14 @@ contains
         end do
         !$omp end parallel do
     end subroutine update_stress
+
+    !> Unit vector along axis a.
+    pure function unit(a, dim) result(e)
+        integer, intent(in) :: a, dim
+        real(wp) :: e(dim)
+        e = 0.0_wp
+        e(a) = 1.0_wp
+    end function unit
 
     !> Determinant of a 2x2 or 3x3 matrix.
     pure real(wp) function determinant(m, dim)

@@ -1,0 +1,304 @@
+!> Drucker-Prager elasto-plasticity matched to Mohr-Coulomb, with a tension cut-off,
+!> non-associated flow and softening of the strength with the plastic shear strain.
+!>
+!> Stress is tension positive (`mpm_stress`). With the mean stress m = tr(sigma)/3 (tension
+!> positive), the deviator s = sigma - m I and J2 = s:s/2, the yield surfaces are
+!>
+!> - cone:    f1 = sqrt(J2) + alpha m - k <= 0 (compression, m < 0, raises the shear strength)
+!> - tension: f2 = m - sigma_t <= 0, sigma_t = min(tension_cutoff, k/alpha) (the apex k/alpha
+!>   when no cut-off is given; no cut-off at all when alpha = 0 and none is given)
+!>
+!> and the plastic potentials g1 = sqrt(J2) + alpha_psi m (dilatancy angle psi) and g2 = m.
+!> The constants alpha, k, alpha_psi follow from the Mohr-Coulomb phi, c, psi through the
+!> selected cone (see `drucker_prager_cone`).
+!>
+!> The return mapping is exact (closed form): with linear elasticity and the strength of the
+!> start of the step, the trial stress returns radially in the deviatoric plane to the cone, to
+!> the tension plane, or to the corner of both (the apex when sigma_t = k/alpha).
+!>
+!> State of a particle: state(1) = accumulated equivalent plastic shear strain
+!> eps_q = sum sqrt(2/3 de_p : de_p) (de_p the deviatoric plastic strain increment) [-],
+!> state(2) = accumulated plastic volumetric strain, tension positive (dilation > 0) [-].
+module mpm_material_drucker_prager
+    use mpm_kinds, only: wp
+    use mpm_material, only: material_type
+    use mpm_stress, only: jaumann_rotation, double_contraction
+    use mpm_case, only: material_spec_type, cone_plane_strain, cone_compression, &
+        cone_extension, softening_none, softening_linear, softening_exponential
+    implicit none
+    private
+    public :: drucker_prager_material_type, new_drucker_prager_material, drucker_prager_cone
+
+    real(wp), parameter :: sqrt3 = sqrt(3.0_wp)
+
+    !> Drucker-Prager cone with tension cut-off, matched to Mohr-Coulomb parameters.
+    type, extends(material_type) :: drucker_prager_material_type
+        real(wp) :: young = 0.0_wp
+            !! Young's modulus E [Pa]
+        real(wp) :: poisson = 0.0_wp
+            !! Poisson's ratio nu [-]
+        real(wp) :: bulk = 0.0_wp
+            !! bulk modulus K [Pa]
+        real(wp) :: shear = 0.0_wp
+            !! shear modulus G [Pa]
+        real(wp) :: lame = 0.0_wp
+            !! first Lame parameter lambda [Pa]
+        real(wp) :: friction = 0.0_wp
+            !! peak friction angle phi [rad]
+        real(wp) :: cohesion = 0.0_wp
+            !! peak cohesion c [Pa]
+        real(wp) :: dilatancy = 0.0_wp
+            !! peak dilatancy angle psi [rad]
+        real(wp) :: friction_residual = 0.0_wp
+            !! residual friction angle [rad] (softening only)
+        real(wp) :: cohesion_residual = 0.0_wp
+            !! residual cohesion [Pa] (softening only)
+        real(wp) :: dilatancy_residual = 0.0_wp
+            !! residual dilatancy angle [rad] (softening only)
+        integer :: softening = softening_none
+            !! softening law (`softening_*` of `mpm_case`)
+        real(wp) :: softening_strain = 0.0_wp
+            !! linear: eps_q at which the residual values are reached; exponential: strain
+            !! scale eta_0 [-]
+        real(wp) :: tension_cutoff = -1.0_wp
+            !! largest mean stress allowed [Pa]; negative: the apex of the cone
+        integer :: cone = cone_plane_strain
+            !! cone matched to Mohr-Coulomb (`cone_*` of `mpm_case`)
+    contains
+        procedure :: update_stress => drucker_prager_update_stress
+            !! exact return mapping of one particle over one step
+        procedure :: nstate => drucker_prager_nstate
+            !! two state values: eps_q and the plastic volumetric strain
+        procedure :: strength => drucker_prager_strength
+            !! phi, c and psi after a given plastic shear strain
+    end type drucker_prager_material_type
+
+contains
+
+    !> Construct a Drucker-Prager material from its case specification.
+    pure subroutine new_drucker_prager_material(mat, spec)
+        type(drucker_prager_material_type), intent(out) :: mat
+            !! the material
+        type(material_spec_type), intent(in) :: spec
+            !! case specification (E, nu, rho, phi, c, psi, cut-off, softening, cone)
+
+        mat%name = spec%name
+        mat%density = spec%density
+        mat%young = spec%young
+        mat%poisson = spec%poisson
+        mat%bulk = spec%young/(3.0_wp*(1.0_wp - 2.0_wp*spec%poisson))
+        mat%shear = spec%young/(2.0_wp*(1.0_wp + spec%poisson))
+        mat%lame = mat%bulk - 2.0_wp*mat%shear/3.0_wp
+        mat%friction = spec%friction
+        mat%cohesion = spec%cohesion
+        mat%dilatancy = spec%dilatancy
+        mat%friction_residual = spec%friction_residual
+        mat%cohesion_residual = spec%cohesion_residual
+        mat%dilatancy_residual = spec%dilatancy_residual
+        mat%softening = spec%softening
+        mat%softening_strain = spec%softening_strain
+        mat%tension_cutoff = spec%tension_cutoff
+        mat%cone = spec%cone
+    end subroutine new_drucker_prager_material
+
+    !> Two state values per particle: eps_q and the plastic volumetric strain.
+    pure integer function drucker_prager_nstate(self)
+        class(drucker_prager_material_type), intent(in) :: self
+            !! the material
+        drucker_prager_nstate = 2
+    end function drucker_prager_nstate
+
+    !> Friction, cohesion and dilatancy after the plastic shear strain eps_q.
+    !>
+    !> Linear: x = x_p + (x_r - x_p) min(eps_q / eps_s, 1); exponential:
+    !> x = x_r + (x_p - x_r) exp(-eps_q / eps_s); none: the peak values.
+    pure subroutine drucker_prager_strength(self, eps_q, friction, cohesion, dilatancy)
+        class(drucker_prager_material_type), intent(in) :: self
+            !! the material
+        real(wp), intent(in) :: eps_q
+            !! accumulated equivalent plastic shear strain [-]
+        real(wp), intent(out) :: friction
+            !! friction angle phi [rad]
+        real(wp), intent(out) :: cohesion
+            !! cohesion c [Pa]
+        real(wp), intent(out) :: dilatancy
+            !! dilatancy angle psi [rad]
+
+        real(wp) :: w
+
+        ! w: fraction of the way from peak (0) to residual (1); a non-positive softening
+        ! strain means an immediate drop to the residual values at the first plastic strain
+        select case (self%softening)
+        case (softening_linear)
+            if (self%softening_strain > 0.0_wp) then
+                w = min(eps_q/self%softening_strain, 1.0_wp)
+            else
+                w = merge(1.0_wp, 0.0_wp, eps_q > 0.0_wp)
+            end if
+        case (softening_exponential)
+            if (self%softening_strain > 0.0_wp) then
+                w = 1.0_wp - exp(-eps_q/self%softening_strain)
+            else
+                w = merge(1.0_wp, 0.0_wp, eps_q > 0.0_wp)
+            end if
+        case default
+            w = 0.0_wp
+        end select
+        friction = self%friction + w*(self%friction_residual - self%friction)
+        cohesion = self%cohesion + w*(self%cohesion_residual - self%cohesion)
+        dilatancy = self%dilatancy + w*(self%dilatancy_residual - self%dilatancy)
+    end subroutine drucker_prager_strength
+
+    !> Drucker-Prager constants of f = sqrt(J2) + alpha m - k (m tension positive) and of the
+    !> potential g = sqrt(J2) + alpha_psi m, matched to Mohr-Coulomb phi, c, psi.
+    !>
+    !> - compression (outer cone, through the triaxial compression corners):
+    !>   alpha = 2 sqrt(3) sin(phi) / (3 - sin(phi)), k = 2 sqrt(3) c cos(phi) / (3 - sin(phi)),
+    !>   alpha_psi = 2 sqrt(3) sin(psi) / (3 - sin(psi)); triaxial compression strength
+    !>   q = sqrt(3 J2) = 6 (c cos(phi) + p sin(phi)) / (3 - sin(phi)), p = -m, as Mohr-Coulomb.
+    !> - extension (inner cone, through the triaxial extension corners): 3 + sin instead of
+    !>   3 - sin; strength q = 6 (c cos(phi) + p sin(phi)) / (3 + sin(phi)).
+    !> - plane strain: alpha_psi = sqrt(3) sin(psi) / sqrt(3 + sin(psi)^2),
+    !>   alpha = sqrt(3) sin(phi) sqrt(3 + sin(psi)^2) / (3 + sin(phi) sin(psi)),
+    !>   k = sqrt(3) c cos(phi) sqrt(3 + sin(psi)^2) / (3 + sin(phi) sin(psi)).
+    !>   Why: at steady plastic flow in plane strain the plastic eps_zz rate is zero, so
+    !>   s_zz = -2 alpha_psi sqrt(J2)/3, hence sqrt(J2) = t / sqrt(1 - alpha_psi^2/3) and
+    !>   m = s_c - alpha_psi sqrt(J2)/3, with t = (sigma_1 - sigma_3)/2 and s_c =
+    !>   (sigma_1 + sigma_3)/2 the in-plane Mohr circle (tension positive). f = 0 becomes
+    !>   t (1 - alpha alpha_psi/3) / sqrt(1 - alpha_psi^2/3) = k - alpha s_c, which is
+    !>   Mohr-Coulomb's t = c cos(phi) - s_c sin(phi) for the constants above; alpha_psi gives
+    !>   Mohr-Coulomb's plane-strain dilatancy d eps_v^p = sin(psi) (d eps_1^p - d eps_3^p).
+    !>   For psi = phi (associated) these are the constants usually quoted, tan(beta) =
+    !>   3 tan(phi) / sqrt(9 + 12 tan(phi)^2), k = 3 c / sqrt(9 + 12 tan(phi)^2); for psi = 0
+    !>   they are alpha = sin(phi), k = c cos(phi) (the associated constants with psi = 0
+    !>   would give a plane-strain strength below Mohr-Coulomb's).
+    pure subroutine drucker_prager_cone(cone, friction, cohesion, dilatancy, alpha, k, alpha_psi)
+        integer, intent(in) :: cone
+            !! `cone_plane_strain`, `cone_compression` or `cone_extension` of `mpm_case`
+        real(wp), intent(in) :: friction
+            !! friction angle phi [rad]
+        real(wp), intent(in) :: cohesion
+            !! cohesion c [Pa]
+        real(wp), intent(in) :: dilatancy
+            !! dilatancy angle psi [rad]
+        real(wp), intent(out) :: alpha
+            !! friction coefficient of the cone [-]
+        real(wp), intent(out) :: k
+            !! shear strength sqrt(J2) at zero mean stress [Pa]
+        real(wp), intent(out) :: alpha_psi
+            !! dilatancy coefficient of the plastic potential [-]
+
+        real(wp) :: sphi, cphi, spsi, r
+
+        sphi = sin(friction)
+        cphi = cos(friction)
+        spsi = sin(dilatancy)
+        select case (cone)
+        case (cone_compression)
+            alpha = 2.0_wp*sqrt3*sphi/(3.0_wp - sphi)
+            k = 2.0_wp*sqrt3*cohesion*cphi/(3.0_wp - sphi)
+            alpha_psi = 2.0_wp*sqrt3*spsi/(3.0_wp - spsi)
+        case (cone_extension)
+            alpha = 2.0_wp*sqrt3*sphi/(3.0_wp + sphi)
+            k = 2.0_wp*sqrt3*cohesion*cphi/(3.0_wp + sphi)
+            alpha_psi = 2.0_wp*sqrt3*spsi/(3.0_wp + spsi)
+        case default
+            r = sqrt(3.0_wp + spsi*spsi)
+            alpha = sqrt3*sphi*r/(3.0_wp + sphi*spsi)
+            k = sqrt3*cohesion*cphi*r/(3.0_wp + sphi*spsi)
+            alpha_psi = sqrt3*spsi/r
+        end select
+    end subroutine drucker_prager_cone
+
+    !> Objective elastic trial stress, then the exact return to the cone, the tension plane or
+    !> their corner (the apex when the cut-off is the apex).
+    !>
+    !> With the trial mean stress m_tr and radius rho_tr = sqrt(J2_tr), plastic multipliers
+    !> dl1 (cone) and dl2 (tension) give m = m_tr - K (alpha_psi dl1 + dl2), rho = rho_tr - G dl1,
+    !> the deviator keeping its direction:
+    !> - cone:    dl1 = f1_tr / (G + K alpha alpha_psi), dl2 = 0, valid when m <= sigma_t;
+    !> - tension: dl1 = 0, m = sigma_t, valid when rho_tr <= rho_c = k - alpha sigma_t;
+    !> - corner:  rho = rho_c, m = sigma_t, dl1 = (rho_tr - rho_c) / G,
+    !>   dl2 = (m_tr - sigma_t) / K - alpha_psi dl1 (>= 0 exactly when the cone return fails).
+    pure subroutine drucker_prager_update_stress(self, stress, dstrain, omega, dt, state)
+        class(drucker_prager_material_type), intent(in) :: self
+            !! the material
+        real(wp), intent(inout) :: stress(:)
+            !! Cauchy stress, 4 (2D) or 6 (3D) components, tension positive [Pa]
+        real(wp), intent(in) :: dstrain(:)
+            !! strain increment, tensor components [-]
+        real(wp), intent(in) :: omega(3)
+            !! spin increment W dt (xy, yz, zx) [-]
+        real(wp), intent(in) :: dt
+            !! time step [s] (unused: rate independent)
+        real(wp), intent(inout) :: state(:)
+            !! state(1) eps_q [-], state(2) plastic volumetric strain [-]
+
+        real(wp) :: friction, cohesion, dilatancy, alpha, k, alpha_psi
+        real(wp) :: sigma_t, rho_c, m_tr, rho_tr, f_tr, m, rho, dl1, dl2
+        real(wp) :: dev(size(stress))
+        logical :: cutoff
+
+        call self%strength(state(1), friction, cohesion, dilatancy)
+        call drucker_prager_cone(self%cone, friction, cohesion, dilatancy, alpha, k, alpha_psi)
+
+        ! elastic trial stress from the rotated stress of the start of the step
+        stress = stress + jaumann_rotation(stress, omega) + 2.0_wp*self%shear*dstrain
+        stress(1:3) = stress(1:3) + self%lame*(dstrain(1) + dstrain(2) + dstrain(3))
+
+        ! tension limit on the mean stress (none for a cylinder without a given cut-off)
+        cutoff = alpha > 0.0_wp .or. self%tension_cutoff >= 0.0_wp
+        sigma_t = 0.0_wp
+        if (alpha > 0.0_wp) then
+            sigma_t = k/alpha
+            if (self%tension_cutoff >= 0.0_wp) sigma_t = min(sigma_t, self%tension_cutoff)
+        else if (cutoff) then
+            sigma_t = self%tension_cutoff
+        end if
+
+        m_tr = (stress(1) + stress(2) + stress(3))/3.0_wp
+        dev = stress
+        dev(1:3) = dev(1:3) - m_tr
+        rho_tr = sqrt(0.5_wp*double_contraction(dev, dev))
+        f_tr = rho_tr + alpha*m_tr - k
+        if (f_tr <= 0.0_wp .and. (.not. cutoff .or. m_tr <= sigma_t)) return
+
+        dl1 = 0.0_wp
+        dl2 = 0.0_wp
+        m = m_tr
+        if (f_tr > 0.0_wp) then
+            dl1 = f_tr/(self%shear + self%bulk*alpha*alpha_psi)
+            m = m_tr - self%bulk*alpha_psi*dl1
+        end if
+        if (f_tr > 0.0_wp .and. (.not. cutoff .or. m <= sigma_t)) then
+            ! cone: rho >= rho_c >= 0 in exact arithmetic; the max guards round-off
+            rho = max(rho_tr - self%shear*dl1, 0.0_wp)
+        else
+            ! here m_tr > sigma_t: the tension plane or the corner with the cone
+            rho_c = max(k - alpha*sigma_t, 0.0_wp)
+            m = sigma_t
+            if (rho_tr <= rho_c) then
+                dl1 = 0.0_wp
+                rho = rho_tr
+                dl2 = (m_tr - sigma_t)/self%bulk
+            else
+                dl1 = (rho_tr - rho_c)/self%shear
+                rho = rho_c
+                dl2 = max((m_tr - sigma_t)/self%bulk - alpha_psi*dl1, 0.0_wp)
+            end if
+        end if
+
+        ! radial return in the deviatoric plane
+        if (rho_tr > 0.0_wp) then
+            stress = dev*(rho/rho_tr)
+        else
+            stress = 0.0_wp
+        end if
+        stress(1:3) = stress(1:3) + m
+
+        ! de_p = dl1 s/(2 rho): |de_p| = dl1/sqrt(2), so d eps_q = sqrt(2/3) |de_p| = dl1/sqrt(3)
+        state(1) = state(1) + dl1/sqrt3
+        state(2) = state(2) + alpha_psi*dl1 + dl2
+    end subroutine drucker_prager_update_stress
+
+end module mpm_material_drucker_prager
