@@ -18,7 +18,8 @@ module mpm_case
     public :: damping_none, damping_local, damping_kinetic, damping_names
     public :: dist_regular, dist_random, distribution_names
     public :: field_position, field_displacement, field_velocity, field_stress, field_strain
-    public :: field_material, field_mass, field_volume, field_names, nfields
+    public :: field_material, field_mass, field_volume, field_plastic_strain, field_names
+    public :: nfields
     public :: p_wave_speed, viscous_time_step, body_subcell_range
 
     ! Boundary condition of a domain face
@@ -68,11 +69,13 @@ module mpm_case
     character(len=*), parameter :: distribution_names(2) = [character(len=7) :: "regular", "random"]
 
     ! Output fields
-    integer, parameter :: nfields = 8
+    integer, parameter :: nfields = 9
     integer, parameter :: field_position = 1, field_displacement = 2, field_velocity = 3, &
-        field_stress = 4, field_strain = 5, field_material = 6, field_mass = 7, field_volume = 8
-    character(len=*), parameter :: field_names(nfields) = [character(len=12) :: "position", &
-        "displacement", "velocity", "stress", "strain", "material", "mass", "volume"]
+        field_stress = 4, field_strain = 5, field_material = 6, field_mass = 7, field_volume = 8, &
+        field_plastic_strain = 9
+    character(len=*), parameter :: field_names(nfields) = [character(len=14) :: "position", &
+        "displacement", "velocity", "stress", "strain", "material", "mass", "volume", &
+        "plastic_strain"]
 
     !> One material of the case. Which parameters are used depends on `type`.
     type :: material_spec_type

@@ -9,7 +9,7 @@ module mpm_output
     use mpm_kinds, only: wp
     use mpm_error, only: error_type, fatal_error, exit_other
     use mpm_case, only: case_type, nfields, field_displacement, field_velocity, field_stress, &
-        field_strain, field_material, field_mass, field_volume
+        field_strain, field_material, field_mass, field_volume, field_plastic_strain
     use mpm_particles, only: particles_type
     use mpm_grid, only: grid_type, node_position
     use mpm_hdf5, only: hdf5_location_type, text_type, hdf5_initialize, hdf5_create_file, &
@@ -77,7 +77,8 @@ contains
         type(error_type), allocatable, intent(out) :: error
             !! set when the folder does not exist or HDF5 cannot start
 
-        integer :: i, last
+        integer :: i, last, m
+        logical :: plastic
 
         if (case%dim /= 2 .and. case%dim /= 3) then
             call fatal_error(error, "output: the case has dimension "//int_text(case%dim)// &
@@ -105,6 +106,13 @@ contains
         if (len(writer%case_name) == 0) writer%case_name = "case"
         writer%dim = case%dim
         writer%fields = case%output_fields
+        ! the accumulated plastic shear strain exists only where a material is plastic
+        plastic = .false.
+        do m = 1, size(case%materials)
+            plastic = plastic .or. case%materials(m)%type == "mohr_coulomb" .or. &
+                case%materials(m)%type == "drucker_prager"
+        end do
+        writer%fields(field_plastic_strain) = writer%fields(field_plastic_strain) .and. plastic
         writer%grid = case%output_grid
         if (allocated(case%materials)) then
             allocate (writer%materials(size(case%materials)))
@@ -232,6 +240,7 @@ contains
         type(hdf5_location_type) :: group
         type(error_type), allocatable :: close_error
         character(len=:), allocatable :: components
+        real(wp), allocatable :: plastic_strain(:)
 
         if (writer%dim == 2) then
             components = components_2d
@@ -273,6 +282,12 @@ contains
             if (writer%fields(field_volume)) then
                 call hdf5_write_dataset(group, "volume", particles%volume, error, &
                     units=volume_units(writer%dim))
+                if (allocated(error)) exit steps
+            end if
+            if (writer%fields(field_plastic_strain) .and. particles%nstate >= 1) then
+                plastic_strain = particles%state(1, :)
+                call hdf5_write_dataset(group, "plastic_strain", plastic_strain, error, &
+                    units="-")
                 if (allocated(error)) exit steps
             end if
         end block steps
@@ -468,6 +483,10 @@ contains
             end if
             if (writer%fields(field_volume)) then
                 call put_attribute("volume", "Scalar", n, "Float", source//"volume")
+            end if
+            if (writer%fields(field_plastic_strain)) then
+                call put_attribute("plastic_strain", "Scalar", n, "Float", &
+                    source//"plastic_strain")
             end if
             call put("      </Grid>")
         end subroutine put_particles
