@@ -6,6 +6,7 @@ module mpm_material_factory
     use mpm_material_drucker_prager, only: drucker_prager_material_type, &
         new_drucker_prager_material
     use mpm_material_newtonian, only: newtonian_material_type, new_newtonian_material
+    use mpm_material_mohr_coulomb, only: mohr_coulomb_material_type, new_mohr_coulomb_material
     use mpm_error, only: error_type, fatal_error, exit_input
     implicit none
     private
@@ -26,6 +27,7 @@ contains
         type(elastic_material_type) :: elastic
         type(drucker_prager_material_type) :: drucker_prager
         type(newtonian_material_type) :: newtonian
+        type(mohr_coulomb_material_type) :: mohr_coulomb
 
         allocate (materials(size(case%materials)))
         do i = 1, size(case%materials)
@@ -35,6 +37,9 @@ contains
                     call new_elastic_material(elastic, spec%name, spec%young, spec%poisson, &
                         spec%density)
                     allocate (materials(i)%m, source=elastic)
+                case ("mohr_coulomb")
+                    call new_mohr_coulomb_material(mohr_coulomb, spec)
+                    allocate (materials(i)%m, source=mohr_coulomb)
                 case ("drucker_prager")
                     call new_drucker_prager_material(drucker_prager, spec)
                     allocate (materials(i)%m, source=drucker_prager)
