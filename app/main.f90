@@ -3,7 +3,7 @@
 !> 0 success, 1 other errors, 2 invalid input, 3 numerical failure.
 program mpm_geo_main
     use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
-    use mpm_error, only: error_type, fatal_error, exit_input, exit_success
+    use mpm_error, only: error_type, fatal_error, exit_input
     use mpm_version, only: mpm_version_string
     use mpm_case, only: case_type, read_case_file, case_summary
     use mpm_run, only: run_options_type, run_summary_type, run_case
