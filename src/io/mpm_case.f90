@@ -171,6 +171,9 @@ module mpm_case
             !! fixed time step [s]; 0 when the CFL condition sets it
         real(wp) :: cfl = 0.5_wp
             !! CFL factor C in dt = C dx / max_p (c_p + |v_p|) [-]
+        logical :: allow_unstable = .false.
+            !! accept dt above the critical step or cfl > 1 (stability tests; the blow-up guard
+            !! then stops the run)
         real(wp) :: tend = 0.0_wp
             !! end time [s]
         integer :: damping = damping_none

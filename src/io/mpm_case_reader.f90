@@ -42,7 +42,8 @@ submodule (mpm_case) mpm_case_reader
         "min", "max", "velocity"]
     character(len=*), parameter :: solver_keys(*) = [character(len=14) :: "scheme", &
         "shape_function"]
-    character(len=*), parameter :: time_keys(*) = [character(len=4) :: "tend", "dt", "cfl"]
+    character(len=*), parameter :: time_keys(*) = [character(len=14) :: "tend", "dt", "cfl", &
+        "allow_unstable"]
     character(len=*), parameter :: damping_keys(*) = [character(len=5) :: "type", "value"]
     character(len=*), parameter :: contact_keys(*) = [character(len=4) :: "type", "mu", "file"]
     character(len=*), parameter :: output_keys(*) = [character(len=16) :: "interval", "fields", &
@@ -188,6 +189,7 @@ contains
                 if (viscous) line = line//" (viscous limit)"
             end if
         end if
+        if (case%allow_unstable) line = line//", allow_unstable (no stability check)"
         text = text//line//nl
         line = "damping     "//trim(damping_names(case%damping))
         if (case%damping == damping_local) line = line//", alpha = "//fmt_real(case%damping_value)
@@ -1033,6 +1035,8 @@ contains
         call get_real(time, "tend", "time", src, case%tend, error, required=.true., &
             above=0.0_wp, unit="s")
         if (allocated(error)) return
+        call get_bool(time, "allow_unstable", "time", src, case%allow_unstable, error)
+        if (allocated(error)) return
         call case_critical_step(case, critical, viscous)
         rule = "dx / max(c_p + |v|)"
         if (viscous) rule = "the viscous limit rho dx^2 / (2 dim viscosity) of a newtonian " &
@@ -1046,16 +1050,21 @@ contains
             end if
             call get_real(time, "dt", "time", src, case%dt, error, above=0.0_wp, unit="s")
             if (allocated(error)) return
-            if (case%dt > critical) then
+            if (case%dt > critical .and. .not. case%allow_unstable) then
                 call input_error(error, src, "time.dt = "//fmt_real(case%dt)//" s is above the " &
                     //"critical time step "//fmt_below(critical, case%dt)//" s of this case " &
-                    //"("//rule//"); use a smaller dt or set time.cfl instead")
+                    //"("//rule//"); use a smaller dt or set time.cfl instead "// &
+                    "(time.allow_unstable = true forces it, for stability tests)")
                 return
             end if
             step = case%dt
         else
-            call get_real(time, "cfl", "time", src, case%cfl, error, above=0.0_wp, &
-                at_most=1.0_wp)
+            if (case%allow_unstable) then
+                call get_real(time, "cfl", "time", src, case%cfl, error, above=0.0_wp)
+            else
+                call get_real(time, "cfl", "time", src, case%cfl, error, above=0.0_wp, &
+                    at_most=1.0_wp)
+            end if
             if (allocated(error)) return
             step = case%cfl*critical
         end if

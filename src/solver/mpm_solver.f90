@@ -8,6 +8,7 @@
 !> nodal velocities remapped from the updated particle velocities.
 module mpm_solver
     use mpm_kinds, only: wp, i8
+    use mpm_strings, only: vector_text
     use mpm_error, only: error_type, fatal_error, exit_numerical
     use mpm_case, only: case_type, scheme_usf, scheme_usl, scheme_musl, damping_kinetic, &
         p_wave_speed, viscous_time_step
@@ -64,6 +65,8 @@ module mpm_solver
             !! time step of the last step [s]
         type(energies_type) :: energy
             !! energy terms, the kinetic energy updated every step
+        real(wp) :: energy_scale = 0.0_wp
+            !! largest kinetic + strain + damping + |potential| energy so far (blow-up guard) [J]
         real(wp) :: kinetic_previous = 0.0_wp
             !! kinetic energy of the previous step (kinetic damping) [J]
     end type simulation_type
@@ -115,6 +118,7 @@ contains
         sim%dxp = 0.0_wp
         call compute_energies(sim)
         sim%kinetic_previous = sim%energy%kinetic
+        sim%energy_scale = sim%energy%kinetic
     end subroutine new_simulation
 
     !> True when an optional text setting is present and not empty.
@@ -182,6 +186,11 @@ contains
         case default
             continue ! USF: the stress was updated before the momentum
         end select
+        ! the blow-up guard comes before the move, so an unstable run is reported as such
+        ! rather than as the particles it throws out of the grid
+        sim%energy%kinetic = kinetic_energy(sim%particles)
+        call check_blow_up(sim, error)
+        if (allocated(error)) return
         call move_particles(sim%grid, sim%particles, sim%dxp, error)
         if (allocated(error)) then
             error%message = step_prefix(sim)//error%message
@@ -192,14 +201,97 @@ contains
         sim%dt = dt
         sim%energy%strain = sim%energy%strain + work
         sim%energy%damping = sim%energy%damping + damping_work
-        sim%energy%kinetic = kinetic_energy(sim%particles)
-        if (.not. (sim%energy%kinetic <= huge(1.0_wp))) then
-            call fatal_error(error, step_prefix(sim)//"the kinetic energy is not finite "// &
-                "(the run became unstable); reduce time.dt or time.cfl", exit_numerical)
-            return
-        end if
+        associate (e => sim%energy)
+            sim%energy_scale = max(sim%energy_scale, e%kinetic + abs(e%strain) + abs(e%damping) &
+                + abs(potential_energy(sim)))
+        end associate
         if (sim%case%damping == damping_kinetic) call kinetic_damping(sim)
     end subroutine advance
+
+    !> Stop a run that blows up: a particle about to move more than a cell in one step, a
+    !> kinetic energy that is not finite, or one that exceeds blow_up_factor times the largest
+    !> energy the run has seen. An explicit run past its
+    !> stability limit grows by a factor every step and passes that bound within a few steps,
+    !> long before it writes NaN; a physical run cannot create that energy. The message names
+    !> the step, the particle, its position and the quantity.
+    subroutine check_blow_up(sim, error)
+        type(simulation_type), intent(in) :: sim
+            !! the simulation after a step
+        type(error_type), allocatable, intent(out) :: error
+            !! set (exit_numerical) when the run blew up
+
+        real(wp), parameter :: blow_up_factor = 10.0_wp
+        integer :: p, worst
+        real(wp) :: speed, fastest, jump
+        character(len=512) :: msg
+
+        associate (ke => sim%energy%kinetic, particles => sim%particles)
+            ! a stable explicit step moves no material point by more than a cell
+            jump = maxval(abs(sim%dxp))
+            if (jump > sim%case%dx) then
+                p = maxloc(maxval(abs(sim%dxp), dim=1), dim=1)
+                write (msg, "(a,i0,a,a,a,es10.3,a,es10.3,a)") &
+                    "the run became unstable: particle ", p, " at (", &
+                    trim(vector_text(particles%x(:, p))), ") m would move ", &
+                    norm2(sim%dxp(:, p)), " m in one step, more than a cell (dx = ", &
+                    sim%case%dx, " m)"
+                call fatal_error(error, step_prefix(sim)//trim(msg)// &
+                    "; reduce time.dt or time.cfl", exit_numerical)
+                return
+            end if
+            if (ke <= huge(1.0_wp) .and. .not. (sim%energy_scale > 0.0_wp .and. &
+                ke > blow_up_factor*sim%energy_scale)) return
+            ! the particle that shows it: the first with a non-finite velocity or stress,
+            ! else the fastest
+            worst = 0
+            fastest = -1.0_wp
+            do p = 1, particles%n
+                if (.not. (all(abs(particles%v(:, p)) <= huge(1.0_wp)) .and. &
+                           all(abs(particles%stress(:, p)) <= huge(1.0_wp)))) then
+                    worst = p
+                    exit
+                end if
+                speed = norm2(particles%v(:, p))
+                if (speed > fastest) then
+                    fastest = speed
+                    worst = p
+                end if
+            end do
+            if (.not. (ke <= huge(1.0_wp))) then
+                write (msg, "(a,i0,a,a,a)") "the run became unstable: particle ", worst, &
+                    " at (", trim(vector_text(particles%x(:, worst))), &
+                    ") m has a velocity or stress that is not finite"
+            else
+                write (msg, "(a,es10.3,a,es10.3,a,i0,a,a,a,es10.3,a,es10.3,a)") &
+                    "the run became unstable: the kinetic energy ", ke, &
+                    " J is more than 10 times the largest energy of the run so far (", &
+                    sim%energy_scale, " J); fastest particle ", worst, " at (", &
+                    trim(vector_text(particles%x(:, worst))), ") m, |v| = ", fastest, &
+                    " m/s (P-wave speed ", sim%wave_speed(particles%material(worst)), " m/s)"
+            end if
+        end associate
+        call fatal_error(error, step_prefix(sim)//trim(msg)//"; reduce time.dt or time.cfl", &
+            exit_numerical)
+    end subroutine check_blow_up
+
+    !> Gravitational potential energy relative to the start, - sum m g . u [J].
+    real(wp) function potential_energy(sim)
+        type(simulation_type), intent(in) :: sim
+            !! the simulation
+
+        integer :: p, dim
+
+        dim = sim%case%dim
+        potential_energy = 0.0_wp
+        if (all(sim%case%gravity == 0.0_wp)) return
+        !$omp parallel do default(none) schedule(static) shared(sim, dim) private(p) &
+        !$omp reduction(+: potential_energy)
+        do p = 1, sim%particles%n
+            potential_energy = potential_energy - sim%particles%mass(p) &
+                *dot_product(sim%case%gravity(1:dim), sim%particles%u(:, p))
+        end do
+        !$omp end parallel do
+    end function potential_energy
 
     !> "step N, t = T s: " for messages.
     function step_prefix(sim) result(prefix)
@@ -244,17 +336,8 @@ contains
         type(simulation_type), intent(inout) :: sim
             !! the simulation
 
-        integer :: p, dim
-        real(wp) :: potential
-
-        dim = sim%case%dim
         sim%energy%kinetic = kinetic_energy(sim%particles)
-        potential = 0.0_wp
-        do p = 1, sim%particles%n
-            potential = potential - sim%particles%mass(p) &
-                *dot_product(sim%case%gravity(1:dim), sim%particles%u(:, p))
-        end do
-        sim%energy%potential = potential
+        sim%energy%potential = potential_energy(sim)
     end subroutine compute_energies
 
 end module mpm_solver

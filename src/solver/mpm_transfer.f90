@@ -7,6 +7,7 @@
 !> them (see mpm_solver).
 module mpm_transfer
     use mpm_kinds, only: wp
+    use mpm_strings, only: vector_text
     use mpm_error, only: error_type, fatal_error, exit_numerical
     use mpm_grid, only: grid_type, contact_index
     use mpm_particles, only: particles_type
@@ -352,22 +353,6 @@ contains
             ") m; enlarge the domain or close its faces with boundary conditions"
         call fatal_error(error, trim(msg), exit_numerical)
     end subroutine report_lost
-
-    !> Comma-separated short form of a vector, for messages.
-    function vector_text(v) result(text)
-        real(wp), intent(in) :: v(:)
-        character(len=:), allocatable :: text
-
-        character(len=24) :: buf
-        integer :: i
-
-        text = ""
-        do i = 1, size(v)
-            write (buf, "(es11.4)") v(i)
-            text = text//trim(adjustl(buf))
-            if (i < size(v)) text = text//", "
-        end do
-    end function vector_text
 
     !> MUSL: map the updated particle momentum back to the nodes and recompute v_i.
     subroutine remap_momentum(grid, particles, shape)
