@@ -52,15 +52,15 @@ submodule (mpm_case) mpm_case_reader
 
     ! Material models (codes used only inside the reader; the case stores the model name)
     integer, parameter :: model_elastic = 1, model_mohr_coulomb = 2, model_drucker_prager = 3, &
-        model_newtonian = 4
-    character(len=*), parameter :: model_names(4) = [character(len=14) :: "linear_elastic", &
-        "mohr_coulomb", "drucker_prager", "newtonian"]
+        model_newtonian = 4, model_neo_hookean = 5
+    character(len=*), parameter :: model_names(5) = [character(len=14) :: "linear_elastic", &
+        "mohr_coulomb", "drucker_prager", "newtonian", "neo_hookean"]
         !! name stored in material_spec_type%type for each model code
-    character(len=*), parameter :: model_choices(5) = [character(len=14) :: "linear_elastic", &
-        "elastic", "mohr_coulomb", "drucker_prager", "newtonian"]
+    character(len=*), parameter :: model_choices(6) = [character(len=14) :: "linear_elastic", &
+        "elastic", "mohr_coulomb", "drucker_prager", "newtonian", "neo_hookean"]
         !! names accepted for materials[i].type (aliases included)
-    integer, parameter :: model_choice_codes(5) = [model_elastic, model_elastic, &
-        model_mohr_coulomb, model_drucker_prager, model_newtonian]
+    integer, parameter :: model_choice_codes(6) = [model_elastic, model_elastic, &
+        model_mohr_coulomb, model_drucker_prager, model_newtonian, model_neo_hookean]
 
     character(len=*), parameter :: axis_names = "xyz"
     real(wp), parameter :: degree = acos(-1.0_wp)/180.0_wp
@@ -540,7 +540,7 @@ contains
                 else
                     call read_elasticity(item, path, src, mat, error)
                     if (allocated(error)) return
-                    if (model /= model_elastic) then
+                    if (model == model_mohr_coulomb .or. model == model_drucker_prager) then
                         call read_strength(item, path, src, model, mat, error)
                         if (allocated(error)) return
                     end if
@@ -575,7 +575,7 @@ contains
         if (allocated(error)) return
         owner = "a "//trim(model_names(model))//" material"
         select case (model)
-        case (model_elastic)
+        case (model_elastic, model_neo_hookean)
             call check_keys(item, path, elastic_keys, src, error, owner, any_material_keys)
         case (model_mohr_coulomb)
             call check_keys(item, path, mohr_coulomb_keys, src, error, owner, any_material_keys)

@@ -7,6 +7,7 @@ module mpm_material_factory
         new_drucker_prager_material
     use mpm_material_newtonian, only: newtonian_material_type, new_newtonian_material
     use mpm_material_mohr_coulomb, only: mohr_coulomb_material_type, new_mohr_coulomb_material
+    use mpm_material_neo_hookean, only: neo_hookean_material_type, new_neo_hookean_material
     use mpm_error, only: error_type, fatal_error, exit_input
     implicit none
     private
@@ -28,6 +29,7 @@ contains
         type(drucker_prager_material_type) :: drucker_prager
         type(newtonian_material_type) :: newtonian
         type(mohr_coulomb_material_type) :: mohr_coulomb
+        type(neo_hookean_material_type) :: neo_hookean
 
         allocate (materials(size(case%materials)))
         do i = 1, size(case%materials)
@@ -37,6 +39,9 @@ contains
                     call new_elastic_material(elastic, spec%name, spec%young, spec%poisson, &
                         spec%density)
                     allocate (materials(i)%m, source=elastic)
+                case ("neo_hookean")
+                    call new_neo_hookean_material(neo_hookean, spec)
+                    allocate (materials(i)%m, source=neo_hookean)
                 case ("mohr_coulomb")
                     call new_mohr_coulomb_material(mohr_coulomb, spec)
                     allocate (materials(i)%m, source=mohr_coulomb)
