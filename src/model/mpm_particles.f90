@@ -48,6 +48,9 @@ module mpm_particles
             !! material state variables per particle (0 when no material of the case has any)
         real(wp), allocatable :: state(:, :)
             !! material state (nstate, n), e.g. accumulated plastic shear strain [-]
+        real(wp), allocatable :: body_force(:, :)
+            !! extra body force per unit mass (dim, n), allocated only by drivers that prescribe
+            !! one (manufactured solutions); added to gravity in P2G [m/s2]
     end type particles_type
 
 contains

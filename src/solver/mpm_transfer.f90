@@ -71,6 +71,8 @@ contains
                     grid%mass(id) = grid%mass(id) + mw
                     grid%momentum(:, id) = grid%momentum(:, id) + mw*particles%v(:, p)
                     grid%fext(:, id) = grid%fext(:, id) + mw*gravity(1:dim)
+                    if (allocated(particles%body_force)) grid%fext(:, id) = grid%fext(:, id) &
+                        + mw*particles%body_force(:, p)
                 end if
                 if (with_fint) then
                     call internal_force(particles%stress(:, p), st%dw(:, c), dim, f)
