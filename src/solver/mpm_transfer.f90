@@ -14,7 +14,7 @@ module mpm_transfer
     use mpm_shape, only: shape_type, stencil_type
     use mpm_material, only: material_holder_type
     use mpm_stress, only: double_contraction
-    use mpm_case, only: damping_local
+    use mpm_case, only: damping_local, bc_free
     implicit none
     private
     public :: reset_grid, p2g, nodal_velocity, integrate_nodes, g2p, move_particles, remap_momentum
@@ -181,8 +181,19 @@ contains
                 cycle
             end if
             f(1:dim) = grid%fint(:, i) + grid%fext(:, i)
-            where (grid%constrained(:, i)) grid%momentum(:, i) = 0.0_wp
             v0(1:dim) = grid%momentum(:, i)/grid%mass(i)
+            if (any(grid%constrained(:, i))) then
+                ! the face takes the mapped momentum of the held components: that impulse
+                ! enters the acceleration, so the particles (FLIP update) feel the face too,
+                ! and its kinetic energy counts as removed
+                where (grid%constrained(:, i))
+                    grid%acceleration(:, i) = -v0(1:dim)/dt
+                    grid%momentum(:, i) = 0.0_wp
+                end where
+                dissipated = dissipated + 0.5_wp*grid%mass(i) &
+                    *sum(merge(v0(1:dim)**2, 0.0_wp, grid%constrained(:, i)))
+                where (grid%constrained(:, i)) v0(1:dim) = 0.0_wp
+            end if
             if (damping == damping_local) then
                 fd(1:dim) = -alpha*abs(f(1:dim))*sign(1.0_wp, v0(1:dim))
                 where (v0(1:dim) == 0.0_wp) fd(1:dim) = 0.0_wp
@@ -191,8 +202,11 @@ contains
                 dissipated = dissipated - dt*sum(fd(1:dim)*(v0(1:dim) &
                     + 0.5_wp*dt*f(1:dim)/grid%mass(i)))
             end if
-            where (grid%constrained(:, i)) f(1:dim) = 0.0_wp
-            grid%acceleration(:, i) = f(1:dim)/grid%mass(i)
+            where (grid%constrained(:, i))
+                f(1:dim) = 0.0_wp
+            elsewhere
+                grid%acceleration(:, i) = f(1:dim)/grid%mass(i)
+            end where
             grid%momentum(:, i) = grid%momentum(:, i) + dt*f(1:dim)
         end do
         call apply_contacts(grid, dt, contact_work)
@@ -307,7 +321,7 @@ contains
     end subroutine g2p
 
     !> Apply the position increments of the step; fails (exit_numerical) when a particle
-    !> leaves the grid or its position is not finite.
+    !> leaves the grid through a free face or its position is not finite.
     subroutine move_particles(grid, particles, dxp, error)
         type(grid_type), intent(in) :: grid
             !! grid (its extent)
@@ -318,18 +332,32 @@ contains
         type(error_type), allocatable, intent(out) :: error
             !! set when a particle leaves the grid
 
-        integer :: p, dim, bad
-        real(wp) :: lo(3), hi(3)
+        integer :: p, dim, bad, a
+        real(wp) :: lo(3), hi(3), x(3)
+        logical :: closed_lo(3), closed_hi(3)
 
         dim = grid%dim
+        closed_lo = .false.
+        closed_hi = .false.
         lo = grid%origin
         hi = grid%origin + grid%dx*real(grid%nn - 1, wp)
         bad = 0
+        closed_lo(1:dim) = grid%bc(1, 1:dim) /= bc_free
+        closed_hi(1:dim) = grid%bc(2, 1:dim) /= bc_free
         !$omp parallel do default(none) schedule(static) &
-        !$omp shared(particles, dxp, dim, lo, hi) private(p) reduction(max: bad)
+        !$omp shared(particles, dxp, dim, lo, hi, closed_lo, closed_hi) private(p, x, a) &
+        !$omp reduction(max: bad)
         do p = 1, particles%n
-            particles%x(:, p) = particles%x(:, p) + dxp(:, p)
-            particles%u(:, p) = particles%u(:, p) + dxp(:, p)
+            x(1:dim) = particles%x(:, p) + dxp(:, p)
+            ! a closed face (sliding, fixed, frictional) cannot be crossed: the nodal velocity
+            ! keeps material off it, but a point carried by the velocities of the nodes
+            ! beside the face can overshoot it by a fraction of a step; it stays on the face
+            do a = 1, dim
+                if (closed_lo(a) .and. x(a) < lo(a)) x(a) = lo(a)
+                if (closed_hi(a) .and. x(a) > hi(a)) x(a) = hi(a)
+            end do
+            particles%u(:, p) = particles%u(:, p) + (x(1:dim) - particles%x(:, p))
+            particles%x(:, p) = x(1:dim)
             if (.not. (all(particles%x(:, p) >= lo(1:dim)) .and. &
                        all(particles%x(:, p) <= hi(1:dim)))) then
                 bad = max(bad, p)
