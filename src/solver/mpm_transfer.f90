@@ -204,7 +204,7 @@ contains
             end if
             where (grid%constrained(:, i))
                 f(1:dim) = 0.0_wp
-            elsewhere
+            else where
                 grid%acceleration(:, i) = f(1:dim)/grid%mass(i)
             end where
             grid%momentum(:, i) = grid%momentum(:, i) + dt*f(1:dim)
