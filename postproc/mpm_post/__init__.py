@@ -7,13 +7,22 @@ Layout: docs/output.md.
 
 from .energy import energy_drift, plot_energy
 from .io import list_outputs, load_grid, load_history, load_particles
+from .profiles import (failure_surface, free_surface, height_at_wall, load_reference_profile,
+                       rms_height_difference, slip_angle, toe_position)
 
 __all__ = [
     "energy_drift",
+    "failure_surface",
+    "free_surface",
+    "height_at_wall",
     "list_outputs",
     "load_grid",
     "load_history",
     "load_particles",
+    "load_reference_profile",
     "plot_energy",
+    "rms_height_difference",
+    "slip_angle",
+    "toe_position",
 ]
 __version__ = "0.1.0"

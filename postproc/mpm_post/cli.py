@@ -1,4 +1,4 @@
-"""Command line: python -m mpm_post {summary,energy,field} RUN_DIR ...
+"""Command line: python -m mpm_post {summary,energy,field,profile} RUN_DIR ...
 
 Run from the repository root with ``PYTHONPATH=postproc .venv/bin/python -m mpm_post ...``.
 Exit codes: 0 success, 1 error (missing or unreadable run), 2 bad command line.
@@ -12,6 +12,8 @@ import numpy as np
 from . import __version__
 from .energy import energy_drift, plot_energy
 from .io import list_outputs, load_history, load_particles
+from .profiles import (bin_edges, free_surface, height_at_wall, load_reference_profile,
+                       particle_half_size, rms_height_difference, toe_position)
 
 STRESS_COMPONENTS = {4: ["xx", "yy", "zz", "xy"], 6: ["xx", "yy", "zz", "xy", "yz", "zx"]}
 VECTOR_COMPONENTS = ["x", "y", "z"]
@@ -93,6 +95,40 @@ def cmd_field(args, out):
     return 0
 
 
+def cmd_profile(args, out):
+    data = load_particles(args.run_dir, time=args.time)
+    dim = data["dimension"] or 2
+    position = data["position"]
+    # the deposit along x; the vertical is y in 2D and z in 3D (docs/output.md)
+    x, y = position[:, 0], position[:, 1 if dim == 2 else 2]
+    if args.half_size is not None:
+        half = np.full(x.size, args.half_size)
+    elif "volume" in data:
+        half = particle_half_size(data["volume"], dim)
+    else:
+        raise ValueError(f"{data['path']} has no particle volume: give --half-size")
+    if x.size == 0:
+        raise ValueError(f"{data['path']} holds no particle")
+    toe = toe_position(x, y, half, min_height=args.min_height)
+    wall = height_at_wall(x, y, half, x_wall=args.wall)
+    print(f"profile at time {data['time']:g} s (step {data['step']}), {x.size} particles, "
+          f"file {data['path']}", file=out)
+    print(f"toe [m]: {toe:.6g}", file=out)
+    print(f"height at wall [m]: {wall:.6g}", file=out)
+    if args.reference:
+        width = args.bin_width if args.bin_width else 2.0 * float(np.median(half))
+        edges = bin_edges(min(args.wall, float(np.min(x - half))), float(np.max(x + half)),
+                          width)
+        centres, height = free_surface(x, y, half, edges)
+        x_ref, h_ref = load_reference_profile(args.reference)
+        rms, max_abs = rms_height_difference(centres, height, x_ref, h_ref)
+        print(f"reference: {args.reference} ({x_ref.size} points)", file=out)
+        print(f"reference toe [m]: {float(np.max(x_ref)):.6g}", file=out)
+        print(f"RMS height difference [m]: {rms:.6g}", file=out)
+        print(f"max height difference [m]: {max_abs:.6g}", file=out)
+    return 0
+
+
 def build_parser():
     parser = argparse.ArgumentParser(
         prog="python -m mpm_post", description="Summarise and plot mpm-geo run outputs.")
@@ -116,6 +152,24 @@ def build_parser():
     field.add_argument("--time", type=float, default=None,
                        help="time [s]; the nearest output is used (default: the last one)")
     field.set_defaults(func=cmd_field)
+
+    profile = commands.add_parser(
+        "profile", help="toe, height at the wall, RMS difference to a reference surface")
+    profile.add_argument("run_dir", metavar="RUN_DIR", help="run directory or particles_*.h5 file")
+    profile.add_argument("--time", type=float, default=None,
+                         help="time [s]; the nearest output is used (default: the last one)")
+    profile.add_argument("--reference", default=None,
+                         help="two-column file x [m], height [m] of a measured free surface")
+    profile.add_argument("--min-height", type=float, default=0.0,
+                         help="deposit thinner than this [m] is not counted in the toe "
+                              "(default 0)")
+    profile.add_argument("--wall", type=float, default=0.0,
+                         help="x of the wall the deposit rests against [m] (default 0)")
+    profile.add_argument("--bin-width", type=float, default=None,
+                         help="bin width of the free surface [m] (default: the particle size)")
+    profile.add_argument("--half-size", type=float, default=None,
+                         help="particle half-size [m] (default: from the particle volumes)")
+    profile.set_defaults(func=cmd_profile)
     return parser
 
 

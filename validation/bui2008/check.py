@@ -1,0 +1,543 @@
+#!/usr/bin/env python3
+"""Validation: 2D collapse of a column of aluminium bars (Bui et al. 2008).
+
+Runs build/mpm_geo on validation/bui2008/bui2008.json (or a coarse copy of it), compares the final
+deposit with the experiment (data/, see data/README.md) and writes results/metrics.json and a plot.
+
+    .venv/bin/python validation/bui2008/check.py              full resolution (2.5 mm cells)
+    .venv/bin/python validation/bui2008/check.py --coarse     5 mm cells, looser band (make test)
+    .venv/bin/python validation/bui2008/check.py --floors     coarse floor-friction sensitivity
+    .venv/bin/python validation/bui2008/check.py --no-run     analyse an existing output
+
+Exit codes: 0 every target met, 1 a target missed, 2 the run or the analysis failed.
+Figures compared (targets of the issue in TARGETS below):
+- toe: the front of the deposit contiguous from the wall (mpm_post.profiles.toe_position);
+- height at the wall, and the RMS / largest difference between the simulated and the measured
+  free surface at the measured abscissae;
+- the failure surface: the top of the particles that moved less than 1 mm, RMS against the
+  measured failure surface, and the dip of a least-squares line through it.
+"""
+
+import argparse
+import copy
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+REPO = HERE.parents[1]
+sys.path.insert(0, str(REPO / "postproc"))
+
+import numpy as np  # noqa: E402
+
+from mpm_post import list_outputs, load_history, load_particles  # noqa: E402
+from mpm_post.profiles import (  # noqa: E402
+    bin_edges, failure_surface, free_surface, height_at_wall, load_reference_profile,
+    particle_half_size, rms_height_difference, slip_angle, toe_position)
+
+CASE = HERE / "bui2008.json"
+DATA = HERE / "data"
+SURFACE_FILE = DATA / "Data_Buietal_2008_experimental_surface.txt"
+FAILURE_FILE = DATA / "Data_Buietal_2008_experimental_failure_surface.txt"
+RESULTS = HERE / "results"
+COLUMN_WIDTH = 0.2    # initial column L0 [m]
+COLUMN_HEIGHT = 0.1   # initial column H0 [m]
+COARSE_DX = 0.005     # cell of the coarse copy [m]
+# A particle is static when it moved less than this [m]: about one bar diameter (1-1.5 mm,
+# what an observer of the experiment can see move), three times the largest elastic settlement
+# of the column (0.34 mm at the top of the wall), and a twentieth of the slide's displacement.
+STATIC_THRESHOLD = 1.0e-3
+# The largest particle displacement over the last REST_WINDOW [s] shows whether the deposit
+# is at rest in position, whatever the kinetic energy of the particle velocities says.
+REST_WINDOW = 0.1
+
+# Floor conditions of the sensitivity study (--floors): the case's frictional floor with
+# mu = tan(phi), a no-slip floor and a frictionless one (mu = 0: no friction, lift-off allowed,
+# as the frictional floor of the case).
+FLOORS = {
+    "tan_phi": None,
+    "fixed": "fixed",
+    "frictionless": {"type": "frictional", "mu": 0.0},
+}
+
+WHAT_THE_MODEL_MISSES = [
+    "Grain scale: the bars are a continuum here (Mohr-Coulomb, constant phi, no dilatancy); "
+    "the experiment's front ends where the deposit is one or two bars (1-1.5 mm) thick, while "
+    "the model's thinnest layer is one particle (dx/2) and it keeps flowing as a thin sheet.",
+    "Floor friction: the case assumes a bar-on-floor friction of mu = tan(phi) = 0.36; the paper "
+    "gives no measured value. The floor sensitivity table shows how much the toe depends on it.",
+    "Final state only: the experiment is compared at rest (t = 1 s); the transient profiles of "
+    "the paper's figure (front speed, time to stop) are not checked.",
+    "Rate independence: no viscosity or mu(I) rheology, so the fast thin front has the same "
+    "friction as the slow deposit; one possible reason why it runs out further than measured.",
+    "Particle velocity noise: the kinetic energy stays at about 0.5 % of its peak at the end, "
+    "carried by particles of the thin front whose velocities alternate in sign between "
+    "neighbours while their positions barely move (largest displacement over the last 0.1 s "
+    "in the figures above).",
+    "Elastic constants: E = 0.84 MPa is a published modelling value, not a measurement; it only "
+    "sets the wave speed and the elastic settlement (0.3 mm), not the deposit.",
+    "The tension cutoff at the apex lets particles with zero stress grow in volume (see the "
+    "volume change in the metrics): the thin front spreads over more length than its mass fills.",
+]
+
+
+# ---------------------------------------------------------------------------------------------
+# set-up
+# ---------------------------------------------------------------------------------------------
+
+def _relative(path):
+    """``path`` relative to the repository when it lies inside it."""
+    try:
+        return str(Path(path).resolve().relative_to(REPO))
+    except ValueError:
+        return str(path)
+
+
+def load_case(path):
+    with open(path, encoding="utf-8") as handle:
+        return json.load(handle)
+
+
+def coarse_case(case, dx=COARSE_DX):
+    """A copy of the case with cells of ``dx`` [m] over the same domain."""
+    coarse = copy.deepcopy(case)
+    domain = coarse["domain"]
+    for axis in ("nx", "ny"):
+        length = case["domain"][axis] * case["domain"]["dx"]
+        cells = length / dx
+        if abs(cells - round(cells)) > 1e-6:
+            raise ValueError(f"domain length {length} m along {axis} is not a multiple of {dx} m")
+        domain[axis] = int(round(cells))
+    domain["dx"] = dx
+    coarse["name"] = case["name"] + "_coarse"
+    return coarse
+
+
+def with_floor(case, floor):
+    """A copy of the case with another floor (ymin) condition, named after it."""
+    changed = copy.deepcopy(case)
+    if FLOORS[floor] is not None:
+        changed["domain"]["boundaries"]["ymin"] = copy.deepcopy(FLOORS[floor])
+    # a frictionless floor lets the material reach the end wall and splash up it; a closed top
+    # (above the column, never reached otherwise) keeps such a particle in the grid
+    changed["domain"]["boundaries"]["ymax"] = "sliding"
+    changed["name"] = f"{case['name']}_floor_{floor}"
+    return changed
+
+
+def describe_floor(case):
+    ymin = case["domain"].get("boundaries", {}).get("ymin", "free")
+    if isinstance(ymin, dict):
+        if ymin.get("type", "").lower() == "frictional":
+            return f"frictional, mu = {ymin['mu']:g}"
+        return ymin.get("type", "free")
+    return ymin
+
+
+def setup_summary(case, nparticles):
+    material = case["materials"][0]
+    domain = case["domain"]
+    ppc = case.get("particles", {}).get("ppc", 2)
+    return {
+        "dx_m": domain["dx"],
+        "cells": [domain["nx"], domain["ny"]],
+        "domain_m": [domain["nx"] * domain["dx"], domain["ny"] * domain["dx"]],
+        "ppc": ppc,
+        "particles": nparticles,
+        "material": {k: v for k, v in material.items() if k != "name"},
+        "floor": describe_floor(case),
+        "walls": {k: v for k, v in domain.get("boundaries", {}).items() if k != "ymin"},
+        "solver": case.get("solver", {}),
+        "tend_s": case["time"]["tend"],
+    }
+
+
+# ---------------------------------------------------------------------------------------------
+# run
+# ---------------------------------------------------------------------------------------------
+
+def run_case(exe, case, output, overwrite, quiet):
+    """Run mpm_geo on ``case`` (a dict) into ``output``; returns the wall time [s]."""
+    with tempfile.TemporaryDirectory(prefix="bui2008_") as tmp:
+        case_path = Path(tmp) / f"{case['name']}.json"
+        case_path.write_text(json.dumps(case, indent=2), encoding="utf-8")
+        command = [str(exe), str(case_path), "--output", str(output)]
+        if overwrite:
+            command.append("--overwrite")
+        if quiet:
+            command.append("--quiet")
+        print("running:", " ".join(command), flush=True)
+        start = time.perf_counter()
+        result = subprocess.run(command, cwd=REPO, check=False)
+        wall = time.perf_counter() - start
+    if result.returncode != 0:
+        raise RuntimeError(f"mpm_geo exited with code {result.returncode} on case "
+                           f"{case['name']} (output in {output})")
+    return wall
+
+
+def exe_version(exe):
+    try:
+        result = subprocess.run([str(exe), "--version"], capture_output=True, text=True,
+                                check=False, timeout=30)
+        return result.stdout.strip() or None
+    except OSError:
+        return None
+
+
+# ---------------------------------------------------------------------------------------------
+# analysis
+# ---------------------------------------------------------------------------------------------
+
+def experiment():
+    """Measured free surface and failure surface, and the figures read off them."""
+    xs, hs = load_reference_profile(SURFACE_FILE)
+    xf, hf = load_reference_profile(FAILURE_FILE)
+    return {
+        "surface": (xs, hs), "failure": (xf, hf),
+        "toe_m": float(xs[-1]),
+        "height_at_wall_m": float(hs[np.argmin(xs)]),
+        "slip_angle_deg": slip_angle(xf, hf),
+    }
+
+
+def analyse(run_dir, case, exp):
+    """Figures of the last output of ``run_dir``; returns (metrics, arrays for the plot)."""
+    outputs = list_outputs(run_dir)
+    if not outputs:
+        raise FileNotFoundError(f"no particles_NNNNNN.h5 output in {run_dir}")
+    first = load_particles(outputs[0][1])
+    last = load_particles(outputs[-1][1])
+    before = load_particles(run_dir, time=last["time"] - REST_WINDOW)
+    for field in ("displacement", "volume", "mass"):
+        if field not in last:
+            raise ValueError(f"{last['path']}: field '{field}' missing; the case must write it")
+    dx = case["domain"]["dx"]
+    length = case["domain"]["nx"] * dx
+    x, y = last["position"][:, 0], last["position"][:, 1]
+    half = particle_half_size(last["volume"], 2)
+    moved = np.linalg.norm(last["displacement"], axis=1)
+    edges = bin_edges(0.0, length, dx)   # one cell: see docs/validation.md
+
+    xc, height = free_surface(x, y, half, edges)
+    toe = toe_position(x, y, half, min_height=0.0)
+    toe_cell = toe_position(x, y, half, min_height=dx)
+    wall = height_at_wall(x, y, half)
+    rms, max_abs = rms_height_difference(xc, height, *exp["surface"])
+
+    xf_sim, yf_sim = failure_surface(x, y, moved, STATIC_THRESHOLD, edges, half_size=half)
+    found = np.isfinite(yf_sim)
+    if np.any(found):
+        f_rms, f_max = rms_height_difference(xf_sim[found], yf_sim[found], *exp["failure"])
+    else:   # everything moved (a frictionless floor): no failure surface
+        f_rms = f_max = float("nan")
+    xf_exp = exp["failure"][0]
+    # fit over the stretch where the experiment defines the slip line, so that the flat top of
+    # the static wedge near the wall does not enter the simulated fit
+    in_range = found & (xf_sim >= xf_exp.min()) & (xf_sim <= xf_exp.max())
+    angle = slip_angle(xf_sim[in_range], yf_sim[in_range])
+
+    history = load_history(run_dir)
+    kinetic = history.get("kinetic_energy", np.zeros(0))
+    kinetic_ratio = (float(kinetic[-1] / kinetic.max())
+                     if kinetic.size and kinetic.max() > 0 else None)
+    mass0, mass1 = float(np.sum(first["mass"])), float(np.sum(last["mass"]))
+    volume0, volume1 = float(np.sum(first["volume"])), float(np.sum(last["volume"]))
+    metrics = {
+        "time_s": last["time"],
+        "toe_m": toe,
+        "toe_one_cell_thick_m": toe_cell,
+        "runout_ratio": (toe - COLUMN_WIDTH) / COLUMN_WIDTH,
+        "height_at_wall_m": wall,
+        "surface_rms_m": rms,
+        "surface_max_abs_m": max_abs,
+        "failure_rms_m": f_rms,
+        "failure_max_abs_m": f_max,
+        "slip_angle_deg": angle,
+        "deposit_reaches_end_wall": bool(np.max(x + half) >= length - dx),
+        "max_move_last_window_m": float(np.max(np.linalg.norm(
+            last["position"] - before["position"], axis=1))),
+        "rest_window_s": last["time"] - before["time"],
+        "kinetic_final_over_peak": kinetic_ratio,
+        "mass_relative_change": (mass1 - mass0) / mass0,
+        "volume_relative_change": (volume1 - volume0) / volume0,
+        "particles": int(x.size),
+    }
+    arrays = {"x": x, "y": y, "moved": moved, "half": half, "xc": xc, "height": height,
+              "xf": xf_sim[found], "yf": yf_sim[found], "length": length}
+    return metrics, arrays
+
+
+def target(name, value, reference, band, passed, gating, why, unit="m"):
+    """One compared figure; ``unit`` is how to show it: m, mm (value in m) or deg."""
+    return {"name": name, "value": value, "reference": reference, "band": band,
+            "passed": bool(passed), "gating": gating, "why": why, "unit": unit}
+
+
+def compare(metrics, exp, dx, coarse):
+    """The targets of the issue (gating) and the other comparisons (reported)."""
+    toe_band = 0.40 if coarse else 0.05
+    length_band = 2.0 * dx
+    toe_error = (metrics["toe_m"] - exp["toe_m"]) / exp["toe_m"]
+    metrics["toe_relative_error"] = toe_error
+    cells = "two 5 mm cells" if coarse else "two 2.5 mm cells"
+    toe_why = ("issue target: 5 % of the measured toe; a published explicit GIMP code at this "
+               "resolution ends 3.6 % short" if not coarse else
+               "regression band, not the issue target: at 5 mm the model's thin front runs "
+               "out about 34 % too far (the 5 % target at 2.5 mm is missed too, see "
+               "docs/validation.md); 40 % catches a change for the worse, while the surface "
+               "RMS and the wall height hold the bulk of the deposit to two cells")
+    results = [
+        target("toe", metrics["toe_m"], exp["toe_m"], f"within {toe_band:.0%}",
+               abs(toe_error) <= toe_band, True, toe_why),
+        target("free surface RMS", metrics["surface_rms_m"], None,
+               f"<= {length_band * 1e3:g} mm",
+               metrics["surface_rms_m"] <= length_band, True,
+               f"{cells}: the surface of the particle cloud is known to about a cell, and the "
+               "digitised data to about a millimetre", unit="mm"),
+        target("height at wall", metrics["height_at_wall_m"], exp["height_at_wall_m"],
+               f"within {length_band * 1e3:g} mm",
+               abs(metrics["height_at_wall_m"] - exp["height_at_wall_m"]) <= length_band, True,
+               f"{cells}, as the surface RMS"),
+        target("failure surface RMS", metrics["failure_rms_m"], None,
+               f"<= {length_band * 1e3:g} mm", metrics["failure_rms_m"] <= length_band, False,
+               f"{cells}; reported, not a target of the issue: the line depends on the "
+               f"{STATIC_THRESHOLD * 1e3:g} mm threshold that separates static from moved",
+               unit="mm"),
+        target("slip angle", metrics["slip_angle_deg"], exp["slip_angle_deg"], "within 5 deg",
+               abs(metrics["slip_angle_deg"] - exp["slip_angle_deg"]) <= 5.0, False,
+               "reported: a straight fit through a curved line; the digitised points move the "
+               "experimental angle by a few degrees depending on which are fitted", unit="deg"),
+    ]
+    return results, all(t["passed"] for t in results if t["gating"])
+
+
+# ---------------------------------------------------------------------------------------------
+# plots
+# ---------------------------------------------------------------------------------------------
+
+def _figure(width, height):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    figure = Figure(figsize=(width, height), layout="constrained")
+    FigureCanvasAgg(figure)
+    return figure
+
+
+def _experiment_lines(axes, exp):
+    axes.plot(*exp["surface"], color="red", lw=1.6, label="experiment: free surface")
+    axes.plot(*exp["failure"], color="red", lw=1.4, ls="--",
+              label="experiment: failure surface")
+    axes.plot([0, COLUMN_WIDTH, COLUMN_WIDTH], [COLUMN_HEIGHT, COLUMN_HEIGHT, 0], color="0.4",
+              lw=1.0, ls=":", label="initial column")
+
+
+def plot_deposit(path, arrays, metrics, exp, title):
+    figure = _figure(9.0, 2.9)
+    axes = figure.add_subplot()
+    cloud = axes.scatter(arrays["x"], arrays["y"], c=arrays["moved"] * 100.0, s=0.5, lw=0,
+                         cmap="viridis", rasterized=True)
+    figure.colorbar(cloud, ax=axes, label="displacement [cm]", shrink=0.6,
+                    pad=0.01)
+    axes.plot(arrays["xc"], arrays["height"], color="black", lw=1.0, label="model: free surface")
+    axes.plot(arrays["xf"], arrays["yf"], color="orange", lw=1.2, ls="--",
+              label=f"model: failure surface (|u| < {STATIC_THRESHOLD * 1e3:g} mm)")
+    _experiment_lines(axes, exp)
+    axes.axvline(metrics["toe_m"], color="black", lw=0.6, ls="-.")
+    axes.text(metrics["toe_m"], 0.102, f"toe {metrics['toe_m']:.3f} m ", fontsize=7,
+              ha="right")
+    axes.set_xlim(0.0, max(0.5, min(arrays["length"], metrics["toe_m"] + 0.02)))
+    axes.set_ylim(0.0, 0.11)
+    axes.set_aspect("equal")
+    axes.set_xlabel("x [m]")
+    axes.set_ylabel("y [m]")
+    axes.set_title(title, fontsize=9)
+    figure.legend(*axes.get_legend_handles_labels(), fontsize=7, loc="outside lower center",
+                  ncol=3, frameon=False)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    figure.savefig(path, dpi=100)
+
+
+def plot_floors(path, surfaces, exp):
+    figure = _figure(9.0, 2.7)
+    axes = figure.add_subplot()
+    for (floor, (xc, height)), colour in zip(surfaces.items(), ("black", "tab:blue", "tab:green")):
+        axes.plot(xc, height, color=colour, lw=1.0, label=f"model, floor {floor}")
+    _experiment_lines(axes, exp)
+    right = max(float(xc[height > 0].max()) if np.any(height > 0) else 0.5
+                for xc, height in surfaces.values())
+    axes.set_xlim(0.0, max(0.5, right + 0.02))
+    axes.set_ylim(0.0, 0.11)
+    axes.set_aspect("equal")
+    axes.set_xlabel("x [m]")
+    axes.set_ylabel("y [m]")
+    axes.set_title("Bui et al. (2008), 5 mm cells: final free surface for three floor "
+                   "conditions", fontsize=9)
+    figure.legend(*axes.get_legend_handles_labels(), fontsize=7, loc="outside lower center",
+                  ncol=3, frameon=False)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    figure.savefig(path, dpi=100)
+
+
+# ---------------------------------------------------------------------------------------------
+# modes
+# ---------------------------------------------------------------------------------------------
+
+def write_json(path, data):
+    path.parent.mkdir(parents=True, exist_ok=True)
+
+    def clean(value):
+        if isinstance(value, float) and not math.isfinite(value):
+            return None
+        if isinstance(value, dict):
+            return {k: clean(v) for k, v in value.items()}
+        if isinstance(value, (list, tuple)):
+            return [clean(v) for v in value]
+        if isinstance(value, np.generic):
+            return clean(value.item())
+        return value
+
+    path.write_text(json.dumps(clean(data), indent=2) + "\n", encoding="utf-8")
+
+
+def _shown(value, unit):
+    if value is None or not math.isfinite(value):
+        return "n/a"
+    if unit == "mm":
+        return f"{value * 1e3:.1f} mm"
+    return f"{value:.4f} m" if unit == "m" else f"{value:.1f} {unit}"
+
+
+def print_table(results):
+    print(f"{'figure':<22} {'model':>10} {'experiment':>11}  {'band':<16} result")
+    for t in results:
+        state = "pass" if t["passed"] else ("FAIL" if t["gating"] else "outside (reported)")
+        reference = "-" if t["reference"] is None else _shown(t["reference"], t["unit"])
+        print(f"{t['name']:<22} {_shown(t['value'], t['unit']):>10} {reference:>11}  "
+              f"{t['band']:<16} {state}")
+
+
+def validate(args, case, coarse):
+    """Run (or read) one resolution and compare it; returns the exit code."""
+    exp = experiment()
+    tag = "coarse" if coarse else "full"
+    output = Path(args.output) if args.output else REPO / "outputs" / case["name"]
+    wall = None
+    if not args.no_run:
+        wall = run_case(args.exe, case, output, overwrite=args.output is None, quiet=args.quiet)
+    metrics, arrays = analyse(output, case, exp)
+    results, passed = compare(metrics, exp, case["domain"]["dx"], coarse)
+    resolution = f"{case['domain']['dx'] * 1e3:g} mm cells"
+    report = {
+        "case": "bui2008",
+        "title": "2D collapse of a column of aluminium bars (Bui et al. 2008)",
+        "resolution": tag,
+        "setup": setup_summary(case, metrics["particles"]),
+        "experiment": {"toe_m": exp["toe_m"], "height_at_wall_m": exp["height_at_wall_m"],
+                       "slip_angle_deg": exp["slip_angle_deg"],
+                       "source": "data/README.md"},
+        "metrics": metrics,
+        "targets": results,
+        "passed": passed,
+        "wall_time_s": wall,
+        "threads": os.environ.get("OMP_NUM_THREADS", str(os.cpu_count())),
+        "mpm_geo": exe_version(args.exe) if not args.no_run else None,
+        "output": _relative(output),
+        "static_threshold_m": STATIC_THRESHOLD,
+        "what_the_model_misses": WHAT_THE_MODEL_MISSES,
+    }
+    results_dir = Path(args.results)
+    suffix = "_coarse" if coarse else ""
+    png = results_dir / f"bui2008{suffix}.png"
+    report["plots"] = [png.name]
+    plot_deposit(png, arrays, metrics, exp,
+                 f"Bui et al. (2008) column collapse, {resolution}, t = {metrics['time_s']:.2f} s:"
+                 f" particles coloured by displacement")
+    write_json(results_dir / f"metrics{suffix}.json", report)
+    print_table(results)
+    print(f"toe of the deposit at least one cell thick: {metrics['toe_one_cell_thick_m']:.4f} m;"
+          f" volume change {metrics['volume_relative_change']:+.1%}; kinetic energy at the end"
+          f" / peak {metrics['kinetic_final_over_peak']}")
+    print(f"wrote {results_dir / f'metrics{suffix}.json'} and {png}")
+    print(f"bui2008 ({tag}): {'PASS' if passed else 'FAIL (a target is missed)'}")
+    return 0 if passed else 1
+
+
+def floors(args, case):
+    """Coarse runs with three floor conditions; informational, exit 0 unless a run fails."""
+    exp = experiment()
+    coarse = coarse_case(case)
+    base = Path(args.output) if args.output else REPO / "outputs"
+    rows, surfaces = {}, {}
+    for floor in FLOORS:
+        variant = with_floor(coarse, floor)
+        output = base / variant["name"]
+        wall = None
+        if not args.no_run:
+            wall = run_case(args.exe, variant, output, overwrite=args.output is None,
+                            quiet=True)
+        metrics, arrays = analyse(output, variant, exp)
+        results, _ = compare(metrics, exp, variant["domain"]["dx"], coarse=True)
+        rows[floor] = {"floor": describe_floor(variant), "metrics": metrics,
+                       "targets": results, "wall_time_s": wall}
+        surfaces[floor] = (arrays["xc"], arrays["height"])
+        print(f"floor {floor:<13} toe {metrics['toe_m']:.4f} m  wall "
+              f"{metrics['height_at_wall_m']:.4f} m  RMS {metrics['surface_rms_m'] * 1e3:.1f} mm"
+              f"  failure RMS {metrics['failure_rms_m'] * 1e3:.1f} mm"
+              f"  angle {metrics['slip_angle_deg']:.1f} deg"
+              + ("  (reaches the end wall)" if metrics["deposit_reaches_end_wall"] else ""))
+    results_dir = Path(args.results)
+    png = results_dir / "bui2008_floors.png"
+    plot_floors(png, surfaces, exp)
+    write_json(results_dir / "floors.json", {
+        "case": "bui2008", "resolution": "coarse", "dx_m": coarse["domain"]["dx"],
+        "note": "top face closed (sliding) in these runs so that material splashing up the end "
+                "wall stays in the grid; otherwise the coarse case",
+        "floors": rows, "plots": [png.name]})
+    print(f"wrote {results_dir / 'floors.json'} and {png}")
+    return 0
+
+
+def parse_args(argv):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    mode = parser.add_mutually_exclusive_group()
+    mode.add_argument("--coarse", action="store_true",
+                      help=f"run a copy with {COARSE_DX * 1e3:g} mm cells "
+                           "(toe regression band 40 %%)")
+    mode.add_argument("--floors", action="store_true",
+                      help="coarse runs with floor mu = tan(phi), fixed and frictionless")
+    parser.add_argument("--exe", default=str(REPO / "build" / "mpm_geo"),
+                        help="mpm_geo executable (default: build/mpm_geo)")
+    parser.add_argument("--output", default=None,
+                        help="output folder (default: outputs/bui2008[_coarse], overwritten); "
+                             "a folder given here must not exist (--floors: parent folder)")
+    parser.add_argument("--results", default=str(RESULTS),
+                        help="folder for metrics and plots (default: validation/bui2008/results)")
+    parser.add_argument("--no-run", action="store_true",
+                        help="analyse the existing output instead of running")
+    parser.add_argument("--quiet", action="store_true", help="no progress lines from mpm_geo")
+    return parser.parse_args(argv)
+
+
+def main(argv=None):
+    args = parse_args(argv)
+    if not args.no_run and not os.access(args.exe, os.X_OK):
+        print(f"check.py: executable not found: {args.exe} (make build)", file=sys.stderr)
+        return 2
+    case = load_case(CASE)
+    try:
+        if args.floors:
+            return floors(args, case)
+        return validate(args, coarse_case(case) if args.coarse else case, args.coarse)
+    except (OSError, ValueError, RuntimeError, KeyError) as exc:
+        print(f"check.py: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())
