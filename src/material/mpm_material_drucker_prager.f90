@@ -21,10 +21,11 @@
 !> state(2) = accumulated plastic volumetric strain, tension positive (dilation > 0) [-].
 module mpm_material_drucker_prager
     use mpm_kinds, only: wp
+    use mpm_softening, only: softening_weight
     use mpm_material, only: material_type
     use mpm_stress, only: jaumann_rotation, double_contraction
     use mpm_case, only: material_spec_type, cone_plane_strain, cone_compression, &
-        cone_extension, softening_none, softening_linear, softening_exponential
+        cone_extension, softening_none
     implicit none
     private
     public :: drucker_prager_material_type, new_drucker_prager_material, drucker_prager_cone
@@ -126,24 +127,7 @@ contains
 
         real(wp) :: w
 
-        ! w: fraction of the way from peak (0) to residual (1); a non-positive softening
-        ! strain means an immediate drop to the residual values at the first plastic strain
-        select case (self%softening)
-        case (softening_linear)
-            if (self%softening_strain > 0.0_wp) then
-                w = min(eps_q/self%softening_strain, 1.0_wp)
-            else
-                w = merge(1.0_wp, 0.0_wp, eps_q > 0.0_wp)
-            end if
-        case (softening_exponential)
-            if (self%softening_strain > 0.0_wp) then
-                w = 1.0_wp - exp(-eps_q/self%softening_strain)
-            else
-                w = merge(1.0_wp, 0.0_wp, eps_q > 0.0_wp)
-            end if
-        case default
-            w = 0.0_wp
-        end select
+        w = softening_weight(self%softening, self%softening_strain, eps_q)
         friction = self%friction + w*(self%friction_residual - self%friction)
         cohesion = self%cohesion + w*(self%cohesion_residual - self%cohesion)
         dilatancy = self%dilatancy + w*(self%dilatancy_residual - self%dilatancy)

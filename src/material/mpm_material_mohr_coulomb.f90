@@ -55,9 +55,10 @@
 !> state(2) = accumulated plastic volumetric strain, tension positive (dilation > 0) [-].
 module mpm_material_mohr_coulomb
     use mpm_kinds, only: wp
+    use mpm_softening, only: softening_weight
     use mpm_material, only: material_type
     use mpm_stress, only: jaumann_rotation
-    use mpm_case, only: material_spec_type, softening_linear, softening_exponential
+    use mpm_case, only: material_spec_type
     implicit none
     private
     public :: mohr_coulomb_material_type, new_mohr_coulomb_material
@@ -182,25 +183,7 @@ contains
 
         real(wp) :: w, sphi, cphi
 
-        ! w: fraction of the way from peak (0) to residual (1); a non-positive softening
-        ! strain means an immediate drop to the residual values at the first plastic strain
-        select case (self%softening)
-        case (softening_linear)
-            if (self%softening_strain > 0.0_wp) then
-                w = min(eps_q/self%softening_strain, 1.0_wp)
-            else
-                w = merge(1.0_wp, 0.0_wp, eps_q > 0.0_wp)
-            end if
-        case (softening_exponential)
-            if (self%softening_strain > 0.0_wp) then
-                ! exp(-700) ~ 1e-304: beyond that the decay is complete in double precision
-                w = 1.0_wp - exp(-min(eps_q/self%softening_strain, 700.0_wp))
-            else
-                w = merge(1.0_wp, 0.0_wp, eps_q > 0.0_wp)
-            end if
-        case default
-            w = 0.0_wp
-        end select
+        w = softening_weight(self%softening, self%softening_strain, eps_q)
         friction = self%friction + w*(self%friction_residual - self%friction)
         cohesion = self%cohesion + w*(self%cohesion_residual - self%cohesion)
         dilatancy = self%dilatancy + w*(self%dilatancy_residual - self%dilatancy)

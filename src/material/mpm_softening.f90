@@ -1,0 +1,44 @@
+!> Softening of strength parameters with the accumulated plastic shear strain, shared by the
+!> elasto-plastic materials.
+module mpm_softening
+    use mpm_kinds, only: wp
+    use mpm_case, only: softening_linear, softening_exponential
+    implicit none
+    private
+    public :: softening_weight
+
+contains
+
+    !> Fraction w of the way from the peak (0) to the residual value (1) of a strength
+    !> parameter, x = x_peak + w (x_residual - x_peak):
+    !> linear w = min(eps_q / eps_s, 1); exponential w = 1 - exp(-eps_q / eps_s); none w = 0.
+    !> A non-positive eps_s means an immediate drop to the residual values at the first plastic
+    !> strain.
+    pure real(wp) function softening_weight(law, softening_strain, eps_q) result(w)
+        integer, intent(in) :: law
+            !! softening_none, softening_linear or softening_exponential (mpm_case)
+        real(wp), intent(in) :: softening_strain
+            !! eps_s: strain at the residual (linear) or decay scale (exponential) [-]
+        real(wp), intent(in) :: eps_q
+            !! accumulated equivalent plastic shear strain [-]
+
+        select case (law)
+        case (softening_linear)
+            if (softening_strain > 0.0_wp) then
+                w = min(eps_q/softening_strain, 1.0_wp)
+            else
+                w = merge(1.0_wp, 0.0_wp, eps_q > 0.0_wp)
+            end if
+        case (softening_exponential)
+            if (softening_strain > 0.0_wp) then
+                ! exp(-700) ~ 1e-304: beyond that the decay is complete in double precision
+                w = 1.0_wp - exp(-min(eps_q/softening_strain, 700.0_wp))
+            else
+                w = merge(1.0_wp, 0.0_wp, eps_q > 0.0_wp)
+            end if
+        case default
+            w = 0.0_wp
+        end select
+    end function softening_weight
+
+end module mpm_softening
