@@ -60,6 +60,7 @@ program test_mpm_case
     call test_frictional_faces()
     call delete_file(state_file)
     call delete_file(case_file)
+    call check_neo_hookean_and_unstable()
     call finish(suite)
 
 contains
@@ -936,5 +937,33 @@ contains
         open (newunit=unit, file=path, status="old", iostat=stat, iomsg=msg)
         if (stat == 0) close (unit, status="delete")
     end subroutine delete_file
+
+    !> The neo-Hookean type and the explicit override of the stability checks.
+    subroutine check_neo_hookean_and_unstable()
+        type(case_type) :: case
+
+        call read_valid(soil_case('"type": "neo_hookean", '//elastic_part), case, &
+            "neo_hookean material")
+        if (allocated(case%materials)) then
+            call check(suite, case%materials(1)%type == "neo_hookean", "neo_hookean type kept")
+            call check_close(suite, case%materials(1)%young, 1.0e7_wp, tol*1.0e7_wp, &
+                "neo_hookean E")
+        end if
+        call expect_error(soil_case('"type": "neo_hookean", '//elastic_part//', "phi": 30'), &
+            [character(len=60) :: "unknown key 'materials[1].phi'"], "phi of a neo_hookean")
+        call expect_error(case_text(time='"time": {"tend": 0.1, "cfl": 2}'), &
+            [character(len=60) :: "time.cfl", "2"], "cfl above 1 without override")
+        call read_valid(case_text(time='"time": {"tend": 0.1, "cfl": 2, "allow_unstable": true}'), &
+            case, "cfl above 1 with allow_unstable")
+        call check(suite, case%allow_unstable .and. abs(case%cfl - 2.0_wp) < tol, &
+            "allow_unstable and cfl resolved")
+        call expect_error(case_text(time='"time": {"tend": 0.1, "dt": 0.01}'), &
+            [character(len=60) :: "time.dt", "critical time step", "allow_unstable"], &
+            "dt above critical names the override")
+        call read_valid(case_text(time='"time": {"tend": 0.1, "dt": 0.01, '// &
+            '"allow_unstable": true}'), case, "dt above critical with allow_unstable")
+        call expect_error(case_text(time='"time": {"tend": 0.1, "allow_unstable": 1}'), &
+            [character(len=60) :: "time.allow_unstable"], "allow_unstable must be a boolean")
+    end subroutine check_neo_hookean_and_unstable
 
 end program test_mpm_case
