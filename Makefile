@@ -16,7 +16,7 @@ PYTEST_DIRS      = $(wildcard postproc/tests tests/python)
 LINT_DIRS        = $(wildcard src app)
 
 .PHONY: help deps deps-paraview build run test test-fortran test-python check lint \
-        debug test-debug bench validate clean
+        debug test-debug bench study validate clean
 
 help:
 	@echo "mpm-geo make targets:"
@@ -29,6 +29,7 @@ help:
 	@echo "  make test-debug  run the CTest suite of the debug build"
 	@echo "  make check       Fortran linter (fortitude) on src/ and app/; 'make lint' is the same"
 	@echo "  make bench       run the benchmarks (bench/run_bench.sh)"
+	@echo "  make study       accuracy against cost (bench/run_study.sh -> docs/accuracy-vs-cost.md)"
 	@echo "  make validate    run the validation cases (validation/run_all.sh)"
 	@echo "  make clean       remove $(BUILD_DIR)/ and $(DEBUG_DIR)/ (outputs/ and $(VENV)/ are kept)"
 
@@ -93,6 +94,11 @@ bench: deps
 	else \
 	    echo "no benchmarks yet (bench/run_bench.sh is missing)"; \
 	fi
+
+# Accuracy against cost (bench/run_study.sh): writes docs/accuracy-vs-cost.md and its figures.
+study: deps
+	@$(MAKE) --no-print-directory build
+	bash bench/run_study.sh $(BUILD_DIR)
 
 validate: deps
 	@$(MAKE) --no-print-directory build
