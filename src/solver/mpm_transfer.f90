@@ -182,18 +182,15 @@ contains
             end if
             f(1:dim) = grid%fint(:, i) + grid%fext(:, i)
             v0(1:dim) = grid%momentum(:, i)/grid%mass(i)
-            if (any(grid%constrained(:, i))) then
-                ! the face takes the mapped momentum of the held components: that impulse
-                ! enters the acceleration, so the particles (FLIP update) feel the face too,
-                ! and its kinetic energy counts as removed
-                where (grid%constrained(:, i))
-                    grid%acceleration(:, i) = -v0(1:dim)/dt
-                    grid%momentum(:, i) = 0.0_wp
-                end where
-                dissipated = dissipated + 0.5_wp*grid%mass(i) &
-                    *sum(merge(v0(1:dim)**2, 0.0_wp, grid%constrained(:, i)))
-                where (grid%constrained(:, i)) v0(1:dim) = 0.0_wp
-            end if
+            ! Held components are zero in the nodal velocity of the start of the step as well as
+            ! of its end, so their acceleration is zero and the FLIP update leaves the particle
+            ! velocities beside a fixed or sliding face to the forces (as Uintah does). Putting
+            ! the removed mapped velocity into the acceleration instead makes the manufactured
+            ! solution less accurate (cpGIMP MUSL, 64 cells: 9.4e-5 m against 3.5e-5 m).
+            where (grid%constrained(:, i))
+                grid%momentum(:, i) = 0.0_wp
+                v0(1:dim) = 0.0_wp
+            end where
             if (damping == damping_local) then
                 fd(1:dim) = -alpha*abs(f(1:dim))*sign(1.0_wp, v0(1:dim))
                 where (v0(1:dim) == 0.0_wp) fd(1:dim) = 0.0_wp
@@ -202,11 +199,8 @@ contains
                 dissipated = dissipated - dt*sum(fd(1:dim)*(v0(1:dim) &
                     + 0.5_wp*dt*f(1:dim)/grid%mass(i)))
             end if
-            where (grid%constrained(:, i))
-                f(1:dim) = 0.0_wp
-            else where
-                grid%acceleration(:, i) = f(1:dim)/grid%mass(i)
-            end where
+            where (grid%constrained(:, i)) f(1:dim) = 0.0_wp
+            grid%acceleration(:, i) = f(1:dim)/grid%mass(i)
             grid%momentum(:, i) = grid%momentum(:, i) + dt*f(1:dim)
         end do
         call apply_contacts(grid, dt, contact_work)
