@@ -3,7 +3,7 @@ module mpm_strings
     use mpm_kinds, only: wp
     implicit none
     private
-    public :: vector_text
+    public :: vector_text, int_text
 
 contains
 
@@ -24,5 +24,18 @@ contains
             if (i < size(v)) text = text//", "
         end do
     end function vector_text
+
+    !> Decimal text of an integer, no blanks: "42".
+    pure function int_text(value) result(text)
+        integer, intent(in) :: value
+            !! the integer
+        character(len=:), allocatable :: text
+            !! its digits
+
+        character(len=24) :: buffer
+
+        write (buffer, "(i0)") value
+        text = trim(buffer)
+    end function int_text
 
 end module mpm_strings

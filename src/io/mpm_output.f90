@@ -7,6 +7,7 @@
 !> The layout of the files is described in docs/output.md.
 module mpm_output
     use mpm_kinds, only: wp
+    use mpm_strings, only: int_text
     use mpm_error, only: error_type, fatal_error, exit_other
     use mpm_case, only: case_type, nfields, field_displacement, field_velocity, field_stress, &
         field_strain, field_material, field_mass, field_volume, field_plastic_strain
@@ -589,16 +590,6 @@ contains
             units = "m3"
         end if
     end function volume_units
-
-    pure function int_text(value) result(text)
-        integer, intent(in) :: value
-        character(len=:), allocatable :: text
-
-        character(len=24) :: buffer
-
-        write (buffer, "(i0)") value
-        text = trim(buffer)
-    end function int_text
 
     !> A real with 17 significant digits (enough to read back the same double).
     pure function real_text(value) result(text)

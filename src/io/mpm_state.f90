@@ -7,6 +7,7 @@
 !> materials in another order or add new ones. The layout is described in docs/output.md.
 module mpm_state
     use mpm_kinds, only: wp
+    use mpm_strings, only: int_text
     use mpm_error, only: error_type, fatal_error, exit_other, exit_input
     use mpm_case, only: case_type
     use mpm_particles, only: particles_type, new_particles, nstress_of
@@ -513,16 +514,6 @@ contains
 
         message = "cannot load the state file '"//path//"': "//reason
     end function refusal
-
-    pure function int_text(value) result(text)
-        integer, intent(in) :: value
-        character(len=:), allocatable :: text
-
-        character(len=24) :: buffer
-
-        write (buffer, "(i0)") value
-        text = trim(buffer)
-    end function int_text
 
     pure function ints_text(values) result(text)
         integer, intent(in) :: values(:)

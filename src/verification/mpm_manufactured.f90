@@ -10,6 +10,7 @@
 !> rest. Errors: L2 = sqrt(mean_p (u_p - u(X_p, t))^2) and the maximum.
 module mpm_manufactured
     use mpm_kinds, only: wp
+    use mpm_strings, only: int_text
     use mpm_error, only: error_type
     use mpm_clock, only: wall_time
     use mpm_case, only: case_type, read_case_string
@@ -93,10 +94,10 @@ contains
         write (buf, "(es23.16)") dx
         buf = adjustl(buf)
         ! one extra cell on each side keeps the fixed ends on grid nodes inside the domain
-        call read_case_string('{"name": "mms", "domain": {"nx": '//itoa(ncells + 2)// &
+        call read_case_string('{"name": "mms", "domain": {"nx": '//int_text(ncells + 2)// &
             ', "ny": 1, "dx": '//trim(buf)//', "origin": [-'//trim(buf)//", 0], "// &
             '"boundaries": {"ymin": "sliding", "ymax": "sliding"}}, '// &
-            '"particles": {"ppc": '//itoa(ppc)//'}, "materials": [{"name": "m", '// &
+            '"particles": {"ppc": '//int_text(ppc)//'}, "materials": [{"name": "m", '// &
             '"type": "neo_hookean", "E": 1e4, "nu": 0, "rho": 1}], "bodies": [{"material": '// &
             '"m", "min": [0, 0], "max": [1, '//trim(buf)//']}], "solver": {"scheme": "'// &
             scheme//'", "shape_function": "'//shape//'"}, "time": {"tend": 1e3, "cfl": '// &
@@ -144,14 +145,6 @@ contains
                 - mms_displacement(x_ref, sim%time, amplitude)))
         end associate
     end subroutine run_manufactured
-
-    pure function itoa(i) result(text)
-        integer, intent(in) :: i
-        character(len=:), allocatable :: text
-        character(len=16) :: buf
-        write (buf, "(i0)") i
-        text = trim(buf)
-    end function itoa
 
     pure function real_text(x) result(text)
         real(wp), intent(in) :: x
