@@ -19,7 +19,7 @@ program test_mpm_output
     use mpm_output, only: output_writer_type, new_output_writer, write_output
     use mpm_state, only: save_state, load_state
     use mpm_filesystem, only: make_directory, directory_exists, file_exists, rename_file, &
-        remove_file, parent_directory
+        remove_file, parent_directory, c_string
     use mpm_hdf5, only: hdf5_location_type, hdf5_open_file, hdf5_write_attribute, hdf5_close
     use mpm_testing, only: test_suite_type, new_suite, check, check_close, check_contains, &
         finish
@@ -854,24 +854,12 @@ contains
         do i = 1, size(folders)
             path = root
             if (len_trim(folders(i)) > 0) path = root//"/"//trim(folders(i))
-            if (c_rmdir(c_path(path)) /= 0) then
+            if (c_rmdir(c_string(path)) /= 0) then
                 allocate (error)
                 error%message = "cannot remove the folder "//path
                 return
             end if
         end do
     end subroutine delete_tree
-
-    pure function c_path(text) result(c_text)
-        character(len=*), intent(in) :: text
-        character(kind=c_char) :: c_text(len(text) + 1)
-
-        integer :: i
-
-        do i = 1, len(text)
-            c_text(i) = text(i:i)
-        end do
-        c_text(len(text) + 1) = c_null_char
-    end function c_path
 
 end program test_mpm_output

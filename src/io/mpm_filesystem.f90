@@ -9,7 +9,7 @@ module mpm_filesystem
     implicit none
     private
     public :: make_directory, directory_exists, file_exists, rename_file, remove_file
-    public :: parent_directory
+    public :: parent_directory, c_string
 
     ! access(2) mode: test for existence only
     integer(c_int), parameter :: f_ok = 0_c_int

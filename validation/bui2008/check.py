@@ -26,7 +26,6 @@ import os
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -36,6 +35,7 @@ sys.path.insert(0, str(REPO / "postproc"))
 import numpy as np  # noqa: E402
 
 from mpm_post import list_outputs, load_history, load_particles  # noqa: E402
+from mpm_post.run import run_mpm_geo  # noqa: E402
 from mpm_post.profiles import (  # noqa: E402
     bin_edges, failure_surface, free_surface, height_at_wall, load_reference_profile,
     particle_half_size, rms_height_difference, slip_angle, toe_position)
@@ -166,19 +166,7 @@ def run_case(exe, case, output, overwrite, quiet):
     with tempfile.TemporaryDirectory(prefix="bui2008_") as tmp:
         case_path = Path(tmp) / f"{case['name']}.json"
         case_path.write_text(json.dumps(case, indent=2), encoding="utf-8")
-        command = [str(exe), str(case_path), "--output", str(output)]
-        if overwrite:
-            command.append("--overwrite")
-        if quiet:
-            command.append("--quiet")
-        print("running:", " ".join(command), flush=True)
-        start = time.perf_counter()
-        result = subprocess.run(command, cwd=REPO, check=False)
-        wall = time.perf_counter() - start
-    if result.returncode != 0:
-        raise RuntimeError(f"mpm_geo exited with code {result.returncode} on case "
-                           f"{case['name']} (output in {output})")
-    return wall
+        return run_mpm_geo(exe, case_path, output, overwrite, quiet, cwd=REPO)
 
 
 def exe_version(exe):

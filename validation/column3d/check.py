@@ -19,9 +19,7 @@ import argparse
 import json
 import math
 import os
-import subprocess
 import sys
-import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -31,6 +29,7 @@ sys.path.insert(0, str(REPO / "postproc"))
 import numpy as np  # noqa: E402
 
 from mpm_post import list_outputs, load_history, load_particles  # noqa: E402
+from mpm_post.run import run_mpm_geo  # noqa: E402
 from mpm_post.profiles import (  # noqa: E402
     bin_edges, free_surface, height_at_wall, particle_half_size, toe_position)
 
@@ -51,18 +50,7 @@ def _relative(path):
 
 
 def run_case(exe, output, overwrite, quiet):
-    command = [str(exe), str(CASE), "--output", str(output)]
-    if overwrite:
-        command.append("--overwrite")
-    if quiet:
-        command.append("--quiet")
-    print("running:", " ".join(command), flush=True)
-    start = time.perf_counter()
-    result = subprocess.run(command, cwd=REPO, check=False)
-    wall = time.perf_counter() - start
-    if result.returncode != 0:
-        raise RuntimeError(f"mpm_geo exited with code {result.returncode} (output in {output})")
-    return wall
+    return run_mpm_geo(exe, CASE, output, overwrite, quiet, cwd=REPO)
 
 
 def analyse(run_dir, case):

@@ -1,0 +1,25 @@
+"""Run the mpm_geo executable from Python (validation and study scripts)."""
+
+import subprocess
+import time
+
+
+def run_mpm_geo(exe, case_path, output, overwrite=False, quiet=False, cwd=None):
+    """Run ``exe case_path --output output`` and return its wall time [s].
+
+    ``overwrite`` adds ``--overwrite`` (only for a script's own output folder), ``quiet`` adds
+    ``--quiet``. Raises RuntimeError naming the exit code when mpm_geo fails.
+    """
+    command = [str(exe), str(case_path), "--output", str(output)]
+    if overwrite:
+        command.append("--overwrite")
+    if quiet:
+        command.append("--quiet")
+    print("running:", " ".join(command), flush=True)
+    start = time.perf_counter()
+    result = subprocess.run(command, cwd=cwd, check=False)
+    wall = time.perf_counter() - start
+    if result.returncode != 0:
+        raise RuntimeError(f"mpm_geo exited with code {result.returncode} on {case_path} "
+                           f"(output in {output})")
+    return wall
