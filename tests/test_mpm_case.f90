@@ -161,6 +161,7 @@ contains
             case, "valid 2D case")
         if (.not. allocated(case%bodies)) return
         call check(suite, case%dim == 2, "2D: dimension 2 without nz")
+        call check(suite, .not. case%fbar, "2D: no locking correction by default")
         call check(suite, all(case%ncells == [4, 2, 1]), "2D: ncells with nz = 1")
         call check_close(suite, case%dx, 0.1_wp, tol, "2D: dx")
         call check(suite, all(case%origin == 0.0_wp), "2D: origin defaults to zero")
@@ -209,7 +210,8 @@ contains
             //'"particles": {"ppc": 3, "distribution": "random", "seed": 7}, ' &
             //materials_2//', "bodies": [{"name": "b", "material": "rock", ' &
             //'"min": [1, 2, 3], "max": [2, 3.5, 5]}], "gravity": [0, 0, -9.81], ' &
-            //'"solver": {"scheme": "USL", "shape_function": "linear"}, ' &
+            //'"solver": {"scheme": "USL", "shape_function": "linear", ' &
+            //'"locking_correction": "FBar"}, ' &
             //'"time": {"tend": 1, "dt": 1e-5}, "damping": {"type": "local", "value": 0.05}, ' &
             //'"output": {"interval": 0, "fields": ["velocity", "stress"], "grid": true, ' &
             //'"directory": "out/cube", "overwrite": true}, "progress": {"interval": 0.5}, ' &
@@ -228,6 +230,7 @@ contains
         call check(suite, case%bodies(1)%material == 2, "3D: body uses material 2")
         call check(suite, case%scheme == scheme_usl .and. case%shape == shape_linear, &
             "3D: scheme and shape")
+        call check(suite, case%fbar, "3D: F-bar locking correction")
         call check_close(suite, case%dt, 1.0e-5_wp, tol*1.0e-5_wp, "3D: fixed dt")
         call check(suite, case%damping == damping_local, "3D: local damping")
         call check_close(suite, case%damping_value, 0.05_wp, tol, "3D: damping alpha")
@@ -630,6 +633,17 @@ contains
         call read_valid(soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30, ' &
             //'"c": 0, "tension_cutoff": 0, "softening": {"type": "none"}'), case, &
             "cohesionless soil with zero tension cutoff at the apex")
+        call check(suite, .not. case%materials(1)%separation, "MC: no separation by default")
+        call read_valid(soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30, ' &
+            //'"c": 2000, "tension_cutoff": 0, "separation": true'), case, &
+            "separation with c > 0 and a zero tension cutoff")
+        call read_valid(soil_case('"type": "drucker_prager", '//elastic_part//', "phi": 30, ' &
+            //'"separation": true'), case, "cohesionless Drucker-Prager with separation")
+        if (allocated(case%materials)) then
+            call check(suite, case%materials(1)%separation, "DP: separation read")
+            call check_contains(suite, case_summary(case), "cone plane_strain, separation", &
+                "summary: separation")
+        end if
         call read_valid(soil_case('"type": "Drucker_Prager", '//elastic_part//', "phi": 20, ' &
             //'"c": 5000, "psi": 20, "cone": "Compression", "softening": {"type": ' &
             //'"exponential", "c_residual": 500, "psi_residual": 10, "strain": 0.05}'), case, &
@@ -719,6 +733,14 @@ contains
     subroutine test_strength_errors()
         character(len=*), parameter :: mc = '"type": "mohr_coulomb", '//elastic_part//", "
 
+        call expect_error(soil_case(mc//'"phi": 30, "c": 10, "separation": true'), &
+            [character(len=200) :: "materials[1].separation = true needs a stress-free apex: " &
+            //"c = 10 Pa here; give c = 0 or tension_cutoff = 0"], "separation with cohesion")
+        call expect_error(soil_case(mc//'"phi": 30, "separation": 1'), &
+            [character(len=200) :: "materials[1].separation"], "separation not a boolean")
+        call expect_error(case_text(extra='"solver": {"locking_correction": "bbar"}'), &
+            [character(len=200) :: 'solver.locking_correction = "bbar" is not allowed: must ' &
+            //'be one of "none", "fbar"'], "unknown locking correction")
         call expect_error(soil_case(mc//'"phi": 90'), [character(len=200) :: &
             "materials[1].phi = 90 is out of range: must be >= 0 and < 90 [deg]"], "phi = 90")
         call expect_error(soil_case(mc//'"phi": -1'), [character(len=200) :: &

@@ -98,6 +98,10 @@ module mpm_case
         real(wp) :: tension_cutoff = -1.0_wp
             !! tensile strength: largest mean (DP) or principal (MC) stress allowed [Pa];
             !! negative when not given (then the apex of the cone, c / tan(phi), limits it)
+        logical :: separation = .false.
+            !! cohesionless separation: dilation at the stress-free apex opens the material,
+            !! and compression closes it again before any stress builds (MC and DP, c = 0 or
+            !! tension_cutoff = 0)
         integer :: softening = softening_none
             !! softening law of phi, c and psi with the plastic shear strain
         real(wp) :: friction_residual = 0.0_wp
@@ -167,6 +171,12 @@ module mpm_case
             !! update scheme
         integer :: shape = shape_cpgimp
             !! shape function
+        real(wp) :: flip_fraction = 1.0_wp
+            !! particle velocity update: this fraction FLIP (v_p + dt a), the rest PIC (the
+            !! nodal velocity interpolated) [-]
+        logical :: fbar = .false.
+            !! F-bar volumetric locking correction: the volume change of each step is averaged
+            !! over the particles of a cell (solver.locking_correction = "fbar")
         real(wp) :: dt = 0.0_wp
             !! fixed time step [s]; 0 when the CFL condition sets it
         real(wp) :: cfl = 0.5_wp

@@ -28,7 +28,7 @@ submodule (mpm_case) mpm_case_reader
     character(len=*), parameter :: elastic_keys(*) = [character(len=4) :: "name", "type", &
         "E", "nu", "rho"]
     character(len=*), parameter :: mohr_coulomb_keys(*) = [character(len=14) :: "name", &
-        "type", "E", "nu", "rho", "phi", "c", "psi", "tension_cutoff", "softening"]
+        "type", "E", "nu", "rho", "phi", "c", "psi", "tension_cutoff", "softening", "separation"]
     character(len=*), parameter :: drucker_prager_keys(*) = [character(len=14) :: &
         mohr_coulomb_keys, "cone"]
     character(len=*), parameter :: newtonian_keys(*) = [character(len=12) :: "name", "type", &
@@ -40,8 +40,8 @@ submodule (mpm_case) mpm_case_reader
         "phi_residual", "c_residual", "psi_residual", "strain"]
     character(len=*), parameter :: body_keys(*) = [character(len=8) :: "name", "material", &
         "min", "max", "velocity"]
-    character(len=*), parameter :: solver_keys(*) = [character(len=14) :: "scheme", &
-        "shape_function"]
+    character(len=*), parameter :: solver_keys(*) = [character(len=18) :: "scheme", &
+        "shape_function", "locking_correction", "flip_fraction"]
     character(len=*), parameter :: time_keys(*) = [character(len=14) :: "tend", "dt", "cfl", &
         "allow_unstable"]
     character(len=*), parameter :: damping_keys(*) = [character(len=5) :: "type", "value"]
@@ -175,7 +175,11 @@ contains
         end if
         text = text//"gravity     "//fmt_vector(case%gravity(1:dim))//" m/s2"//nl
         text = text//"solver      scheme "//trim(scheme_names(case%scheme))//", shape function " &
-            //trim(shape_names(case%shape))//nl
+            //trim(shape_names(case%shape))
+        if (case%fbar) text = text//", F-bar locking correction"
+        if (case%flip_fraction < 1.0_wp) text = text//", velocity update " &
+            //fmt_real(case%flip_fraction)//" FLIP + "//fmt_real(1.0_wp - case%flip_fraction)//" PIC"
+        text = text//nl
         line = "time        tend = "//fmt_real(case%tend)//" s, "
         if (case%dt > 0.0_wp) then
             line = line//"dt = "//fmt_real(case%dt)//" s (fixed)"
@@ -675,6 +679,14 @@ contains
         mat%cohesion = c
         mat%dilatancy = psi*degree
         mat%tension_cutoff = cutoff
+        call get_bool(item, "separation", path, src, mat%separation, error)
+        if (allocated(error)) return
+        if (mat%separation .and. c > 0.0_wp .and. cutoff /= 0.0_wp) then
+            call input_error(error, src, path//".separation = true needs a stress-free apex: " &
+                //"c = "//fmt_real(c)//" Pa here; give c = 0 or tension_cutoff = 0, or set " &
+                //"separation to false")
+            return
+        end if
         call read_softening(item, path, src, phi, c, psi, mat, error)
         if (allocated(error)) return
         if (model == model_drucker_prager) then
@@ -1003,6 +1015,7 @@ contains
 
         type(json_value_type) :: solver
         logical :: found
+        integer :: choice
 
         call get_section(root, "solver", "", src, solver_keys, solver, error, found=found)
         if (allocated(error) .or. .not. found) return
@@ -1012,6 +1025,14 @@ contains
         call get_choice(solver, "shape_function", "solver", src, &
             [character(len=6) :: shape_names, "gimp"], [shape_linear, shape_cpgimp, shape_cpgimp], &
             case%shape, error)
+        if (allocated(error)) return
+        choice = merge(1, 0, case%fbar)
+        call get_choice(solver, "locking_correction", "solver", src, &
+            [character(len=4) :: "none", "fbar"], [0, 1], choice, error)
+        case%fbar = choice == 1
+        if (allocated(error)) return
+        call get_real(solver, "flip_fraction", "solver", src, case%flip_fraction, error, &
+            at_least=0.0_wp, at_most=1.0_wp, unit="-")
     end subroutine read_solver
 
     !> `time`: end time and either a fixed step or a CFL factor.
@@ -1840,6 +1861,7 @@ contains
             line = line//"at the apex"
         end if
         if (mat%type == "drucker_prager") line = line//", cone "//trim(cone_names(mat%cone))
+        if (mat%separation) line = line//", separation"
         text = text//line//nl
         if (mat%softening == softening_none) then
             text = text//"    no softening"//nl

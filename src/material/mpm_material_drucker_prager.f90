@@ -18,10 +18,12 @@
 !>
 !> State of a particle: state(1) = accumulated equivalent plastic shear strain
 !> eps_q = sum sqrt(2/3 de_p : de_p) (de_p the deviatoric plastic strain increment) [-],
-!> state(2) = accumulated plastic volumetric strain, tension positive (dilation > 0) [-].
+!> state(2) = accumulated plastic volumetric strain, tension positive (dilation > 0) [-];
+!> with `separation` (see `mpm_separation`), state(3) = opening strain [-].
 module mpm_material_drucker_prager
     use mpm_kinds, only: wp
     use mpm_softening, only: softening_weight
+    use mpm_separation, only: close_opening
     use mpm_material, only: material_type
     use mpm_stress, only: jaumann_rotation, double_contraction
     use mpm_case, only: material_spec_type, cone_plane_strain, cone_compression, &
@@ -65,6 +67,8 @@ module mpm_material_drucker_prager
             !! largest mean stress allowed [Pa]; negative: the apex of the cone
         integer :: cone = cone_plane_strain
             !! cone matched to Mohr-Coulomb (`cone_*` of `mpm_case`)
+        logical :: separation = .false.
+            !! cohesionless separation (state(3) = opening strain)
     contains
         procedure :: update_stress => drucker_prager_update_stress
             !! exact return mapping of one particle over one step
@@ -100,13 +104,15 @@ contains
         mat%softening_strain = spec%softening_strain
         mat%tension_cutoff = spec%tension_cutoff
         mat%cone = spec%cone
+        mat%separation = spec%separation
     end subroutine new_drucker_prager_material
 
-    !> Two state values per particle: eps_q and the plastic volumetric strain.
+    !> Two state values per particle, eps_q and the plastic volumetric strain, and with
+    !> separation a third, the opening strain.
     pure integer function drucker_prager_nstate(self)
         class(drucker_prager_material_type), intent(in) :: self
             !! the material
-        drucker_prager_nstate = 2
+        drucker_prager_nstate = merge(3, 2, self%separation)
     end function drucker_prager_nstate
 
     !> Friction, cohesion and dilatancy after the plastic shear strain eps_q.
@@ -216,19 +222,28 @@ contains
         real(wp), intent(in) :: dt
             !! time step [s] (unused: rate independent)
         real(wp), intent(inout) :: state(:)
-            !! state(1) eps_q [-], state(2) plastic volumetric strain [-]
+            !! state(1) eps_q [-], state(2) plastic volumetric strain [-], with separation
+            !! state(3) opening strain [-]
 
         real(wp) :: friction, cohesion, dilatancy, alpha, k, alpha_psi
         real(wp) :: sigma_t, rho_c, m_tr, rho_tr, f_tr, m, rho, dl1, dl2
-        real(wp) :: dev(size(stress))
-        logical :: cutoff
+        real(wp) :: dev(size(stress)), de(size(dstrain))
+        logical :: cutoff, open
 
         call self%strength(state(1), friction, cohesion, dilatancy)
         call drucker_prager_cone(self%cone, friction, cohesion, dilatancy, alpha, k, alpha_psi)
 
+        de = dstrain
+        if (self%separation) then
+            call close_opening(de, state(3), state(1), open)
+            if (open) then
+                stress = 0.0_wp
+                return
+            end if
+        end if
         ! elastic trial stress from the rotated stress of the start of the step
-        stress = stress + jaumann_rotation(stress, omega) + 2.0_wp*self%shear*dstrain
-        stress(1:3) = stress(1:3) + self%lame*(dstrain(1) + dstrain(2) + dstrain(3))
+        stress = stress + jaumann_rotation(stress, omega) + 2.0_wp*self%shear*de
+        stress(1:3) = stress(1:3) + self%lame*(de(1) + de(2) + de(3))
 
         ! tension limit on the mean stress (none for a cylinder without a given cut-off)
         cutoff = alpha > 0.0_wp .or. self%tension_cutoff >= 0.0_wp
@@ -283,6 +298,11 @@ contains
         ! de_p = dl1 s/(2 rho): |de_p| = dl1/sqrt(2), so d eps_q = sqrt(2/3) |de_p| = dl1/sqrt(3)
         state(1) = state(1) + dl1/sqrt3
         state(2) = state(2) + alpha_psi*dl1 + dl2
+        ! separation: a return to the stress-free apex opens the material by its dilation
+        if (self%separation .and. rho <= 0.0_wp .and. m == 0.0_wp) then
+            state(3) = state(3) + alpha_psi*dl1 + dl2
+            stress = 0.0_wp
+        end if
     end subroutine drucker_prager_update_stress
 
 end module mpm_material_drucker_prager

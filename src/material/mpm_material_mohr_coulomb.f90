@@ -53,9 +53,12 @@
 !> State of a particle: state(1) = accumulated equivalent plastic shear strain
 !> eps_q = sum sqrt(2/3 de_p : de_p) (de_p the deviatoric plastic strain increment) [-],
 !> state(2) = accumulated plastic volumetric strain, tension positive (dilation > 0) [-].
+!>
+!> With `separation` (see `mpm_separation`), state(3) = opening strain [-].
 module mpm_material_mohr_coulomb
     use mpm_kinds, only: wp
     use mpm_softening, only: softening_weight
+    use mpm_separation, only: close_opening
     use mpm_material, only: material_type
     use mpm_stress, only: jaumann_rotation
     use mpm_case, only: material_spec_type
@@ -115,6 +118,8 @@ module mpm_material_mohr_coulomb
             !! scale eta_0 [-]
         real(wp) :: tension_cutoff = -1.0_wp
             !! largest principal stress allowed [Pa]; negative: not given (the apex limits it)
+        logical :: separation = .false.
+            !! cohesionless separation (state(3) = opening strain)
     contains
         procedure :: update_stress => mohr_coulomb_update_stress
             !! exact return mapping of one particle over one step
@@ -148,13 +153,15 @@ contains
         mat%softening = spec%softening
         mat%softening_strain = spec%softening_strain
         mat%tension_cutoff = spec%tension_cutoff
+        mat%separation = spec%separation
     end subroutine new_mohr_coulomb_material
 
-    !> Two state values per particle: eps_q and the plastic volumetric strain.
+    !> Two state values per particle, eps_q and the plastic volumetric strain, and with
+    !> separation a third, the opening strain.
     pure integer function mohr_coulomb_nstate(self)
         class(mohr_coulomb_material_type), intent(in) :: self
             !! the material
-        mohr_coulomb_nstate = 2
+        mohr_coulomb_nstate = merge(3, 2, self%separation)
     end function mohr_coulomb_nstate
 
     !> Friction, cohesion, dilatancy and tensile strength after the plastic shear strain eps_q.
@@ -226,17 +233,26 @@ contains
         real(wp), intent(in) :: dt
             !! time step [s] (unused: rate independent)
         real(wp), intent(inout) :: state(:)
-            !! state(1) = eps_q [-], state(2) = plastic volumetric strain [-]
+            !! state(1) = eps_q [-], state(2) = plastic volumetric strain [-], with separation
+            !! state(3) = opening strain [-]
 
-        real(wp) :: friction, cohesion, dilatancy, tension, dvol
+        real(wp) :: friction, cohesion, dilatancy, tension, dvol, de(size(dstrain)), dplastic
         real(wp) :: p(3), ps(3), dp(3), vec(3, 3), cos2, sin2, dev(3)
         integer :: order(3)
-        logical :: cutoff, plastic
+        logical :: cutoff, plastic, open
 
         call self%strength(state(1), friction, cohesion, dilatancy, tension, cutoff)
 
-        dvol = dstrain(1) + dstrain(2) + dstrain(3)
-        stress = stress + jaumann_rotation(stress, omega) + 2.0_wp*self%shear*dstrain
+        de = dstrain
+        if (self%separation) then
+            call close_opening(de, state(3), state(1), open)
+            if (open) then
+                stress = 0.0_wp
+                return
+            end if
+        end if
+        dvol = de(1) + de(2) + de(3)
+        stress = stress + jaumann_rotation(stress, omega) + 2.0_wp*self%shear*de
         stress(1:3) = stress(1:3) + self%lame*dvol
 
         if (size(stress) == 4) then
@@ -269,7 +285,14 @@ contains
         ! plastic strain D^-1 (sigma_trial - sigma), coaxial with the stress
         dev = (dp - sum(dp)/3.0_wp)/(2.0_wp*self%shear)
         state(1) = state(1) + sqrt(2.0_wp/3.0_wp*sum(dev**2))
-        state(2) = state(2) + sum(dp)/(3.0_wp*self%lame + 2.0_wp*self%shear)
+        dplastic = sum(dp)/(3.0_wp*self%lame + 2.0_wp*self%shear)
+        state(2) = state(2) + dplastic
+        ! separation: a return to the stress-free apex opens the material by its dilation
+        if (self%separation .and. dplastic > 0.0_wp .and. &
+            all(abs(ps) <= tol_candidate*maxval(abs(p)))) then
+            state(3) = state(3) + dplastic
+            stress = 0.0_wp
+        end if
     end subroutine mohr_coulomb_update_stress
 
     !> Return of ordered principal stresses s1 >= s2 >= s3 to the pyramid and the cut-off.

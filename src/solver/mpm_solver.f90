@@ -167,22 +167,28 @@ contains
         scheme = sim%case%scheme
         call reset_grid(sim%grid)
         if (scheme == scheme_usf) then
-            call p2g(sim%grid, sim%particles, sim%shape, sim%case%gravity, .true., .false.)
+            call p2g(sim%grid, sim%particles, sim%shape, sim%case%gravity, .true., .false., &
+                sim%case%fbar)
             call nodal_velocity(sim%grid)
-            call update_stress(sim%grid, sim%particles, sim%shape, sim%materials, dt, work)
-            call p2g(sim%grid, sim%particles, sim%shape, sim%case%gravity, .false., .true.)
+            call update_stress(sim%grid, sim%particles, sim%shape, sim%materials, dt, &
+                sim%case%fbar, work)
+            call p2g(sim%grid, sim%particles, sim%shape, sim%case%gravity, .false., .true., &
+                sim%case%fbar)
         else
-            call p2g(sim%grid, sim%particles, sim%shape, sim%case%gravity, .true., .true.)
+            call p2g(sim%grid, sim%particles, sim%shape, sim%case%gravity, .true., .true., &
+                sim%case%fbar)
         end if
         call integrate_nodes(sim%grid, dt, sim%case%damping, sim%case%damping_value, &
             damping_work)
-        call g2p(sim%grid, sim%particles, sim%shape, dt, sim%dxp)
+        call g2p(sim%grid, sim%particles, sim%shape, dt, sim%case%flip_fraction, sim%dxp)
         select case (scheme)
         case (scheme_usl)
-            call update_stress(sim%grid, sim%particles, sim%shape, sim%materials, dt, work)
+            call update_stress(sim%grid, sim%particles, sim%shape, sim%materials, dt, &
+                sim%case%fbar, work)
         case (scheme_musl)
             call remap_momentum(sim%grid, sim%particles, sim%shape)
-            call update_stress(sim%grid, sim%particles, sim%shape, sim%materials, dt, work)
+            call update_stress(sim%grid, sim%particles, sim%shape, sim%materials, dt, &
+                sim%case%fbar, work)
         case default
             continue ! USF: the stress was updated before the momentum
         end select

@@ -42,7 +42,7 @@ contains
     !> Scatter particle mass, momentum and gravity (and the internal force when asked).
     !>
     !> f_int,i = - sum_p V_p sigma_p . grad N_i(x_p); in 2D only the in-plane components.
-    subroutine p2g(grid, particles, shape, gravity, with_mass, with_fint)
+    subroutine p2g(grid, particles, shape, gravity, with_mass, with_fint, fbar)
         type(grid_type), intent(inout) :: grid
             !! grid receiving the nodal sums
         type(particles_type), intent(in) :: particles
@@ -55,12 +55,30 @@ contains
             !! scatter mass, momentum and external force
         logical, intent(in) :: with_fint
             !! scatter the internal force
+        logical, intent(in) :: fbar
+            !! F-bar: the internal force takes the pressure of each particle as the mean of its
+            !! cell, the counterpart of the cell-averaged volume change of `update_stress`
 
         integer :: p, c, id, dim
         type(stencil_type) :: st
-        real(wp) :: w, mw, f(3)
+        real(wp) :: w, mw, f(3), s(6)
+        real(wp), allocatable :: cell_pv(:), cell_v(:)
 
         dim = grid%dim
+        if (with_fint .and. fbar) then
+            ! the stress power sum_p V_p p_p (mean of dJ over the cell) equals
+            ! sum_q V_q (mean of V p over the cell) tr(L_q): the force that does the work of
+            ! the averaged strains uses the averaged pressure
+            allocate (cell_pv(product(grid%ncells)), cell_v(product(grid%ncells)))
+            cell_pv = 0.0_wp
+            cell_v = 0.0_wp
+            do p = 1, particles%n
+                c = cell_of(grid, particles%x(:, p))
+                cell_pv(c) = cell_pv(c) + particles%volume(p)*sum(particles%stress(1:3, p))/3.0_wp
+                cell_v(c) = cell_v(c) + particles%volume(p)
+            end do
+            where (cell_v > 0.0_wp) cell_pv = cell_pv/cell_v
+        end if
         do p = 1, particles%n
             call shape%evaluate(grid, particles%x(:, p), particles%lp(:, p), st)
             do c = 1, st%count
@@ -74,7 +92,12 @@ contains
                     if (allocated(particles%body_force)) grid%fext(:, id) = grid%fext(:, id) &
                         + mw*particles%body_force(:, p)
                 end if
-                if (with_fint) then
+                if (with_fint .and. fbar) then
+                    s(1:particles%nstress) = particles%stress(:, p)
+                    s(1:3) = s(1:3) + cell_pv(cell_of(grid, particles%x(:, p))) - sum(s(1:3))/3.0_wp
+                    call internal_force(s(1:particles%nstress), st%dw(:, c), dim, f)
+                    grid%fint(:, id) = grid%fint(:, id) - particles%volume(p)*f(1:dim)
+                else if (with_fint) then
                     call internal_force(particles%stress(:, p), st%dw(:, c), dim, f)
                     grid%fint(:, id) = grid%fint(:, id) - particles%volume(p)*f(1:dim)
                 end if
@@ -281,7 +304,7 @@ contains
     !> Gather nodal accelerations and velocities: v_p += dt sum N_i a_i (FLIP), and the
     !> position increment dx_p = dt sum N_i v_i, applied later by move_particles so that every
     !> pass of a step uses the shape functions at the start-of-step positions.
-    subroutine g2p(grid, particles, shape, dt, dxp)
+    subroutine g2p(grid, particles, shape, dt, flip, dxp)
         type(grid_type), intent(in) :: grid
             !! grid after the nodal update
         type(particles_type), intent(inout) :: particles
@@ -290,6 +313,8 @@ contains
             !! shape function
         real(wp), intent(in) :: dt
             !! time step [s]
+        real(wp), intent(in) :: flip
+            !! FLIP fraction of the velocity update (1: FLIP, 0: PIC) [-]
         real(wp), intent(out) :: dxp(:, :)
             !! position increment of each particle (dim, n) [m]
 
@@ -299,7 +324,7 @@ contains
 
         dim = grid%dim
         !$omp parallel do default(none) schedule(static) &
-        !$omp shared(grid, particles, shape, dt, dim, dxp) private(p, c, st, a, v)
+        !$omp shared(grid, particles, shape, dt, flip, dim, dxp) private(p, c, st, a, v)
         do p = 1, particles%n
             call shape%evaluate(grid, particles%x(:, p), particles%lp(:, p), st)
             a = 0.0_wp
@@ -308,7 +333,12 @@ contains
                 a(1:dim) = a(1:dim) + st%w(c)*grid%acceleration(:, st%node(c))
                 v(1:dim) = v(1:dim) + st%w(c)*grid%velocity(:, st%node(c))
             end do
-            particles%v(:, p) = particles%v(:, p) + dt*a(1:dim)
+            if (flip < 1.0_wp) then
+                particles%v(:, p) = flip*(particles%v(:, p) + dt*a(1:dim)) &
+                    + (1.0_wp - flip)*v(1:dim)
+            else
+                particles%v(:, p) = particles%v(:, p) + dt*a(1:dim)
+            end if
             dxp(:, p) = dt*v(1:dim)
         end do
         !$omp end parallel do
@@ -406,11 +436,16 @@ contains
     !>
     !> L = sum_i v_i (x) grad N_i; strain increment D dt, spin W dt; F <- (I + L dt) F;
     !> V = det(F) V0; GIMP half-sizes lp = lp0 F_aa (contiguous particle GIMP). Returns the
-    !> work of the stresses over the step (strain energy increment).
+    !> work of the stresses over the step (strain energy increment). Like every pass of a
+    !> step, it evaluates the shape functions at the start-of-step positions.
     !>
-    !> Like every pass of a step, it evaluates the shape functions at the start-of-step
-    !> positions (particles move at the end of the step).
-    subroutine update_stress(grid, particles, shape, materials, dt, strain_work)
+    !> With `fbar`, the volumetric part of each increment is replaced by the mean of the cell
+    !> the particle is in (F-bar: dF_bar = (dJ_cell / dJ_p)^(1/dim) dF_p, with dJ_cell the
+    !> volume-weighted mean of dJ over the particles of the cell). Nearly isochoric plastic
+    !> flow (Mohr-Coulomb with psi = 0) otherwise locks on the low-order shape functions and
+    !> leaves a checkerboard of pressures, and with it of strengths, between the particles of
+    !> a cell (Coombs et al. 2018; Wyser et al. 2021 average the pressure per cell).
+    subroutine update_stress(grid, particles, shape, materials, dt, fbar, strain_work)
         type(grid_type), intent(in) :: grid
             !! grid with nodal velocities
         type(particles_type), intent(inout) :: particles
@@ -421,40 +456,74 @@ contains
             !! materials of the case
         real(wp), intent(in) :: dt
             !! time step [s]
+        logical, intent(in) :: fbar
+            !! average the volume change of the step per cell
         real(wp), intent(out) :: strain_work
             !! sum_p V_p sigma_mid : d_eps [J] (per metre in 2D)
 
-        integer :: p, c, dim, ns, a
-        type(stencil_type) :: st
-        real(wp) :: gradv(3, 3), de(6), omega(3), sold(6), dF(3, 3), jac
+        integer :: p, dim, ns, a
+        real(wp) :: gradv(3, 3), ldt(3, 3), de(6), omega(3), sold(6), dF(3, 3), jac, scale
+        real(wp), allocatable :: grads(:, :, :), cell_old(:), cell_new(:)
+        integer, allocatable :: cell(:)
 
         dim = grid%dim
         ns = particles%nstress
         strain_work = 0.0_wp
-        !$omp parallel do default(none) schedule(static) &
-        !$omp shared(grid, particles, shape, materials, dt, dim, ns) &
-        !$omp private(p, c, st, gradv, de, omega, sold, dF, jac, a) reduction(+: strain_work)
-        do p = 1, particles%n
-            call shape%evaluate(grid, particles%x(:, p), particles%lp(:, p), st)
-            gradv = 0.0_wp
-            do c = 1, st%count
-                do a = 1, dim
-                    gradv(1:dim, a) = gradv(1:dim, a) + grid%velocity(:, st%node(c))*st%dw(a, c)
-                end do
+        if (fbar) then
+            allocate (grads(3, 3, particles%n), cell(particles%n))
+            allocate (cell_old(product(grid%ncells)), cell_new(product(grid%ncells)))
+            !$omp parallel do default(none) schedule(static) &
+            !$omp shared(grid, particles, shape, dim, grads, cell) private(p)
+            do p = 1, particles%n
+                grads(:, :, p) = velocity_gradient(grid, shape, particles%x(:, p), &
+                    particles%lp(:, p))
+                cell(p) = cell_of(grid, particles%x(:, p))
             end do
-            ! gradv(i, j) = d v_i / d x_j
+            !$omp end parallel do
+            cell_old = 0.0_wp
+            cell_new = 0.0_wp
+            do p = 1, particles%n   ! serial: a fixed order of the sums
+                dF = increment(grads(:, :, p), dt, dim)
+                cell_old(cell(p)) = cell_old(cell(p)) + particles%volume(p)
+                cell_new(cell(p)) = cell_new(cell(p)) &
+                    + particles%volume(p)*determinant(dF, dim)
+            end do
+        end if
+        !$omp parallel do default(none) schedule(static) &
+        !$omp shared(grid, particles, shape, materials, dt, dim, ns, fbar, grads, cell, &
+        !$omp cell_old, cell_new) &
+        !$omp private(p, gradv, ldt, de, omega, sold, dF, jac, a, scale) reduction(+: strain_work)
+        do p = 1, particles%n
+            if (fbar) then
+                gradv = grads(:, :, p)
+            else
+                gradv = velocity_gradient(grid, shape, particles%x(:, p), particles%lp(:, p))
+            end if
+            ! gradv(i, j) = d v_i / d x_j; ldt = dt gradv, dF = I + ldt
+            ldt = dt*gradv
+            if (fbar) then
+                dF = increment(gradv, dt, dim)
+                jac = determinant(dF, dim)
+                if (jac > 0.0_wp .and. cell_new(cell(p)) > 0.0_wp) then
+                    scale = (cell_new(cell(p))/(cell_old(cell(p))*jac))**(1.0_wp/dim)
+                    ldt(1:dim, 1:dim) = scale*dF(1:dim, 1:dim)
+                    do a = 1, dim
+                        ldt(a, a) = ldt(a, a) - 1.0_wp
+                    end do
+                end if
+            end if
             de = 0.0_wp
             omega = 0.0_wp
-            de(1) = gradv(1, 1)*dt
-            de(2) = gradv(2, 2)*dt
-            de(3) = gradv(3, 3)*dt
-            de(4) = 0.5_wp*(gradv(1, 2) + gradv(2, 1))*dt
-            omega(1) = 0.5_wp*(gradv(1, 2) - gradv(2, 1))*dt
+            de(1) = ldt(1, 1)
+            de(2) = ldt(2, 2)
+            de(4) = 0.5_wp*(ldt(1, 2) + ldt(2, 1))
+            omega(1) = 0.5_wp*(ldt(1, 2) - ldt(2, 1))
             if (dim == 3) then
-                de(5) = 0.5_wp*(gradv(2, 3) + gradv(3, 2))*dt
-                de(6) = 0.5_wp*(gradv(3, 1) + gradv(1, 3))*dt
-                omega(2) = 0.5_wp*(gradv(2, 3) - gradv(3, 2))*dt
-                omega(3) = 0.5_wp*(gradv(3, 1) - gradv(1, 3))*dt
+                de(3) = ldt(3, 3)
+                de(5) = 0.5_wp*(ldt(2, 3) + ldt(3, 2))
+                de(6) = 0.5_wp*(ldt(3, 1) + ldt(1, 3))
+                omega(2) = 0.5_wp*(ldt(2, 3) - ldt(3, 2))
+                omega(3) = 0.5_wp*(ldt(3, 1) - ldt(1, 3))
             end if
             sold(1:ns) = particles%stress(:, p)
             call materials(particles%material(p))%m%update_stress(particles%stress(:, p), &
@@ -465,7 +534,7 @@ contains
             do a = 1, dim
                 dF(a, a) = 1.0_wp
             end do
-            dF(1:dim, 1:dim) = dF(1:dim, 1:dim) + dt*gradv(1:dim, 1:dim)
+            dF(1:dim, 1:dim) = dF(1:dim, 1:dim) + ldt(1:dim, 1:dim)
             particles%f(:, :, p) = matmul(dF(1:dim, 1:dim), particles%f(:, :, p))
             jac = determinant(particles%f(:, :, p), dim)
             particles%volume(p) = jac*particles%volume0(p)
@@ -477,6 +546,58 @@ contains
         end do
         !$omp end parallel do
     end subroutine update_stress
+
+    !> Velocity gradient L(i, j) = d v_i / d x_j at a particle from the nodal velocities.
+    function velocity_gradient(grid, shape, x, lp) result(gradv)
+        type(grid_type), intent(in) :: grid
+            !! grid with nodal velocities
+        class(shape_type), intent(in) :: shape
+            !! shape function
+        real(wp), intent(in) :: x(:), lp(:)
+            !! particle position [m] and half size [m]
+        real(wp) :: gradv(3, 3)
+
+        type(stencil_type) :: st
+        integer :: c, a
+
+        call shape%evaluate(grid, x, lp, st)
+        gradv = 0.0_wp
+        do c = 1, st%count
+            do a = 1, grid%dim
+                gradv(1:grid%dim, a) = gradv(1:grid%dim, a) + grid%velocity(:, st%node(c))*st%dw(a, c)
+            end do
+        end do
+    end function velocity_gradient
+
+    !> Deformation gradient increment I + dt L (the identity outside the first dim axes).
+    pure function increment(gradv, dt, dim) result(dF)
+        real(wp), intent(in) :: gradv(3, 3), dt
+        integer, intent(in) :: dim
+        real(wp) :: dF(3, 3)
+        integer :: a
+        dF = 0.0_wp
+        do a = 1, 3
+            dF(a, a) = 1.0_wp
+        end do
+        dF(1:dim, 1:dim) = dF(1:dim, 1:dim) + dt*gradv(1:dim, 1:dim)
+    end function increment
+
+    !> Linear index of the grid cell holding position x (clamped to the grid).
+    pure integer function cell_of(grid, x)
+        type(grid_type), intent(in) :: grid
+            !! the grid
+        real(wp), intent(in) :: x(:)
+            !! position [m]
+        integer :: a, i, stride
+        cell_of = 1
+        stride = 1
+        do a = 1, grid%dim
+            i = int(floor((x(a) - grid%origin(a))/grid%dx))
+            i = min(max(i, 0), grid%ncells(a) - 1)
+            cell_of = cell_of + i*stride
+            stride = stride*grid%ncells(a)
+        end do
+    end function cell_of
 
     !> Unit vector along axis a.
     pure function unit(a, dim) result(e)
