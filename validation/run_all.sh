@@ -20,7 +20,7 @@ python=.venv/bin/python
 # Runs besides the default one, per case: informational runs, whose exit code 1 (a band
 # missed) is not a failure of the validation (the coarse copy has its own CTest test).
 declare -A extra_runs=(
-    [bui2008]="--coarse --floors"
+    [bui2008]="--coarse --floors --numerics"
 )
 
 failed=()
@@ -90,6 +90,8 @@ def material_text(material):
 
 
 def setup_table(setup):
+    if "rows" in setup:   # a case that describes its own set-up: [[label, text], ...]
+        return ["| | |", "|---|---|"] + [f"| {k} | {v} |" for k, v in setup["rows"]]
     rows = [
         ("cells", f"{' x '.join(str(c) for c in setup['cells'])} of {setup['dx_m'] * 1e3:g} mm"),
         ("domain", " x ".join(f"{d:g}" for d in setup["domain_m"]) + " m"),
@@ -162,15 +164,18 @@ for case_dir in sorted({c for c, _, _ in reports}):
     name = case_dir.name
     case_reports = [(p, r) for c, p, r in reports if c == case_dir]
     first = case_reports[0][1]
-    lines += [f"## {name}", "", f"{first['title']}. Case file `{case_dir}/{name}.json`, script "
+    files = first.get("case_files") or [f"{case_dir}/{name}.json"]
+    lines += [f"## {name}", "", f"{first['title']}. Case file{'s' if len(files) > 1 else ''} "
+              + ", ".join(f"`{f}`" for f in files) + ", script "
               f"`{case_dir}/check.py`" + (f", data `{case_dir}/data/` (source and licence in its "
                                            "README.md)" if (case_dir / "data").is_dir() else "")
               + ".", ""]
     for path, report in case_reports:
         what = "check.py" if report["resolution"] == "full" else \
             f"check.py_--{report['resolution']}"
-        lines += [f"### {name}, {report['resolution']} resolution "
-                  f"({report['setup']['dx_m'] * 1e3:g} mm cells)", ""]
+        heading = report.get("heading") or (f"{report['resolution']} resolution "
+                                            f"({report['setup']['dx_m'] * 1e3:g} mm cells)")
+        lines += [f"### {name}, {heading}", ""]
         lines += setup_table(report["setup"]) + [""]
         if "experiment" in report:
             exp = report["experiment"]
@@ -178,6 +183,11 @@ for case_dir in sorted({c for c, _, _ in reports}):
                       f"{exp['height_at_wall_m']:.4f} m, failure surface dipping "
                       f"{exp['slip_angle_deg']:.1f} deg.", ""]
         lines += targets_table(report) + [""]
+        for table in report.get("tables", []):   # extra tables: {"title", "header", "rows"}
+            lines += [f"**{table['title']}**", "", "| " + " | ".join(table["header"]) + " |",
+                      "|" + "---|" * len(table["header"])]
+            lines += ["| " + " | ".join(str(c) for c in row) + " |" for row in table["rows"]]
+            lines.append("")
         m = report["metrics"]
         other = []
         for key, label, unit in [
@@ -204,23 +214,26 @@ for case_dir in sorted({c for c, _, _ in reports}):
             lines += [f"Note: {note}", ""]
         for png in report.get("plots", []):
             lines += [f"![{name} {report['resolution']}](../{case_dir}/results/{png})", ""]
-    floors = case_dir / "results" / "floors.json"
-    if floors.is_file():
-        data = json.loads(floors.read_text())
-        lines += [f"### {name}: sensitivity to the floor friction "
-                  f"({data['dx_m'] * 1e3:g} mm cells)", "",
-                  f"Coarse runs that differ only in the floor ({data['note']}).", "",
-                  "| floor | toe | height at wall | surface RMS | failure RMS | slip angle | "
-                  "reaches the end |", "|---|---|---|---|---|---|---|"]
-        for key, row in data["floors"].items():
+    for study in ("floors", "numerics"):
+        path = case_dir / "results" / f"sensitivity_{study}.json"
+        if not path.is_file():
+            continue
+        data = json.loads(path.read_text())
+        title = "the floor friction" if study == "floors" else "the numerical choices"
+        lines += [f"### {name}: sensitivity to {title} ({data['dx_m'] * 1e3:g} mm cells)", "",
+                  data["note"][0].upper() + data["note"][1:] + ".", "",
+                  "| run | toe | height at wall | surface RMS | failure RMS | slip angle | "
+                  "volume change | reaches the end |", "|---|---|---|---|---|---|---|---|"]
+        for key, row in data["rows"].items():
             m = row["metrics"]
-            lines.append(f"| {key}: {row['floor']} | {fmt(m['toe_m'], 'm')} | "
+            lines.append(f"| {key}: {row['label']} | {fmt(m['toe_m'], 'm')} | "
                          f"{fmt(m['height_at_wall_m'], 'm')} | {fmt(m['surface_rms_m'], 'mm')} | "
                          f"{fmt(m['failure_rms_m'], 'mm')} | {fmt(m['slip_angle_deg'], 'deg')} | "
+                         f"{fmt(m['volume_relative_change'], '%')} | "
                          f"{fmt(m['deposit_reaches_end_wall'])} |")
         lines.append("")
         for png in data.get("plots", []):
-            lines += [f"![{name} floors](../{case_dir}/results/{png})", ""]
+            lines += [f"![{name} {study}](../{case_dir}/results/{png})", ""]
     misses = first.get("what_the_model_misses")
     if misses:
         lines += ["### What the model misses", ""] + [f"- {item}" for item in misses] + [""]

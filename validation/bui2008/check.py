@@ -7,6 +7,7 @@ deposit with the experiment (data/, see data/README.md) and writes results/metri
     .venv/bin/python validation/bui2008/check.py              full resolution (2.5 mm cells)
     .venv/bin/python validation/bui2008/check.py --coarse     5 mm cells, looser band (make test)
     .venv/bin/python validation/bui2008/check.py --floors     coarse floor-friction sensitivity
+    .venv/bin/python validation/bui2008/check.py --numerics   coarse sensitivity to the numerics
     .venv/bin/python validation/bui2008/check.py --no-run     analyse an existing output
 
 Exit codes: 0 every target met, 1 a target missed, 2 the run or the analysis failed.
@@ -56,14 +57,50 @@ STATIC_THRESHOLD = 1.0e-3
 # is at rest in position, whatever the kinetic energy of the particle velocities says.
 REST_WINDOW = 0.1
 
-# Floor conditions of the sensitivity study (--floors): the case's frictional floor with
-# mu = tan(phi), a no-slip floor and a frictionless one (mu = 0: no friction, lift-off allowed,
-# as the frictional floor of the case).
+# Variants of the sensitivity studies, each a function of the coarse case returning the
+# changed copy, with the label of its row.
+# --floors: the case's frictional floor with mu = tan(phi), a no-slip floor and a frictionless
+# one (mu = 0: no friction, lift-off allowed, as the frictional floor of the case).
 FLOORS = {
     "tan_phi": None,
     "fixed": "fixed",
     "frictionless": {"type": "frictional", "mu": 0.0},
 }
+
+
+def _solver(**changes):
+    def apply(case):
+        case.setdefault("solver", {}).update(changes)
+    return apply
+
+
+def _material(**changes):
+    def apply(case):
+        case["materials"][0].update(changes)
+    return apply
+
+
+def _damping(value):
+    def apply(case):
+        case["solver"]["flip_fraction"] = 1.0
+        case["damping"] = {"type": "local", "value": value}
+    return apply
+
+
+# --numerics: the choices of the case file that are numerical rather than physical, one at a
+# time: the FLIP/PIC blend of the particle velocity update, the separation of the cohesionless
+# material, the F-bar locking correction, and local damping instead of the PIC part (the
+# published GIMP reproduction of Wyser et al. 2021 uses local damping 0.05 and a cell-averaged
+# pressure).
+NUMERICS = {
+    "case": ("the case file as given", None),
+    "flip_1": ("pure FLIP (flip_fraction 1)", _solver(flip_fraction=1.0)),
+    "flip_0.95": ("flip_fraction 0.95", _solver(flip_fraction=0.95)),
+    "no_separation": ("separation false", _material(separation=False)),
+    "fbar": ("locking_correction fbar", _solver(locking_correction="fbar")),
+    "damping": ("pure FLIP with local damping 0.05", _damping(0.05)),
+}
+
 
 WHAT_THE_MODEL_MISSES = [
     "Grain scale: the bars are a continuum here (Mohr-Coulomb, constant phi, no dilatancy); "
@@ -351,11 +388,13 @@ def plot_deposit(path, arrays, metrics, exp, title):
     figure.savefig(path, dpi=100)
 
 
-def plot_floors(path, surfaces, exp):
+def plot_sensitivity(path, surfaces, exp, study):
     figure = _figure(9.0, 2.7)
     axes = figure.add_subplot()
-    for (floor, (xc, height)), colour in zip(surfaces.items(), ("black", "tab:blue", "tab:green")):
-        axes.plot(xc, height, color=colour, lw=1.0, label=f"model, floor {floor}")
+    colours = ("black", "tab:blue", "tab:green", "tab:orange", "tab:purple", "tab:brown")
+    for (key, (xc, height)), colour in zip(surfaces.items(), colours):
+        axes.plot(xc, height, color=colour, lw=1.0,
+                  label=f"model, floor {key}" if study == "floors" else f"model, {key}")
     _experiment_lines(axes, exp)
     right = max(float(xc[height > 0].max()) if np.any(height > 0) else 0.5
                 for xc, height in surfaces.values())
@@ -364,10 +403,10 @@ def plot_floors(path, surfaces, exp):
     axes.set_aspect("equal")
     axes.set_xlabel("x [m]")
     axes.set_ylabel("y [m]")
-    axes.set_title("Bui et al. (2008), 5 mm cells: final free surface for three floor "
-                   "conditions", fontsize=9)
+    what = "three floor conditions" if study == "floors" else "variants of the numerics"
+    axes.set_title(f"Bui et al. (2008), 5 mm cells: final free surface for {what}", fontsize=9)
     figure.legend(*axes.get_legend_handles_labels(), fontsize=7, loc="outside lower center",
-                  ncol=3, frameon=False)
+                  ncol=4, frameon=False)
     path.parent.mkdir(parents=True, exist_ok=True)
     figure.savefig(path, dpi=100)
 
@@ -456,14 +495,37 @@ def validate(args, case, coarse):
     return 0 if passed else 1
 
 
-def floors(args, case):
-    """Coarse runs with three floor conditions; informational, exit 0 unless a run fails."""
+def variants(study, coarse):
+    """(key, label, case) of each run of a sensitivity study ("floors" or "numerics")."""
+    out = []
+    if study == "floors":
+        for floor in FLOORS:
+            variant = with_floor(coarse, floor)
+            out.append((floor, describe_floor(variant), variant))
+    else:
+        for key, (label, change) in NUMERICS.items():
+            variant = copy.deepcopy(coarse)
+            if change is not None:
+                change(variant)
+            variant["name"] = f"{coarse['name']}_{key}"
+            out.append((key, label, variant))
+    return out
+
+
+SENSITIVITY_NOTES = {
+    "floors": "coarse runs that differ only in the floor; top face closed (sliding) in these "
+              "runs so that material splashing up the end wall stays in the grid",
+    "numerics": "coarse runs that differ from the case file in one numerical choice each",
+}
+
+
+def sensitivity(args, case, study):
+    """Coarse runs of one sensitivity study; informational, exit 0 unless a run fails."""
     exp = experiment()
     coarse = coarse_case(case)
     base = Path(args.output) if args.output else REPO / "outputs"
     rows, surfaces = {}, {}
-    for floor in FLOORS:
-        variant = with_floor(coarse, floor)
+    for key, label, variant in variants(study, coarse):
         output = base / variant["name"]
         wall = None
         if not args.no_run:
@@ -471,23 +533,24 @@ def floors(args, case):
                             quiet=True)
         metrics, arrays = analyse(output, variant, exp)
         results, _ = compare(metrics, exp, variant["domain"]["dx"], coarse=True)
-        rows[floor] = {"floor": describe_floor(variant), "metrics": metrics,
-                       "targets": results, "wall_time_s": wall}
-        surfaces[floor] = (arrays["xc"], arrays["height"])
-        print(f"floor {floor:<13} toe {metrics['toe_m']:.4f} m  wall "
+        rows[key] = {"label": label, "metrics": metrics, "targets": results,
+                     "wall_time_s": wall}
+        surfaces[key] = (arrays["xc"], arrays["height"])
+        print(f"{key:<14} toe {metrics['toe_m']:.4f} m  wall "
               f"{metrics['height_at_wall_m']:.4f} m  RMS {metrics['surface_rms_m'] * 1e3:.1f} mm"
               f"  failure RMS {metrics['failure_rms_m'] * 1e3:.1f} mm"
               f"  angle {metrics['slip_angle_deg']:.1f} deg"
+              f"  volume {metrics['volume_relative_change']:+.1%}"
               + ("  (reaches the end wall)" if metrics["deposit_reaches_end_wall"] else ""))
     results_dir = Path(args.results)
-    png = results_dir / "bui2008_floors.png"
-    plot_floors(png, surfaces, exp)
-    write_json(results_dir / "floors.json", {
-        "case": "bui2008", "resolution": "coarse", "dx_m": coarse["domain"]["dx"],
-        "note": "top face closed (sliding) in these runs so that material splashing up the end "
-                "wall stays in the grid; otherwise the coarse case",
-        "floors": rows, "plots": [png.name]})
-    print(f"wrote {results_dir / 'floors.json'} and {png}")
+    png = results_dir / f"bui2008_{study}.png"
+    plot_sensitivity(png, surfaces, exp, study)
+    path = results_dir / f"sensitivity_{study}.json"
+    write_json(path, {
+        "case": "bui2008", "study": study, "resolution": "coarse",
+        "dx_m": coarse["domain"]["dx"], "note": SENSITIVITY_NOTES[study],
+        "rows": rows, "plots": [png.name]})
+    print(f"wrote {path} and {png}")
     return 0
 
 
@@ -499,11 +562,14 @@ def parse_args(argv):
                            "(toe regression band 40 %%)")
     mode.add_argument("--floors", action="store_true",
                       help="coarse runs with floor mu = tan(phi), fixed and frictionless")
+    mode.add_argument("--numerics", action="store_true",
+                      help="coarse runs that change one numerical choice of the case each")
     parser.add_argument("--exe", default=str(REPO / "build" / "mpm_geo"),
                         help="mpm_geo executable (default: build/mpm_geo)")
     parser.add_argument("--output", default=None,
                         help="output folder (default: outputs/bui2008[_coarse], overwritten); "
-                             "a folder given here must not exist (--floors: parent folder)")
+                             "a folder given here must not exist (--floors, --numerics: parent "
+                             "folder)")
     parser.add_argument("--results", default=str(RESULTS),
                         help="folder for metrics and plots (default: validation/bui2008/results)")
     parser.add_argument("--no-run", action="store_true",
@@ -519,8 +585,8 @@ def main(argv=None):
         return 2
     case = load_case(CASE)
     try:
-        if args.floors:
-            return floors(args, case)
+        if args.floors or args.numerics:
+            return sensitivity(args, case, "floors" if args.floors else "numerics")
         return validate(args, coarse_case(case) if args.coarse else case, args.coarse)
     except (OSError, ValueError, RuntimeError, KeyError) as exc:
         print(f"check.py: error: {exc}", file=sys.stderr)
