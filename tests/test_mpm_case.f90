@@ -157,11 +157,13 @@ contains
             //'"boundaries": {"xmin": "fixed", "xmax": "Sliding"}}, '//materials_1//", " &
             //'"bodies": [{"material": "soil", "min": [0, 0], "max": [0.2, 0.1], ' &
             //'"velocity": [1, 0]}], "gravity": [0, -9.81], ' &
-            //'"solver": {"scheme": "musl", "shape_function": "GIMP"}, '//time_1//"}", &
+            //'"solver": {"scheme": "musl", "shape_function": "GIMP", "transfer": "APIC"}, ' &
+            //time_1//"}", &
             case, "valid 2D case")
         if (.not. allocated(case%bodies)) return
         call check(suite, case%dim == 2, "2D: dimension 2 without nz")
         call check(suite, .not. case%fbar, "2D: no locking correction by default")
+        call check(suite, case%apic, "2D: APIC transfer")
         call check(suite, all(case%ncells == [4, 2, 1]), "2D: ncells with nz = 1")
         call check_close(suite, case%dx, 0.1_wp, tol, "2D: dx")
         call check(suite, all(case%origin == 0.0_wp), "2D: origin defaults to zero")
@@ -231,6 +233,8 @@ contains
         call check(suite, case%scheme == scheme_usl .and. case%shape == shape_linear, &
             "3D: scheme and shape")
         call check(suite, case%fbar, "3D: F-bar locking correction")
+        call check(suite, .not. case%apic .and. case%flip_fraction == 1.0_wp, &
+            "3D: FLIP transfer by default")
         call check_close(suite, case%dt, 1.0e-5_wp, tol*1.0e-5_wp, "3D: fixed dt")
         call check(suite, case%damping == damping_local, "3D: local damping")
         call check_close(suite, case%damping_value, 0.05_wp, tol, "3D: damping alpha")
@@ -741,6 +745,11 @@ contains
         call expect_error(case_text(extra='"solver": {"locking_correction": "bbar"}'), &
             [character(len=200) :: 'solver.locking_correction = "bbar" is not allowed: must ' &
             //'be one of "none", "fbar"'], "unknown locking correction")
+        call expect_error(case_text(extra='"solver": {"transfer": "apic", "flip_fraction": 0.9}'), &
+            [character(len=200) :: 'solver.flip_fraction applies to solver.transfer = "flip" ' &
+            //'only'], "flip_fraction with APIC")
+        call expect_error(case_text(extra='"solver": {"flip_fraction": 1.5}'), &
+            [character(len=200) :: "solver.flip_fraction = 1.5"], "flip_fraction above 1")
         call expect_error(soil_case(mc//'"phi": 90'), [character(len=200) :: &
             "materials[1].phi = 90 is out of range: must be >= 0 and < 90 [deg]"], "phi = 90")
         call expect_error(soil_case(mc//'"phi": -1'), [character(len=200) :: &

@@ -171,6 +171,8 @@ module mpm_case
             !! update scheme
         integer :: shape = shape_cpgimp
             !! shape function
+        logical :: apic = .false.
+            !! affine particle-in-cell transfer (solver.transfer = "apic") instead of FLIP
         real(wp) :: flip_fraction = 1.0_wp
             !! particle velocity update: this fraction FLIP (v_p + dt a), the rest PIC (the
             !! nodal velocity interpolated) [-]

@@ -41,7 +41,7 @@ submodule (mpm_case) mpm_case_reader
     character(len=*), parameter :: body_keys(*) = [character(len=8) :: "name", "material", &
         "min", "max", "velocity"]
     character(len=*), parameter :: solver_keys(*) = [character(len=18) :: "scheme", &
-        "shape_function", "locking_correction", "flip_fraction"]
+        "shape_function", "locking_correction", "transfer", "flip_fraction"]
     character(len=*), parameter :: time_keys(*) = [character(len=14) :: "tend", "dt", "cfl", &
         "allow_unstable"]
     character(len=*), parameter :: damping_keys(*) = [character(len=5) :: "type", "value"]
@@ -177,6 +177,7 @@ contains
         text = text//"solver      scheme "//trim(scheme_names(case%scheme))//", shape function " &
             //trim(shape_names(case%shape))
         if (case%fbar) text = text//", F-bar locking correction"
+        if (case%apic) text = text//", APIC transfer"
         if (case%flip_fraction < 1.0_wp) text = text//", velocity update " &
             //fmt_real(case%flip_fraction)//" FLIP + "//fmt_real(1.0_wp - case%flip_fraction)//" PIC"
         text = text//nl
@@ -1031,8 +1032,18 @@ contains
             [character(len=4) :: "none", "fbar"], [0, 1], choice, error)
         case%fbar = choice == 1
         if (allocated(error)) return
+        choice = merge(1, 0, case%apic)
+        call get_choice(solver, "transfer", "solver", src, [character(len=4) :: "flip", "apic"], &
+            [0, 1], choice, error)
+        if (allocated(error)) return
+        case%apic = choice == 1
         call get_real(solver, "flip_fraction", "solver", src, case%flip_fraction, error, &
-            at_least=0.0_wp, at_most=1.0_wp, unit="-")
+            at_least=0.0_wp, at_most=1.0_wp, unit="-", found=found)
+        if (allocated(error)) return
+        if (found .and. case%apic) then
+            call input_error(error, src, 'solver.flip_fraction applies to solver.transfer = ' &
+                //'"flip" only (here "apic", whose velocity update has no FLIP part); remove it')
+        end if
     end subroutine read_solver
 
     !> `time`: end time and either a fixed step or a CFL factor.

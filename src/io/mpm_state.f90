@@ -13,8 +13,8 @@ module mpm_state
     use mpm_particles, only: particles_type, new_particles, nstress_of
     use mpm_hdf5, only: hdf5_location_type, text_type, hdf5_initialize, hdf5_is_hdf5_file, &
         hdf5_create_file, hdf5_open_file, hdf5_create_group, hdf5_open_group, hdf5_close, &
-        hdf5_has_attribute, hdf5_write_dataset, hdf5_read_dataset, hdf5_write_attribute, &
-        hdf5_read_attribute
+        hdf5_has_attribute, hdf5_has_link, hdf5_write_dataset, hdf5_read_dataset, &
+        hdf5_write_attribute, hdf5_read_attribute
     use mpm_filesystem, only: make_directory, directory_exists, file_exists, rename_file, &
         remove_file, parent_directory
     use mpm_version, only: mpm_version_string
@@ -170,6 +170,10 @@ contains
         if (allocated(error)) return
         if (particles%nstate > 0) then
             call hdf5_write_dataset(group, "state", particles%state, error, units="-")
+            if (allocated(error)) return
+        end if
+        if (allocated(particles%affine)) then
+            call hdf5_write_dataset(group, "affine", particles%affine, error, units="1/s")
         end if
     end subroutine write_particles
 
@@ -292,6 +296,11 @@ contains
             allocate (state(file_nstate, n))
             call hdf5_read_dataset(group, "state", state, error)
             if (.not. allocated(error)) particles%state(1:file_nstate, :) = state
+        end if
+        if (.not. allocated(error) .and. hdf5_has_link(group, "affine")) then
+            ! APIC affine velocities of a run with solver.transfer = "apic"
+            allocate (particles%affine(dim, dim, n))
+            call hdf5_read_dataset(group, "affine", particles%affine, error)
         end if
         call hdf5_close(group, close_error)
         if (.not. allocated(error) .and. allocated(close_error)) call move_alloc(close_error, error)

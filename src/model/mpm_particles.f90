@@ -51,6 +51,9 @@ module mpm_particles
         real(wp), allocatable :: body_force(:, :)
             !! extra body force per unit mass (dim, n), allocated only by drivers that prescribe
             !! one (manufactured solutions); added to gravity in P2G [m/s2]
+        real(wp), allocatable :: affine(:, :, :)
+            !! APIC affine velocity C_p = sum_i v_i grad(N_i)^T (dim, dim, n) [1/s], allocated
+            !! only with solver.transfer = "apic"
     end type particles_type
 
 contains

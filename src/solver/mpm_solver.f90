@@ -116,6 +116,19 @@ contains
             return
         end if
         sim%dxp = 0.0_wp
+        ! APIC affine velocities: kept from a state file of an APIC run, zero otherwise (a
+        ! uniform velocity per body); dropped when this stage does not use APIC
+        if (.not. case%apic .and. allocated(sim%particles%affine)) &
+            deallocate (sim%particles%affine)
+        if (case%apic .and. .not. allocated(sim%particles%affine)) then
+            allocate (sim%particles%affine(case%dim, case%dim, sim%particles%n), stat=stat, &
+                errmsg=msg)
+            if (stat /= 0) then
+                call fatal_error(error, "cannot allocate the APIC affine velocities: "//trim(msg))
+                return
+            end if
+            sim%particles%affine = 0.0_wp
+        end if
         call compute_energies(sim)
         sim%kinetic_previous = sim%energy%kinetic
         sim%energy_scale = sim%energy%kinetic

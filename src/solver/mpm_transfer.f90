@@ -9,7 +9,7 @@ module mpm_transfer
     use mpm_kinds, only: wp
     use mpm_strings, only: vector_text
     use mpm_error, only: error_type, fatal_error, exit_numerical
-    use mpm_grid, only: grid_type, contact_index
+    use mpm_grid, only: grid_type, contact_index, node_position
     use mpm_particles, only: particles_type
     use mpm_shape, only: shape_type, stencil_type
     use mpm_material, only: material_holder_type
@@ -87,7 +87,8 @@ contains
                 if (with_mass) then
                     mw = particles%mass(p)*w
                     grid%mass(id) = grid%mass(id) + mw
-                    grid%momentum(:, id) = grid%momentum(:, id) + mw*particles%v(:, p)
+                    grid%momentum(:, id) = grid%momentum(:, id) + mw*particle_velocity(grid, &
+                        particles, p, id)
                     grid%fext(:, id) = grid%fext(:, id) + mw*gravity(1:dim)
                     if (allocated(particles%body_force)) grid%fext(:, id) = grid%fext(:, id) &
                         + mw*particles%body_force(:, p)
@@ -318,13 +319,13 @@ contains
         real(wp), intent(out) :: dxp(:, :)
             !! position increment of each particle (dim, n) [m]
 
-        integer :: p, c, dim
+        integer :: p, c, k, dim
         type(stencil_type) :: st
         real(wp) :: a(3), v(3)
 
         dim = grid%dim
         !$omp parallel do default(none) schedule(static) &
-        !$omp shared(grid, particles, shape, dt, flip, dim, dxp) private(p, c, st, a, v)
+        !$omp shared(grid, particles, shape, dt, flip, dim, dxp) private(p, c, k, st, a, v)
         do p = 1, particles%n
             call shape%evaluate(grid, particles%x(:, p), particles%lp(:, p), st)
             a = 0.0_wp
@@ -333,7 +334,17 @@ contains
                 a(1:dim) = a(1:dim) + st%w(c)*grid%acceleration(:, st%node(c))
                 v(1:dim) = v(1:dim) + st%w(c)*grid%velocity(:, st%node(c))
             end do
-            if (flip < 1.0_wp) then
+            if (allocated(particles%affine)) then
+                ! APIC: the particle takes the nodal velocity field, its value and its gradient
+                particles%v(:, p) = v(1:dim)
+                particles%affine(:, :, p) = 0.0_wp
+                do c = 1, st%count
+                    do k = 1, dim
+                        particles%affine(:, k, p) = particles%affine(:, k, p) &
+                            + grid%velocity(:, st%node(c))*st%dw(k, c)
+                    end do
+                end do
+            else if (flip < 1.0_wp) then
                 particles%v(:, p) = flip*(particles%v(:, p) + dt*a(1:dim)) &
                     + (1.0_wp - flip)*v(1:dim)
             else
@@ -426,7 +437,7 @@ contains
             do c = 1, st%count
                 id = st%node(c)
                 grid%momentum(:, id) = grid%momentum(:, id) &
-                    + st%w(c)*particles%mass(p)*particles%v(:, p)
+                    + st%w(c)*particles%mass(p)*particle_velocity(grid, particles, p, id)
             end do
         end do
         call nodal_velocity(grid)
@@ -598,6 +609,26 @@ contains
             stride = stride*grid%ncells(a)
         end do
     end function cell_of
+
+    !> Velocity that particle p gives node id in a transfer: v_p, plus C_p (x_i - x_p) with
+    !> APIC (Jiang et al. 2015; for multilinear and GIMP weights C_p is the gradient of the
+    !> nodal velocity field at the particle, as the inertia-tensor form is singular there).
+    pure function particle_velocity(grid, particles, p, id) result(v)
+        type(grid_type), intent(in) :: grid
+            !! grid
+        type(particles_type), intent(in) :: particles
+            !! particles
+        integer, intent(in) :: p, id
+            !! particle and node
+        real(wp) :: v(grid%dim)
+
+        real(wp) :: xi(3)
+
+        v = particles%v(:, p)
+        if (.not. allocated(particles%affine)) return
+        xi = node_position(grid, id)
+        v = v + matmul(particles%affine(:, :, p), xi(1:grid%dim) - particles%x(:, p))
+    end function particle_velocity
 
     !> Unit vector along axis a.
     pure function unit(a, dim) result(e)
