@@ -2,17 +2,27 @@
 
 A run directory (``outputs/<case>/``) holds ``particles_NNNNNN.h5`` files, one per output time,
 a ``<case>.xdmf`` index for ParaView and ``history.csv`` with the energy balance.
-Layout: docs/output.md.
+Layout: docs/output.md; the command line and the modules: docs/postproc.md.
+Figures (matplotlib) are in ``mpm_post.plots``, study tools in ``mpm_post.study``: imported on
+demand, so that reading outputs does not load matplotlib.
 """
 
 from .energy import energy_drift, plot_energy
-from .io import list_outputs, load_grid, load_history, load_particles
+from .errors import (ErrorNorms, ExpressionError, compile_expression, error_norms,
+                     exact_values, field_component, particle_error)
+from .io import list_outputs, load_grid, load_history, load_particles, output_at
 from .profiles import (failure_surface, free_surface, height_at_wall, load_reference_profile,
-                       rms_height_difference, slip_angle, toe_position)
+                       max_height, rms_height_difference, slip_angle, toe_position)
 
 __all__ = [
+    "ErrorNorms",
+    "ExpressionError",
+    "compile_expression",
     "energy_drift",
+    "error_norms",
+    "exact_values",
     "failure_surface",
+    "field_component",
     "free_surface",
     "height_at_wall",
     "list_outputs",
@@ -20,6 +30,9 @@ __all__ = [
     "load_history",
     "load_particles",
     "load_reference_profile",
+    "max_height",
+    "output_at",
+    "particle_error",
     "plot_energy",
     "rms_height_difference",
     "slip_angle",

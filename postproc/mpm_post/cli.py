@@ -1,34 +1,27 @@
-"""Command line: python -m mpm_post {summary,energy,field,profile} RUN_DIR ...
+"""Command line: python -m mpm_post {summary,energy,field,profile,error,plot} ...
 
-Run from the repository root with ``PYTHONPATH=postproc .venv/bin/python -m mpm_post ...``.
-Exit codes: 0 success, 1 error (missing or unreadable run), 2 bad command line.
+Run from the repository root with ``PYTHONPATH=postproc .venv/bin/python -m mpm_post ...``;
+docs/postproc.md describes every command.
+Exit codes: 0 success; 1 the run or a file cannot answer (missing or unreadable, a field or
+component it does not hold, no output at the requested time, an exact field that is not finite
+there); 2 bad command line (unknown command or option, an invalid --exact expression).
 """
 
 import argparse
 import sys
+from pathlib import Path
 
 import numpy as np
 
 from . import __version__
 from .energy import energy_drift, plot_energy
-from .io import list_outputs, load_history, load_particles
+from .errors import (FIELD_UNITS, NORMS, WEIGHTS, ExpressionError, compile_expression,
+                     particle_error)
+from .io import component_names, list_outputs, load_history, load_particles, output_at
 from .profiles import (bin_edges, free_surface, height_at_wall, load_reference_profile,
-                       particle_half_size, rms_height_difference, toe_position)
+                       max_height, particle_half_size, rms_height_difference, toe_position)
 
-STRESS_COMPONENTS = {4: ["xx", "yy", "zz", "xy"], 6: ["xx", "yy", "zz", "xy", "yz", "zx"]}
-VECTOR_COMPONENTS = ["x", "y", "z"]
-
-
-def _component_names(name, array):
-    """Labels of the columns of one particle field."""
-    if array.ndim == 1:
-        return [name]
-    ncol = array.shape[1]
-    if name in ("stress", "strain") and ncol in STRESS_COMPONENTS:
-        return STRESS_COMPONENTS[ncol]
-    if ncol == 3:
-        return VECTOR_COMPONENTS
-    return [str(i) for i in range(ncol)]
+NORM_LABELS = {"l1": "L1", "l2": "L2", "linf": "Linf"}
 
 
 def _format_times(times, shown=6):
@@ -86,7 +79,7 @@ def cmd_field(args, out):
           f"{array.shape[0]} particles, file {data['path']}", file=out)
     columns = array.reshape(array.shape[0], -1)
     print(f"{'component':>10} {'min':>14} {'max':>14} {'mean':>14}", file=out)
-    for label, column in zip(_component_names(args.field, array), columns.T):
+    for label, column in zip(component_names(args.field, array), columns.T):
         if column.size:
             print(f"{label:>10} {column.min():14.6e} {column.max():14.6e} {column.mean():14.6e}",
                   file=out)
@@ -95,31 +88,58 @@ def cmd_field(args, out):
     return 0
 
 
-def cmd_profile(args, out):
-    data = load_particles(args.run_dir, time=args.time)
+def _deposit(args, data):
+    """Particle x, vertical coordinate and half-size [m] of an output, for the profile commands.
+
+    The deposit runs along x; the vertical is y in 2D and z in 3D (docs/output.md).
+    """
     dim = data["dimension"] or 2
     position = data["position"]
-    # the deposit along x; the vertical is y in 2D and z in 3D (docs/output.md)
     x, y = position[:, 0], position[:, 1 if dim == 2 else 2]
+    if x.size == 0:
+        raise ValueError(f"{data['path']} holds no particle")
     if args.half_size is not None:
         half = np.full(x.size, args.half_size)
     elif "volume" in data:
         half = particle_half_size(data["volume"], dim)
     else:
         raise ValueError(f"{data['path']} has no particle volume: give --half-size")
-    if x.size == 0:
-        raise ValueError(f"{data['path']} holds no particle")
+    return x, y, half
+
+
+def _surface(args, x, y, half):
+    """The free surface (bin centres, heights) [m] from the wall to the furthest particle."""
+    width = args.bin_width if args.bin_width else 2.0 * float(np.median(half))
+    edges = bin_edges(min(args.wall, float(np.min(x - half))), float(np.max(x + half)), width)
+    return free_surface(x, y, half, edges)
+
+
+def _initial_toe(args, data):
+    """(time, toe) of the first output of the run, or None for a single file or output."""
+    outputs = list_outputs(args.run_dir) if not Path(args.run_dir).is_file() else []
+    if len(outputs) < 2 or outputs[0][0] >= data["time"]:
+        return None
+    first = load_particles(outputs[0][1])
+    x, y, half = _deposit(args, first)
+    return first["time"], toe_position(x, y, half, min_height=args.min_height)
+
+
+def cmd_profile(args, out):
+    data = load_particles(args.run_dir, time=args.time)
+    x, y, half = _deposit(args, data)
     toe = toe_position(x, y, half, min_height=args.min_height)
     wall = height_at_wall(x, y, half, x_wall=args.wall)
     print(f"profile at time {data['time']:g} s (step {data['step']}), {x.size} particles, "
           f"file {data['path']}", file=out)
     print(f"toe [m]: {toe:.6g}", file=out)
     print(f"height at wall [m]: {wall:.6g}", file=out)
+    print(f"max height [m]: {max_height(x, y, half, x_max=toe):.6g}", file=out)
+    initial = _initial_toe(args, data)
+    if initial is not None:
+        print(f"runout from t = {initial[0]:g} s [m]: {toe - initial[1]:.6g} "
+              f"(toe then {initial[1]:.6g})", file=out)
     if args.reference:
-        width = args.bin_width if args.bin_width else 2.0 * float(np.median(half))
-        edges = bin_edges(min(args.wall, float(np.min(x - half))), float(np.max(x + half)),
-                          width)
-        centres, height = free_surface(x, y, half, edges)
+        centres, height = _surface(args, x, y, half)
         x_ref, h_ref = load_reference_profile(args.reference)
         rms, max_abs = rms_height_difference(centres, height, x_ref, h_ref)
         print(f"reference: {args.reference} ({x_ref.size} points)", file=out)
@@ -129,9 +149,120 @@ def cmd_profile(args, out):
     return 0
 
 
+def cmd_error(args, out):
+    exact = compile_expression(args.exact)  # before reading: a bad expression is exit code 2
+    time, path = output_at(args.run_dir, args.time, args.time_tol)
+    data = load_particles(path)
+    norms = particle_error(data, args.field, args.component, exact, weight=args.weight,
+                           scale=args.scale, coordinates=args.coordinates)
+    unit = FIELD_UNITS.get(args.field, "")
+    name = args.field if args.component in (None, args.field) else \
+        f"{args.field} {args.component}"
+    print(f"{name} at time {time:g} s (step {data['step']}), {norms.count} particles, "
+          f"file {path}", file=out)
+    print(f"exact: {args.exact} (at the {args.coordinates} positions)", file=out)
+    source = "--scale" if args.scale is not None else "max |exact|"
+    print(f"weights: {args.weight}; scale [{unit}]: {norms.scale:.6e} ({source})", file=out)
+    print(f"{'norm':>6} {'absolute [' + unit + ']':>16} {'relative':>14}", file=out)
+    for norm in NORMS if args.norm == "all" else [args.norm]:
+        print(f"{NORM_LABELS[norm]:>6} {norms.absolute(norm):16.6e} "
+              f"{norms.relative(norm):14.6e}", file=out)
+    return 0
+
+
+def cmd_plot_profile(args, out):
+    from .plots import plot_profile
+
+    data = load_particles(args.run_dir, time=args.time)
+    x, y, half = _deposit(args, data)
+    centres, height = _surface(args, x, y, half)
+    toe = toe_position(x, y, half, min_height=args.min_height)
+    reference, title = None, f"t = {data['time']:g} s: toe {toe:.4g} m"
+    if args.reference:
+        reference = load_reference_profile(args.reference)
+        rms, _ = rms_height_difference(centres, height, *reference)
+        title += f", RMS height difference {rms:.3g} m"
+    path = plot_profile(args.out, centres, height, reference=reference, particles=(x, y),
+                        toe=toe, title=title)
+    print(f"wrote {path}", file=out)
+    return 0
+
+
+def cmd_plot_energy(args, out):
+    history = load_history(args.run_dir)
+    if history["time"].size == 0:
+        raise ValueError(f"history of {args.run_dir} is empty: nothing to plot")
+    try:
+        title = f"{Path(args.run_dir).name}: energy drift {energy_drift(history):.2e}"
+    except (KeyError, ValueError):
+        title = Path(args.run_dir).name
+    path = plot_energy(history, args.out, title=title)
+    print(f"wrote {path}", file=out)
+    return 0
+
+
+def cmd_plot_convergence(args, out):
+    from .plots import load_convergence, plot_convergence
+
+    h, errors, labels = load_convergence(args.table)
+    path, orders = plot_convergence(args.out, h, errors, labels, slopes=args.slopes,
+                                    title=args.title, ylabel=args.ylabel)
+    print(f"wrote {path}", file=out)
+    for label, (slope, sigma) in orders.items():
+        count = sum(1 for other in labels if other == label)
+        shown = "-" if np.isnan(slope) else f"{slope:.3f}"
+        if not np.isnan(sigma):
+            shown += f" +- {sigma:.3f}"
+        print(f"{label or 'error'}: order {shown} ({count} points)", file=out)
+    return 0
+
+
+def cmd_plot_cost(args, out):
+    from .plots import load_costs, plot_error_vs_time
+
+    labels, errors, wall = load_costs(args.table)
+    path, front = plot_error_vs_time(args.out, labels, errors, wall, title=args.title,
+                                     ylabel=args.ylabel)
+    print(f"wrote {path}", file=out)
+    print("Pareto front (label, error, run time [s]):", file=out)
+    for i in front:
+        print(f"  {labels[i]}, {errors[i]:.6g}, {wall[i]:.6g}", file=out)
+    return 0
+
+
+def _positive(text):
+    """argparse type: a finite number > 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: '{text}'") from None
+    if not (np.isfinite(value) and value > 0.0):
+        raise argparse.ArgumentTypeError(f"must be > 0, got {text}")
+    return value
+
+
+def _profile_options(parser):
+    parser.add_argument("run_dir", metavar="RUN_DIR", help="run directory or particles_*.h5 file")
+    parser.add_argument("--time", type=float, default=None,
+                        help="time [s]; the nearest output is used (default: the last one)")
+    parser.add_argument("--reference", default=None,
+                        help="two-column file x [m], height [m] of a measured free surface")
+    parser.add_argument("--min-height", type=float, default=0.0,
+                        help="deposit thinner than this [m] is not counted in the toe "
+                             "(default 0)")
+    parser.add_argument("--wall", type=float, default=0.0,
+                        help="x of the wall the deposit rests against [m] (default 0)")
+    parser.add_argument("--bin-width", type=float, default=None,
+                        help="bin width of the free surface [m] (default: the particle size)")
+    parser.add_argument("--half-size", type=float, default=None,
+                        help="particle half-size [m] (default: from the particle volumes)")
+
+
 def build_parser():
     parser = argparse.ArgumentParser(
-        prog="python -m mpm_post", description="Summarise and plot mpm-geo run outputs.")
+        prog="python -m mpm_post", description="Summarise and plot mpm-geo run outputs.",
+        epilog="Exit codes: 0 success, 1 the run or a file cannot answer, 2 bad command line "
+               "or --exact expression. 'COMMAND --help' for each command; docs/postproc.md.")
     parser.add_argument("--version", action="version", version=f"mpm_post {__version__}")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
     commands.required = True
@@ -154,31 +285,99 @@ def build_parser():
     field.set_defaults(func=cmd_field)
 
     profile = commands.add_parser(
-        "profile", help="toe, height at the wall, RMS difference to a reference surface")
-    profile.add_argument("run_dir", metavar="RUN_DIR", help="run directory or particles_*.h5 file")
-    profile.add_argument("--time", type=float, default=None,
-                         help="time [s]; the nearest output is used (default: the last one)")
-    profile.add_argument("--reference", default=None,
-                         help="two-column file x [m], height [m] of a measured free surface")
-    profile.add_argument("--min-height", type=float, default=0.0,
-                         help="deposit thinner than this [m] is not counted in the toe "
-                              "(default 0)")
-    profile.add_argument("--wall", type=float, default=0.0,
-                         help="x of the wall the deposit rests against [m] (default 0)")
-    profile.add_argument("--bin-width", type=float, default=None,
-                         help="bin width of the free surface [m] (default: the particle size)")
-    profile.add_argument("--half-size", type=float, default=None,
-                         help="particle half-size [m] (default: from the particle volumes)")
+        "profile", help="runout (toe), deposit heights, RMS difference to a reference surface")
+    _profile_options(profile)
     profile.set_defaults(func=cmd_profile)
+
+    error = commands.add_parser(
+        "error", help="L1, L2, Linf norms of a particle field against an exact field")
+    error.add_argument("run_dir", metavar="RUN_DIR", help="run directory or particles_*.h5 file")
+    error.add_argument("--field", required=True,
+                       help="particle field: position, displacement, velocity, stress, ...")
+    error.add_argument("--component", default=None,
+                       help="x, y, z or magnitude for vectors; xx, yy, zz, xy (yz, zx) for "
+                            "stress and strain; omit for a one-value field")
+    error.add_argument("--exact", required=True, metavar="EXPR",
+                       help="exact field, a NumPy expression in x, y, z [m] and t [s], "
+                            "e.g. '-2650*9.81*(0.1-y)'")
+    error.add_argument("--time", type=float, default=None,
+                       help="time [s] of the output to compare (default: the last one)")
+    error.add_argument("--time-tol", type=_positive, default=None, metavar="DT",
+                       help="largest distance [s] between --time and an output time "
+                            "(default: 1e-3 of the last output time)")
+    error.add_argument("--norm", choices=list(NORMS) + ["all"], default="all",
+                       help="norm to print (default: all)")
+    error.add_argument("--weight", choices=WEIGHTS, default="mass",
+                       help="particle weights of the L1 and L2 norms (default: mass)")
+    error.add_argument("--scale", type=_positive, default=None,
+                       help="value the relative norms divide by (default: max |exact|)")
+    error.add_argument("--coordinates", choices=["current", "initial"], default="current",
+                       help="evaluate the exact field at the current positions, or at the "
+                            "initial ones, position - displacement (default: current)")
+    error.set_defaults(func=cmd_error)
+
+    plot = commands.add_parser("plot", help="write a standard figure (PNG)")
+    plots = plot.add_subparsers(dest="figure", metavar="FIGURE")
+    plots.required = True
+    profile_figure = plots.add_parser(
+        "profile", help="free surface of a run against a reference profile")
+    _profile_options(profile_figure)
+    profile_figure.add_argument("--out", default="figs/profile.png",
+                              help="image file to write (default: figs/profile.png)")
+    profile_figure.set_defaults(func=cmd_plot_profile)
+
+    energy_figure = plots.add_parser("energy", help="energy balance from history.csv")
+    energy_figure.add_argument("run_dir", metavar="RUN_DIR", help="run directory or history.csv")
+    energy_figure.add_argument("--out", default="figs/energy.png",
+                              help="image file to write (default: figs/energy.png)")
+    energy_figure.set_defaults(func=cmd_plot_energy)
+
+    for name, func, table, default, helptext in [
+            ("convergence", cmd_plot_convergence, "h,error[,label]", "figs/convergence.png",
+             "error against cell size, log-log, with fitted orders"),
+            ("cost", cmd_plot_cost, "label,error,wall_time", "figs/error_time.png",
+             "error against run time, log-log, with the Pareto front")]:
+        figure = plots.add_parser(name, help=helptext)
+        figure.add_argument("table", metavar="CSV", help=f"CSV file, lines {table} (header "
+                                                         "line optional)")
+        figure.add_argument("--out", default=default,
+                            help=f"image file to write (default: {default})")
+        figure.add_argument("--title", default=None, help="title of the plot")
+        figure.add_argument("--ylabel", default="error", help="label of the error axis")
+        if name == "convergence":
+            figure.add_argument("--slopes", type=float, nargs="*", default=[1.0, 2.0],
+                                metavar="P", help="orders of the reference lines "
+                                                  "(default: 1 2)")
+        figure.set_defaults(func=func)
     return parser
+
+
+# Options whose value may start with '-' (an expression such as -2650*9.81*(0.1-y)), which
+# argparse would otherwise take for an option.
+EXPRESSION_OPTIONS = ("--exact",)
+
+
+def _join_expression_values(argv):
+    """``--exact VALUE`` as ``--exact=VALUE``, so that a VALUE starting with '-' is a value."""
+    joined, argv = [], list(argv)
+    while argv:
+        item = argv.pop(0)
+        if item in EXPRESSION_OPTIONS and argv:
+            item = f"{item}={argv.pop(0)}"
+        joined.append(item)
+    return joined
 
 
 def main(argv=None, out=None):
     """Run one command; returns the exit code."""
     out = sys.stdout if out is None else out
-    args = build_parser().parse_args(argv)
+    argv = sys.argv[1:] if argv is None else argv
+    args = build_parser().parse_args(_join_expression_values(argv))
     try:
         return args.func(args, out)
+    except ExpressionError as exc:
+        print(f"mpm_post: error: {exc}", file=sys.stderr)
+        return 2
     except (OSError, ValueError, KeyError) as exc:
         message = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
         print(f"mpm_post: error: {message}", file=sys.stderr)

@@ -34,8 +34,10 @@ def energy_drift(history):
     return float(np.max(np.abs(total - total[0])) / scale)
 
 
-def plot_energy(history, path):
+def plot_energy(history, path, title=None):
     """Plot every energy term of ``history`` against time into an image file; returns its Path.
+
+    ``title``: an optional title of the plot (the run, its energy drift, ...).
 
     Uses matplotlib's Agg canvas directly, so no display is needed and the global backend of a
     calling program is left alone. The parent directory is created when missing.
@@ -59,6 +61,8 @@ def plot_energy(history, path):
     axes.set_ylabel("energy [J; J/m in 2D]")
     axes.grid(True, alpha=0.3)
     axes.legend()
+    if title:
+        axes.set_title(title)
 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)

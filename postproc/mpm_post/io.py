@@ -19,6 +19,25 @@ import numpy as np
 
 OUTPUT_PATTERN = re.compile(r"particles_(\d{6})\.h5")
 HISTORY_FILE = "history.csv"
+# Column labels of the particle fields (docs/output.md): Voigt order for stress and strain.
+STRESS_COMPONENTS = {4: ["xx", "yy", "zz", "xy"], 6: ["xx", "yy", "zz", "xy", "yz", "zx"]}
+VECTOR_COMPONENTS = ["x", "y", "z"]
+
+
+def component_names(name, array):
+    """Labels of the columns of the particle field ``name``, an array as load_particles gives.
+
+    ``[name]`` for one value per particle, ``x y z`` for vectors, the Voigt labels for
+    ``stress`` and ``strain``, column numbers otherwise.
+    """
+    if array.ndim == 1:
+        return [name]
+    ncol = array.shape[1]
+    if name in ("stress", "strain") and ncol in STRESS_COMPONENTS:
+        return list(STRESS_COMPONENTS[ncol])
+    if ncol == 3:
+        return list(VECTOR_COMPONENTS)
+    return [str(i) for i in range(ncol)]
 
 
 def _run_dir(run_dir):
@@ -86,6 +105,35 @@ def _select_output(path_or_run_dir, time):
         return outputs[-1][1]
     times = np.array([t for t, _ in outputs])
     return outputs[int(np.argmin(np.abs(times - float(time))))][1]
+
+
+def output_at(path_or_run_dir, time=None, tolerance=None):
+    """The output file at ``time`` [s]: the last one when None, else one within ``tolerance``.
+
+    Unlike load_particles, which takes the nearest output, this refuses a time that no output
+    is close to: for a comparison with an exact solution at that time. ``tolerance`` [s]
+    defaults to 1e-3 of the last output time, enough for an output written at the first time
+    step at or after the requested time. ``path_or_run_dir``: a run directory or one
+    ``particles_NNNNNN.h5`` file. Returns ``(time, path)`` of the output; raises ValueError
+    naming the output times when none is within the tolerance.
+    """
+    path = Path(path_or_run_dir)
+    outputs = [(_output_time(path), path)] if path.is_file() else list_outputs(path)
+    if not outputs:
+        raise FileNotFoundError(f"no particles_NNNNNN.h5 output in {path}")
+    if time is None:
+        return outputs[-1]
+    times = np.array([t for t, _ in outputs])
+    if tolerance is None:
+        tolerance = 1.0e-3 * float(np.max(np.abs(times)))
+    nearest = int(np.argmin(np.abs(times - float(time))))
+    if not abs(times[nearest] - float(time)) <= tolerance:
+        shown = " ".join(f"{t:g}" for t in times) if times.size <= 12 else \
+            " ".join(f"{t:g}" for t in times[:6]) + " ... " + \
+            " ".join(f"{t:g}" for t in times[-6:])
+        raise ValueError(f"no output at time {time:g} s in {path} (output times [s]: {shown}; "
+                         f"tolerance {tolerance:g} s)")
+    return outputs[nearest]
 
 
 def _read_header(h5file, path):

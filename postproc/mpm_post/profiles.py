@@ -170,6 +170,19 @@ def height_at_wall(x, y, half_size, x_wall=0.0, width=None):
     return float(np.max((y + h)[near])) if np.any(near) else 0.0
 
 
+def max_height(x, y, half_size, x_max=None):
+    """Largest height of the deposit [m].
+
+    The highest particle top, max(y + half_size), among the particles whose centre lies at
+    most at ``x_max`` [m] (default: all of them). Pass the toe (toe_position) as ``x_max`` to
+    leave out particles thrown ahead of the deposit. Returns nan when no particle counts
+    (for example when ``x_max`` is nan).
+    """
+    x, y, h = _points(x, y, half_size)
+    keep = np.ones(x.size, dtype=bool) if x_max is None else x <= x_max
+    return float(np.max((y + h)[keep])) if np.any(keep) else float("nan")
+
+
 def rms_height_difference(x_sim, h_sim, x_ref, h_ref):
     """RMS and largest absolute difference between a simulated and a reference profile [m].
 

@@ -39,6 +39,34 @@ def combos(rows):
     return seen
 
 
+def fit_order(h, errors):
+    """Least-squares line through (log h, log error): the observed order and its standard error.
+
+    ``h``: cell sizes [m] (or any resolution measure; with a number of cells the slope is minus
+    the order); ``errors``: the error of each run (> 0). Points with a non-finite or
+    non-positive h or error (failed runs) are left out. Returns ``(slope, standard_error)``:
+    error ~ C h**slope, so 2 is second order; the standard error of the slope is
+    sqrt(sum(residual**2) / (n - 2) / sum((log h - mean)**2)), nan with exactly two points
+    (a line through two points has no residual to estimate it from). Raises ValueError when
+    fewer than two points with distinct h remain.
+    """
+    h = np.asarray(h, dtype=float).reshape(-1)
+    errors = np.asarray(errors, dtype=float).reshape(-1)
+    if h.shape != errors.shape:
+        raise ValueError(f"{h.size} resolutions but {errors.size} errors")
+    ok = np.isfinite(h) & np.isfinite(errors) & (h > 0) & (errors > 0)
+    log_h, log_e = np.log(h[ok]), np.log(errors[ok])
+    if log_h.size < 2 or np.ptp(log_h) == 0.0:
+        raise ValueError(f"an order needs at least two points with different h and a positive "
+                         f"error, got {log_h.size} usable of {h.size}")
+    slope, intercept = np.polyfit(log_h, log_e, 1)
+    if log_h.size == 2:
+        return float(slope), math.nan
+    residual = log_e - (slope * log_h + intercept)
+    spread = np.sum((log_h - log_h.mean()) ** 2)
+    return float(slope), float(np.sqrt(np.sum(residual**2) / (log_h.size - 2) / spread))
+
+
 def observed_order(cells, errors, finest=3):
     """Least-squares slope of -log(error) against log(cells) over the finest points.
 
@@ -48,15 +76,21 @@ def observed_order(cells, errors, finest=3):
     errors = np.asarray(errors, dtype=float)
     ok = np.isfinite(errors) & (errors > 0)
     cells, errors = cells[ok][-finest:], errors[ok][-finest:]
-    if cells.size < 2:
+    if cells.size < 2 or np.ptp(cells) == 0.0:
         return math.nan
-    slope = np.polyfit(np.log(cells), np.log(errors), 1)[0]
-    return float(-slope)
+    return -fit_order(cells, errors)[0]
 
 
 def pareto_front(points):
-    """Indices of the points (cost, error) that no other point beats in both, by cost."""
-    order = sorted(range(len(points)), key=lambda i: (points[i][0], points[i][1]))
+    """Indices of the points (cost, error) that no other point beats in both, by cost.
+
+    Sorted by increasing cost (and so decreasing error); a point equal to or worse than a
+    cheaper (or equally cheap) one in error is not on the front. Non-finite points are left out.
+    """
+    points = list(points)
+    order = sorted((i for i in range(len(points))
+                    if math.isfinite(points[i][0]) and math.isfinite(points[i][1])),
+                   key=lambda i: (points[i][0], points[i][1]))
     front, best = [], math.inf
     for i in order:
         if points[i][1] < best:

@@ -77,3 +77,42 @@ def history_rows(n=5):
         total = kinetic + strain + potential + damping + 0.1 * i
         rows.append((time, 10 * i, kinetic, strain, potential, damping, total))
     return rows
+
+
+# A 2D column under gravity with a known error: the exact geostatic stress
+# sigma_yy = -RHO G (HEIGHT - y) (tension positive) plus OFFSETS [Pa] at the last output.
+RHO = 2650.0          # density [kg/m3]
+G = 9.81              # gravity [m/s2]
+HEIGHT = 0.1          # column height [m]
+GEOSTATIC = "-2650*9.81*(0.1 - y)"
+COLUMN_Y = np.array([0.0125, 0.0375, 0.0625, 0.0875])    # particle heights [m]
+COLUMN_X = np.array([0.01, 0.03, 0.05, 0.07])            # particle x [m]
+MASSES = np.array([1.0, 1.0, 2.0, 4.0])                  # [kg/m]
+OFFSETS = np.array([1.0, -2.0, 0.5, 0.0])                # stress error [Pa]
+SHIFT = 0.02                                             # x displacement at the last output [m]
+
+
+def write_geostatic_run(run_dir, times=(0.0, 0.5)):
+    """A run whose first output holds the exact stress and whose last one holds it + OFFSETS.
+
+    Between them the particles move by SHIFT along x (displacement and position agree) and the
+    x velocity is exactly t * x_initial, so that ``velocity x`` against ``t*x`` at the initial
+    positions has no error. Volumes are all equal (1e-4 m2), masses are MASSES.
+    """
+    run_dir = Path(run_dir)
+    run_dir.mkdir(parents=True, exist_ok=True)
+    for index, time in enumerate(times):
+        last = index == len(times) - 1 and index > 0
+        displacement = np.zeros((4, 3))
+        displacement[:, 0] = SHIFT if last else 0.0
+        position = np.stack([COLUMN_X, COLUMN_Y, np.zeros(4)], axis=1) + displacement
+        stress = np.zeros((4, 4))
+        stress[:, 1] = -RHO * G * (HEIGHT - COLUMN_Y) + (OFFSETS if last else 0.0)
+        velocity = np.zeros((4, 3))
+        velocity[:, 0] = time * COLUMN_X
+        write_output(run_dir / f"particles_{index:06d}.h5", time, 100 * index, 2,
+                     {"position": position, "displacement": displacement, "velocity": velocity,
+                      "stress": stress, "mass": MASSES.copy(), "volume": np.full(4, 1.0e-4)},
+                     case_name="geostatic")
+    write_history(run_dir / "history.csv", history_rows())
+    return run_dir
