@@ -82,44 +82,47 @@ def _material(**changes):
 
 def _damping(value):
     def apply(case):
-        case["solver"]["flip_fraction"] = 1.0
+        case["solver"]["transfer"] = "flip"
         case["damping"] = {"type": "local", "value": value}
     return apply
 
 
 # --numerics: the choices of the case file that are numerical rather than physical, one at a
-# time: the FLIP/PIC blend of the particle velocity update, the separation of the cohesionless
-# material, the F-bar locking correction, and local damping instead of the PIC part (the
-# published GIMP reproduction of Wyser et al. 2021 uses local damping 0.05 and a cell-averaged
-# pressure).
+# time: the velocity transfer (APIC in the case; FLIP, pure or blended with PIC), the
+# separation of the cohesionless material, the F-bar locking correction, and local damping
+# with FLIP (the published GIMP reproduction of Wyser et al. 2021 uses FLIP, local damping 0.05
+# and a cell-averaged pressure).
 NUMERICS = {
     "case": ("the case file as given", None),
-    "flip_1": ("pure FLIP (flip_fraction 1)", _solver(flip_fraction=1.0)),
-    "flip_0.95": ("flip_fraction 0.95", _solver(flip_fraction=0.95)),
+    "flip": ("FLIP transfer (pure)", _solver(transfer="flip")),
+    "flip_0.99": ("FLIP with flip_fraction 0.99", _solver(transfer="flip", flip_fraction=0.99)),
     "no_separation": ("separation false", _material(separation=False)),
     "fbar": ("locking_correction fbar", _solver(locking_correction="fbar")),
-    "damping": ("pure FLIP with local damping 0.05", _damping(0.05)),
+    "damping": ("FLIP with local damping 0.05", _damping(0.05)),
 }
 
 
 WHAT_THE_MODEL_MISSES = [
+    "The toe at 2.5 mm: the deposit runs out further than measured (the 5 % target is missed), "
+    "and further at 2.5 mm than at 5 mm cells: the runout grows as the numerical dissipation "
+    "falls, so the continuum model itself (Mohr-Coulomb, phi = 19.8 deg, psi = 0, c = 0, floor "
+    "mu = tan(phi)) over-predicts this runout, as Mast et al. (2014) report for Mohr-Coulomb "
+    "collapses. The match at 5 mm is partly numerical. The numerics table shows how the toe "
+    "moves with the choices that are numerical rather than physical; none of them is tuned here.",
     "Grain scale: the bars are a continuum here (Mohr-Coulomb, constant phi, no dilatancy); "
     "the experiment's front ends where the deposit is one or two bars (1-1.5 mm) thick, while "
-    "the model's thinnest layer is one particle (dx/2) and it keeps flowing as a thin sheet.",
+    "the model's thinnest layer is one particle (dx/2).",
     "Floor friction: the case assumes a bar-on-floor friction of mu = tan(phi) = 0.36; the paper "
     "gives no measured value. The floor sensitivity table shows how much the toe depends on it.",
-    "Final state only: the experiment is compared at rest (t = 1 s); the transient profiles of "
-    "the paper's figure (front speed, time to stop) are not checked.",
     "Rate independence: no viscosity or mu(I) rheology, so the fast thin front has the same "
     "friction as the slow deposit; one possible reason why it runs out further than measured.",
-    "Particle velocity noise: the kinetic energy stays at about 0.5 % of its peak at the end, "
-    "carried by particles of the thin front whose velocities alternate in sign between "
-    "neighbours while their positions barely move (largest displacement over the last 0.1 s "
-    "in the figures above).",
+    "Final state only: the experiment is compared at rest (t = 1 s); the transient profiles of "
+    "the paper's figure (front speed, time to stop) are not checked.",
     "Elastic constants: E = 0.84 MPa is a published modelling value, not a measurement; it only "
     "sets the wave speed and the elastic settlement (0.3 mm), not the deposit.",
-    "The tension cutoff at the apex lets particles with zero stress grow in volume (see the "
-    "volume change in the metrics): the thin front spreads over more length than its mass fills.",
+    "Volume: with separation the deposit keeps its volume to a few per cent (the experiment's "
+    "area grows by 1.5 %); without it every pass of the front through tension adds volume for "
+    "good (13-16 %, see the numerics table).",
 ]
 
 
@@ -306,17 +309,19 @@ def target(name, value, reference, band, passed, gating, why, unit="m"):
 
 def compare(metrics, exp, dx, coarse):
     """The targets of the issue (gating) and the other comparisons (reported)."""
-    toe_band = 0.40 if coarse else 0.05
+    toe_band = 0.15 if coarse else 0.05
     length_band = 2.0 * dx
     toe_error = (metrics["toe_m"] - exp["toe_m"]) / exp["toe_m"]
     metrics["toe_relative_error"] = toe_error
     cells = "two 5 mm cells" if coarse else "two 2.5 mm cells"
     toe_why = ("issue target: 5 % of the measured toe; a published explicit GIMP code at this "
                "resolution ends 3.6 % short" if not coarse else
-               "regression band, not the issue target: at 5 mm the model's thin front runs "
-               "out about 34 % too far (the 5 % target at 2.5 mm is missed too, see "
-               "docs/validation.md); 40 % catches a change for the worse, while the surface "
-               "RMS and the wall height hold the bulk of the deposit to two cells")
+               "regression band, not the issue target: at 5 mm the toe lands within a few per "
+               "cent of the experiment, but the 2.5 mm run ends further out (the model's "
+               "runout grows under refinement, see docs/validation.md), so the match at 5 mm "
+               "is partly numerical dissipation; 15 % catches a change for the worse (pure "
+               "FLIP without separation ran 34 % too far), while the surface RMS and the wall "
+               "height hold the bulk of the deposit to two cells")
     results = [
         target("toe", metrics["toe_m"], exp["toe_m"], f"within {toe_band:.0%}",
                abs(toe_error) <= toe_band, True, toe_why),
@@ -559,7 +564,7 @@ def parse_args(argv):
     mode = parser.add_mutually_exclusive_group()
     mode.add_argument("--coarse", action="store_true",
                       help=f"run a copy with {COARSE_DX * 1e3:g} mm cells "
-                           "(toe regression band 40 %%)")
+                           "(toe regression band 15 %%)")
     mode.add_argument("--floors", action="store_true",
                       help="coarse runs with floor mu = tan(phi), fixed and frictionless")
     mode.add_argument("--numerics", action="store_true",
