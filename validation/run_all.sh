@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs every validation case (validation/*/check.py), collects their results/*.json and writes
-# docs/validation.md. Called by `make validate` (after make build). About 5 minutes on 2 cores.
+# docs/validation.md. Called by `make validate` (after make build). About 7 minutes on 2 cores.
 # Usage: validation/run_all.sh [--no-run] [path/to/mpm_geo]
 #   --no-run  analyse the outputs of the last runs again (no wall times) and rewrite the page
 # Exit code: 0 when every case meets its targets, 1 when one misses a target or fails to run
@@ -80,6 +80,10 @@ def fmt(value, unit=""):
             return f"{value:.1f} deg"
         if unit == "%":
             return f"{value:+.1%}"
+        if unit == "rel":   # a relative error or change: percent, 3 significant digits
+            return f"{value * 100:+.3g} %"
+        if unit:            # any other unit (s, m/s, ...): 5 significant digits
+            return f"{value:.5g} {unit}"
         return f"{value:.3g}"
     return str(value)
 
@@ -171,8 +175,10 @@ for case_dir in sorted({c for c, _, _ in reports}):
                                            "README.md)" if (case_dir / "data").is_dir() else "")
               + ".", ""]
     for path, report in case_reports:
-        what = "check.py" if report["resolution"] == "full" else \
-            f"check.py_--{report['resolution']}"
+        # "default_run": the report comes from the plain check.py run (a case that writes
+        # several reports in one run), not from a run with an extra option
+        what = "check.py" if report["resolution"] == "full" or report.get("default_run") \
+            else f"check.py_--{report['resolution']}"
         heading = report.get("heading") or (f"{report['resolution']} resolution "
                                             f"({report['setup']['dx_m'] * 1e3:g} mm cells)")
         lines += [f"### {name}, {heading}", ""]
@@ -207,7 +213,9 @@ for case_dir in sorted({c for c, _, _ in reports}):
                  f"{m.get('rest_window_s', 0.1):.2g} s", "mm")]:
             if key in m:
                 other.append(f"{label}: {fmt(m[key], unit)}")
-        lines += ["Other figures: " + "; ".join(other) + ".", "", run_line(report, name, what), ""]
+        if other:
+            lines += ["Other figures: " + "; ".join(other) + ".", ""]
+        lines += [run_line(report, name, what), ""]
         if report.get("xdmf"):
             lines += [f"ParaView: open `{report['xdmf']}` (see [output.md](output.md)).", ""]
         for note in report.get("notes", []):
