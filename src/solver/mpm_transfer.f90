@@ -23,7 +23,8 @@ module mpm_transfer
     real(wp), parameter :: contact_tolerance = 1.0e-3_wp
         !! material closer to a frictional face than this fraction of dx touches it [-]
     real(wp), parameter :: load_smoothing = 0.1_wp
-        !! weight of the newest step in the running mean of the normal contact impulse [-]
+        !! weight of the newest step in the running mean of the normal contact impulse when
+        !! grid%contact_time is 0 [-]
 
 contains
 
@@ -267,7 +268,7 @@ contains
             !! kinetic energy the contacts removed (normal impact and friction) [J]
 
         integer :: c, id, a, dim
-        real(wp) :: v(3), vnew(3), vn, vt_norm, factor
+        real(wp) :: v(3), vnew(3), vn, vt_norm, factor, weight
         logical :: touching
 
         dim = grid%dim
@@ -286,8 +287,11 @@ contains
             vnew(1:dim) = v(1:dim)
             if (vn > 0.0_wp) vnew(a) = 0.0_wp
             if (dt > 0.0_wp) then
-                grid%contact_load(c) = (1.0_wp - load_smoothing)*grid%contact_load(c) &
-                    + load_smoothing*max(vn, 0.0_wp)*grid%mass(id)
+                ! running mean over a fixed time, so that the friction does not depend on dt
+                weight = load_smoothing
+                if (grid%contact_time > 0.0_wp) weight = min(1.0_wp, dt/grid%contact_time)
+                grid%contact_load(c) = (1.0_wp - weight)*grid%contact_load(c) &
+                    + weight*max(vn, 0.0_wp)*grid%mass(id)
                 vt_norm = norm2(vnew(1:dim) - vnew(a)*unit(a, dim))
                 if (vt_norm > 0.0_wp) then
                     factor = max(0.0_wp, &
