@@ -339,15 +339,20 @@ contains
                 v(1:dim) = v(1:dim) + st%w(c)*grid%velocity(:, st%node(c))
             end do
             if (allocated(particles%affine)) then
-                ! APIC: the particle takes the nodal velocity field, its value and its gradient
+                ! APIC: the particle takes the nodal velocity field, its value and its gradient.
+                ! A particle alone on its nodes would only get back the affine field it gave
+                ! them, and a stretching one would keep stretching without end (its volume grew
+                ! by 1e72 at the front of a collapse); alone, it moves without an affine part.
                 particles%v(:, p) = v(1:dim)
                 particles%affine(:, :, p) = 0.0_wp
-                do c = 1, st%count
-                    do k = 1, dim
-                        particles%affine(:, k, p) = particles%affine(:, k, p) &
-                            + grid%velocity(:, st%node(c))*st%dw(k, c)
+                if (.not. alone(grid, particles%mass(p), st)) then
+                    do c = 1, st%count
+                        do k = 1, dim
+                            particles%affine(:, k, p) = particles%affine(:, k, p) &
+                                + grid%velocity(:, st%node(c))*st%dw(k, c)
+                        end do
                     end do
-                end do
+                end if
             else if (flip < 1.0_wp) then
                 particles%v(:, p) = flip*(particles%v(:, p) + dt*a(1:dim)) &
                     + (1.0_wp - flip)*v(1:dim)
@@ -633,6 +638,26 @@ contains
         xi = node_position(grid, id)
         v = v + matmul(particles%affine(:, :, p), xi(1:grid%dim) - particles%x(:, p))
     end function particle_velocity
+
+    !> Whether a particle of mass m is alone on the nodes of its stencil (each node with a
+    !> weight has its mass from this particle, to round-off).
+    pure logical function alone(grid, m, st)
+        type(grid_type), intent(in) :: grid
+            !! grid with nodal masses
+        real(wp), intent(in) :: m
+            !! particle mass [kg]
+        type(stencil_type), intent(in) :: st
+            !! stencil of the particle
+        integer :: c
+        alone = .true.
+        do c = 1, st%count
+            if (st%w(c) <= 0.0_wp) cycle
+            if (grid%mass(st%node(c)) > (1.0_wp + 1.0e-9_wp)*m*st%w(c)) then
+                alone = .false.
+                return
+            end if
+        end do
+    end function alone
 
     !> Unit vector along axis a.
     pure function unit(a, dim) result(e)
