@@ -62,6 +62,8 @@ module mpm_manufactured
 
     !> Growth of velocity noise in a uniformly stressed bar at rest.
     type :: bar_result_type
+        real(wp) :: stretch = 1.0_wp
+            !! stretch F of the bar [-]
         real(wp) :: stress = 0.0_wp
             !! axial Cauchy stress of the bar, tension positive [Pa]
         real(wp) :: dt = 0.0_wp
@@ -104,10 +106,11 @@ contains
             *cos(sqrt(young/density)*pi*t/length)
     end function mms_stretch
 
-    !> The strip of length L between fixed ends: grid, material, particles (undeformed, at rest).
-    subroutine new_strip(sim, ncells, shape, scheme, cfl, ppc, error)
+    !> A one-cell strip of cell size L / ncells between ends held at x = 0 and x = L: grid,
+    !> material and particles (undeformed, at rest) filling `body_cells` cells from x = 0.
+    subroutine new_strip(sim, ncells, body_cells, shape, scheme, cfl, ppc, error)
         type(simulation_type), intent(out) :: sim
-        integer, intent(in) :: ncells, ppc
+        integer, intent(in) :: ncells, body_cells, ppc
         character(len=*), intent(in) :: shape, scheme
         real(wp), intent(in) :: cfl
         type(error_type), allocatable, intent(out) :: error
@@ -118,15 +121,17 @@ contains
 
         dx_text = real_text(length/ncells)
         ! one extra cell on each side keeps the fixed ends on grid nodes inside the domain
-        call read_case_string('{"name": "mms", "domain": {"nx": '//int_text(ncells + 2)// &
-            ', "ny": 1, "dx": '//dx_text//', "origin": [-'//dx_text//", 0], "// &
+        call read_case_string('{"name": "mms", "domain": {"nx": '// &
+            int_text(max(ncells, body_cells) + 2)//', "ny": 1, "dx": '//dx_text// &
+            ', "origin": [-'//dx_text//", 0], "// &
             '"boundaries": {"ymin": "sliding", "ymax": "sliding"}}, '// &
             '"particles": {"ppc": '//int_text(ppc)//'}, "materials": [{"name": "m", '// &
             '"type": "neo_hookean", "E": '//real_text(young)//', "nu": 0, "rho": '// &
             real_text(density)//'}], "bodies": [{"material": "m", "min": [0, 0], "max": ['// &
-            real_text(length)//', '//dx_text//']}], "solver": {"scheme": "'//scheme// &
-            '", "shape_function": "'//shape//'"}, "time": {"tend": 1e3, "cfl": '// &
-            real_text(cfl)//"}}", case, error, "manufactured solution")
+            real_text(body_cells*(length/ncells))//", "//dx_text//']}], "solver": '// &
+            '{"scheme": "'//scheme//'", "shape_function": "'//shape//'"}, '// &
+            '"time": {"tend": 1e3, "cfl": '//real_text(cfl)//"}}", case, error, &
+            "manufactured solution")
         if (allocated(error)) return
         call new_simulation(sim, case, error)
         if (allocated(error)) return
@@ -164,7 +169,7 @@ contains
         real(wp) :: f0
         integer :: p
 
-        call new_strip(sim, ncells, shape, scheme, cfl, ppc, error)
+        call new_strip(sim, ncells, ncells, shape, scheme, cfl, ppc, error)
         if (allocated(error)) return
         associate (pt => sim%particles)
             allocate (x_ref(pt%n), pt%body_force(pt%dim, pt%n))
@@ -278,12 +283,17 @@ contains
 
     !> The strip held uniformly stretched (stretch > 1) or compressed at rest between its fixed
     !> ends, with a small pseudo-random particle velocity noise: the growth rate of that noise.
+    !>
+    !> The particles are made in the reference configuration, nint(ncells / stretch) cells long,
+    !> and mapped onto the strip (ncells cells) by x = F X with F = ncells / that number (the
+    !> stretch actually used): as in the manufactured solution, their pattern then does not
+    !> repeat with the cells.
     subroutine run_stretched_bar(ncells, stretch, shape, scheme, cfl, tend, result, error, &
             tension_budget)
         integer, intent(in) :: ncells
             !! cells along the bar
         real(wp), intent(in) :: stretch
-            !! uniform axial stretch F of the bar [-]
+            !! uniform axial stretch F of the bar asked for [-]
         character(len=*), intent(in) :: shape
             !! "linear" or "cpgimp"
         character(len=*), intent(in) :: scheme
@@ -301,28 +311,30 @@ contains
 
         type(simulation_type) :: sim
         real(wp), allocatable :: times(:), logs(:)
-        real(wp) :: t0, dt, speed
-        integer :: p, n, first
+        real(wp) :: t0, dt, speed, f0
+        integer :: p, n, first, body_cells
 
         if (.not. (stretch > 0.0_wp)) then
             call fatal_error(error, "stretched bar: the stretch must be positive")
             return
         end if
-        ! the bar fills the strip in its current configuration; its reference one is 1/F as long
-        call new_strip(sim, ncells, shape, scheme, cfl, 2, error)
+        body_cells = max(1, nint(ncells/stretch))
+        f0 = real(ncells, wp)/body_cells
+        call new_strip(sim, ncells, body_cells, shape, scheme, cfl, 2, error)
         if (allocated(error)) return
         associate (pt => sim%particles)
-            pt%volume0 = pt%volume/stretch
-            pt%mass = pt%mass/stretch
-            pt%lp0(1, :) = pt%lp(1, :)/stretch
-            pt%f(1, 1, :) = stretch
-            pt%state(1, :) = stretch - 1.0_wp
+            pt%x(1, :) = f0*pt%x(1, :)
+            pt%volume = f0*pt%volume0
+            pt%lp(1, :) = f0*pt%lp0(1, :)
+            pt%f(1, 1, :) = f0
+            pt%state(1, :) = f0 - 1.0_wp
             pt%stress = 0.0_wp
-            pt%stress(1, :) = 0.5_wp*young*(stretch - 1.0_wp/stretch)
+            pt%stress(1, :) = 0.5_wp*young*(f0 - 1.0_wp/f0)
             do p = 1, pt%n
                 ! golden-angle sequence: every wavelength down to the particle spacing
                 pt%v(1, p) = noise_speed*sin(2.399963229728653_wp*p)
             end do
+            result%stretch = f0
             result%stress = pt%stress(1, 1)
             result%particles = pt%n
             result%speed_start = rms(pt%v(1, :))
@@ -333,12 +345,12 @@ contains
                 if (present(tension_budget)) dt = min(dt, &
                     tension_time_step(sim, tension_budget, tend))
                 dt = min(dt, tend - sim%time)
+                if (sim%step == 0) result%dt = dt
                 call advance(sim, dt, error)
                 if (allocated(error)) return
                 speed = rms(pt%v(1, :))
                 times = [times, sim%time]
                 logs = [logs, log(speed)]
-                if (sim%step == 1) result%dt = dt
                 if (speed >= noise_cap) exit
             end do
             result%wall = wall_time() - t0
@@ -350,9 +362,7 @@ contains
         ! least-squares slope of log(rms speed) over the second half of the run
         n = size(times)
         first = n/2 + 1
-        if (n - first >= 1) then
-            result%growth = slope(times(first:n), logs(first:n))
-        end if
+        if (n - first >= 1) result%growth = slope(times(first:n), logs(first:n))
     end subroutine run_stretched_bar
 
     pure real(wp) function rms(values)
