@@ -203,8 +203,12 @@ contains
                 sim%case%fbar, work)
         case (scheme_musl)
             call remap_momentum(sim%grid, sim%particles, sim%shape)
+            ! the particles move with the remapped velocities that strain them: moved with the
+            ! velocities of the nodal update instead, the difference (dt times the nodal
+            ! acceleration) feeds particle noise under tension that FLIP never damps (growth
+            ! ~ sigma dt / (rho dx^2), see docs/accuracy-vs-cost.md)
             call update_stress(sim%grid, sim%particles, sim%shape, sim%materials, dt, &
-                sim%case%fbar, work)
+                sim%case%fbar, work, sim%dxp)
         case default
             continue ! USF: the stress was updated before the momentum
         end select

@@ -465,7 +465,7 @@ contains
     !> flow (Mohr-Coulomb with psi = 0) otherwise locks on the low-order shape functions and
     !> leaves a checkerboard of pressures, and with it of strengths, between the particles of
     !> a cell (Coombs et al. 2018; Wyser et al. 2021 average the pressure per cell).
-    subroutine update_stress(grid, particles, shape, materials, dt, fbar, strain_work)
+    subroutine update_stress(grid, particles, shape, materials, dt, fbar, strain_work, dxp)
         type(grid_type), intent(in) :: grid
             !! grid with nodal velocities
         type(particles_type), intent(inout) :: particles
@@ -480,9 +480,12 @@ contains
             !! average the volume change of the step per cell
         real(wp), intent(out) :: strain_work
             !! sum_p V_p sigma_mid : d_eps [J] (per metre in 2D)
+        real(wp), intent(inout), optional :: dxp(:, :)
+            !! when present, the position increment dt sum_i N_i v_i from the same nodal
+            !! velocities as the strain (MUSL) [m]
 
         integer :: p, dim, ns, a
-        real(wp) :: gradv(3, 3), ldt(3, 3), de(6), omega(3), sold(6), dF(3, 3), jac, scale
+        real(wp) :: gradv(3, 3), ldt(3, 3), de(6), omega(3), sold(6), dF(3, 3), jac, scale, v(3)
         real(wp), allocatable :: grads(:, :, :), cell_old(:), cell_new(:)
         integer, allocatable :: cell(:)
 
@@ -495,8 +498,8 @@ contains
             !$omp parallel do default(none) schedule(static) &
             !$omp shared(grid, particles, shape, dim, grads, cell) private(p)
             do p = 1, particles%n
-                grads(:, :, p) = velocity_gradient(grid, shape, particles%x(:, p), &
-                    particles%lp(:, p))
+                call velocity_gradient(grid, shape, particles%x(:, p), particles%lp(:, p), &
+                    grads(:, :, p))
                 cell(p) = cell_of(grid, particles%x(:, p))
             end do
             !$omp end parallel do
@@ -511,13 +514,17 @@ contains
         end if
         !$omp parallel do default(none) schedule(static) &
         !$omp shared(grid, particles, shape, materials, dt, dim, ns, fbar, grads, cell, &
-        !$omp cell_old, cell_new) &
-        !$omp private(p, gradv, ldt, de, omega, sold, dF, jac, a, scale) reduction(+: strain_work)
+        !$omp cell_old, cell_new, dxp) &
+        !$omp private(p, gradv, v, ldt, de, omega, sold, dF, jac, a, scale) reduction(+: strain_work)
         do p = 1, particles%n
-            if (fbar) then
+            if (present(dxp)) then
+                call velocity_gradient(grid, shape, particles%x(:, p), particles%lp(:, p), &
+                    gradv, v(1:dim))
+                dxp(:, p) = dt*v(1:dim)
+            else if (fbar) then
                 gradv = grads(:, :, p)
             else
-                gradv = velocity_gradient(grid, shape, particles%x(:, p), particles%lp(:, p))
+                call velocity_gradient(grid, shape, particles%x(:, p), particles%lp(:, p), gradv)
             end if
             ! gradv(i, j) = d v_i / d x_j; ldt = dt gradv, dF = I + ldt
             ldt = dt*gradv
@@ -567,15 +574,19 @@ contains
         !$omp end parallel do
     end subroutine update_stress
 
-    !> Velocity gradient L(i, j) = d v_i / d x_j at a particle from the nodal velocities.
-    function velocity_gradient(grid, shape, x, lp) result(gradv)
+    !> Velocity gradient L(i, j) = d v_i / d x_j at a particle from the nodal velocities, and
+    !> optionally the velocity sum_i N_i v_i itself.
+    subroutine velocity_gradient(grid, shape, x, lp, gradv, v)
         type(grid_type), intent(in) :: grid
             !! grid with nodal velocities
         class(shape_type), intent(in) :: shape
             !! shape function
         real(wp), intent(in) :: x(:), lp(:)
             !! particle position [m] and half size [m]
-        real(wp) :: gradv(3, 3)
+        real(wp), intent(out) :: gradv(3, 3)
+            !! velocity gradient [1/s]
+        real(wp), intent(out), optional :: v(:)
+            !! interpolated velocity (dim) [m/s]
 
         type(stencil_type) :: st
         integer :: c, a
@@ -587,7 +598,13 @@ contains
                 gradv(1:grid%dim, a) = gradv(1:grid%dim, a) + grid%velocity(:, st%node(c))*st%dw(a, c)
             end do
         end do
-    end function velocity_gradient
+        if (present(v)) then
+            v = 0.0_wp
+            do c = 1, st%count
+                v = v + st%w(c)*grid%velocity(:, st%node(c))
+            end do
+        end if
+    end subroutine velocity_gradient
 
     !> Deformation gradient increment I + dt L (the identity outside the first dim axes).
     pure function increment(gradv, dt, dim) result(dF)
