@@ -1041,7 +1041,7 @@ contains
             at_least=0.0_wp, at_most=1.0_wp, unit="-", found=found)
         if (allocated(error)) return
         if (found .and. case%apic) then
-            call input_error(error, src, 'solver.flip_fraction applies to solver.transfer = ' &
+            call input_error(error, src, "solver.flip_fraction applies to solver.transfer = " &
                 //'"flip" only (here "apic", whose velocity update has no FLIP part); remove it')
         end if
     end subroutine read_solver

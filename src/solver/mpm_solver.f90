@@ -121,8 +121,9 @@ contains
         sim%dxp = 0.0_wp
         ! APIC affine velocities: kept from a state file of an APIC run, zero otherwise (a
         ! uniform velocity per body); dropped when this stage does not use APIC
-        if (.not. case%apic .and. allocated(sim%particles%affine)) &
+        if (.not. case%apic .and. allocated(sim%particles%affine)) then
             deallocate (sim%particles%affine)
+        end if
         if (case%apic .and. .not. allocated(sim%particles%affine)) then
             allocate (sim%particles%affine(case%dim, case%dim, sim%particles%n), stat=stat, &
                 errmsg=msg)
