@@ -120,8 +120,26 @@ def test_findings_come_from_the_numbers():
                                           study_report.front(rows, "error", "cpu_s")))
     assert "cpgimp: observed order 2.00" in text and "about second order" in text
     assert "linear MUSL stops converging" in text and "16 to 32 cells" in text
-    assert "Failed runs: linear USF, 4 cells (particle 3 left the grid)" in text
-    assert "cpgimp's error is" in text and "smaller" in text
+    assert "Failed runs (1 of 9), left out of the fits: linear USF at 4 cells" in text
+    assert "particle 3 left the grid" in text
+    # cpgimp / linear at MUSL: 4 cells 0.0625 / 0.05, ..., 32 cells 0.000977 / 0.025
+    assert "Error of cpgimp / error of linear" in text
+    assert "at the finest resolution both finished: MUSL 0.0391 at 32 cells" in text
+
+
+def test_reason_of_a_failed_run():
+    note = ("mpm_geo exit code 3: step 2139, t =  4.95924E-01 s: particle 480 left the grid: "
+            "position (4.8712E-01, 1.2002E-01) m; enlarge the domain")
+    assert study_report.reason(note) == "t = 0.496 s: particle 480 left the grid"
+    assert study_report.reason("no result after 3600 s") == "no result after 3600 s"
+    assert study_report.reason("x" * 300).endswith("...")
+
+
+def test_shapes_that_agree_are_said_to_agree():
+    rows = [run(shape, "USL", cells, 0.1 / cells * (1.01 if shape == "cpgimp" else 1.0), 1.0)
+            for shape in ("linear", "cpgimp") for cells in (4, 8)]
+    text = " ".join(study_report.compare_shapes(rows, METRIC, ["linear", "cpgimp"]))
+    assert "about the same error (ratio 1.01 to 1.01 over 2 pairs)" in text
 
 
 def test_metric_section_writes_figures_and_tables(tmp_path):
