@@ -55,6 +55,8 @@ module mpm_grid
         real(wp), allocatable :: contact_load(:)
             !! running mean of the normal impulse the face takes at each pair (ncontacts) [N s]
         integer :: contact_offset(2, 3) = -1
+        real(wp) :: small_mass = 0.0_wp
+            !! nodes lighter than this get no force (their velocity is the mapped one) [kg]
         real(wp) :: contact_time = 0.0_wp
             !! time constant of the running mean of the normal contact impulse [s]; 0: a fixed
             !! weight per step

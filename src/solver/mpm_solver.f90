@@ -119,6 +119,7 @@ contains
             return
         end if
         sim%dxp = 0.0_wp
+        if (sim%particles%n > 0) sim%grid%small_mass = 1.0e-2_wp*minval(sim%particles%mass)
         ! APIC affine velocities: kept from a state file of an APIC run, zero otherwise (a
         ! uniform velocity per body); dropped when this stage does not use APIC
         if (.not. case%apic .and. allocated(sim%particles%affine)) then

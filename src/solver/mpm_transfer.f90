@@ -225,6 +225,7 @@ contains
                     + 0.5_wp*dt*f(1:dim)/grid%mass(i)))
             end if
             where (grid%constrained(:, i)) f(1:dim) = 0.0_wp
+            if (grid%mass(i) < grid%small_mass) f(1:dim) = 0.0_wp
             grid%acceleration(:, i) = f(1:dim)/grid%mass(i)
             grid%momentum(:, i) = grid%momentum(:, i) + dt*f(1:dim)
         end do
