@@ -497,10 +497,16 @@ contains
             allocate (grads(3, 3, particles%n), cell(particles%n))
             allocate (cell_old(product(grid%ncells)), cell_new(product(grid%ncells)))
             !$omp parallel do default(none) schedule(static) &
-            !$omp shared(grid, particles, shape, dim, grads, cell) private(p)
+            !$omp shared(grid, particles, shape, dim, dt, grads, cell, dxp) private(p, v)
             do p = 1, particles%n
-                call velocity_gradient(grid, shape, particles%x(:, p), particles%lp(:, p), &
-                    grads(:, :, p))
+                if (present(dxp)) then
+                    call velocity_gradient(grid, shape, particles%x(:, p), particles%lp(:, p), &
+                        grads(:, :, p), v(1:dim))
+                    dxp(:, p) = dt*v(1:dim)
+                else
+                    call velocity_gradient(grid, shape, particles%x(:, p), particles%lp(:, p), &
+                        grads(:, :, p))
+                end if
                 cell(p) = cell_of(grid, particles%x(:, p))
             end do
             !$omp end parallel do
@@ -518,12 +524,12 @@ contains
         !$omp cell_old, cell_new, dxp) &
         !$omp private(p, gradv, v, ldt, de, omega, sold, dF, jac, a, scale) reduction(+: strain_work)
         do p = 1, particles%n
-            if (present(dxp)) then
+            if (fbar) then
+                gradv = grads(:, :, p)   ! and dxp, when asked, from the same pass
+            else if (present(dxp)) then
                 call velocity_gradient(grid, shape, particles%x(:, p), particles%lp(:, p), &
                     gradv, v(1:dim))
                 dxp(:, p) = dt*v(1:dim)
-            else if (fbar) then
-                gradv = grads(:, :, p)
             else
                 call velocity_gradient(grid, shape, particles%x(:, p), particles%lp(:, p), gradv)
             end if
