@@ -480,13 +480,14 @@ contains
         logical, intent(in) :: fbar
             !! average the volume change of the step per cell
         real(wp), intent(out) :: strain_work
-            !! sum_p V_p sigma_mid : d_eps [J] (per metre in 2D)
+            !! sum_p (V sigma)_mid : d_eps [J] (per metre in 2D)
         real(wp), intent(inout), optional :: dxp(:, :)
             !! when present, the position increment dt sum_i N_i v_i from the same nodal
             !! velocities as the strain (MUSL) [m]
 
         integer :: p, dim, ns, a
-        real(wp) :: gradv(3, 3), ldt(3, 3), de(6), omega(3), sold(6), dF(3, 3), jac, scale, v(3)
+        real(wp) :: gradv(3, 3), ldt(3, 3), de(6), omega(3), sold(6), dF(3, 3), jac, scale, v(3), &
+            vold
         real(wp), allocatable :: grads(:, :, :), cell_old(:), cell_new(:)
         integer, allocatable :: cell(:)
 
@@ -522,7 +523,8 @@ contains
         !$omp parallel do default(none) schedule(static) &
         !$omp shared(grid, particles, shape, materials, dt, dim, ns, fbar, grads, cell, &
         !$omp cell_old, cell_new, dxp) &
-        !$omp private(p, gradv, v, ldt, de, omega, sold, dF, jac, a, scale) reduction(+: strain_work)
+        !$omp private(p, gradv, v, ldt, de, omega, sold, vold, dF, jac, a, scale) &
+        !$omp reduction(+: strain_work)
         do p = 1, particles%n
             if (fbar) then
                 gradv = grads(:, :, p)   ! and dxp, when asked, from the same pass
@@ -560,6 +562,7 @@ contains
                 omega(3) = 0.5_wp*(ldt(3, 1) - ldt(1, 3))
             end if
             sold(1:ns) = particles%stress(:, p)
+            vold = particles%volume(p)
             call materials(particles%material(p))%m%update_stress(particles%stress(:, p), &
                 de(1:ns), omega, dt, particles%state(:, p))
             particles%strain(:, p) = particles%strain(:, p) + de(1:ns)
@@ -575,8 +578,10 @@ contains
             do a = 1, dim
                 particles%lp(a, p) = particles%lp0(a, p)*abs(particles%f(a, a, p))
             end do
-            strain_work = strain_work + particles%volume(p)*0.5_wp &
-                *double_contraction(sold(1:ns) + particles%stress(:, p), de(1:ns))
+            ! trapezoidal rule on V sigma (volume and stress at both ends of the step): second
+            ! order in dt, also when the volume changes with the strain (large deformation)
+            strain_work = strain_work + 0.5_wp*double_contraction(vold*sold(1:ns) &
+                + particles%volume(p)*particles%stress(:, p), de(1:ns))
         end do
         !$omp end parallel do
     end subroutine update_stress
