@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Speed benchmarks of mpm_geo (not a test): runs each case in bench/cases/ with 1 and 2
-# OpenMP threads and prints particles, nodes, steps, wall time, particle-steps per second and
-# memory, as a table and as one machine-readable line per run ("BENCH key=value ...").
+# OpenMP threads and prints particles, nodes, steps, wall time, particle-steps per second,
+# memory (peak, bytes per particle and per node) and the time per phase of the step, as
+# tables and as one machine-readable line per run ("BENCH key=value ...").
 # Usage: bench/run_bench.sh [path/to/mpm_geo] [case.json ...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -14,8 +15,8 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
 echo "mpm_geo: $($exe --version)"
-printf '%-16s %7s %10s %9s %7s %9s %14s %10s %12s\n' case threads particles nodes steps wall_s \
-    particle-steps/s peak_MB bytes/particle
+printf '%-16s %7s %10s %9s %7s %9s %14s %10s %12s %10s\n' case threads particles nodes steps \
+    wall_s particle-steps/s peak_MB bytes/particle bytes/node
 for c in "${cases[@]}"; do
     name=$(basename "$c" .json)
     for t in 1 2; do
@@ -28,10 +29,22 @@ for c in "${cases[@]}"; do
         pps=$(awk '$1 == "particle-steps/s" {print $2}' "$log")
         peak=$(awk '$1 == "peak" {print $3}' "$log")
         bpp=$(awk '$1 == "particle" && $2 == "storage" {print $3}' "$log")
-        printf '%-16s %7s %10s %9s %7s %9.2f %14.4g %10.1f %12s\n' "$name" "$t" "$parts" \
-            "$nodes" "$steps" "$wall" "$pps" "$peak" "$bpp"
+        bpn=$(awk '$1 == "grid" && $2 == "storage" {print $3}' "$log")
+        # "time per phase  sorting=1.0 P2G=2.0 ... s" -> "sorting_s=1.0 P2G_s=2.0 ..."
+        phases=$(awk '$1 == "time" && $2 == "per" && $3 == "phase" {
+            for (i = 4; i < NF; i++) { split($i, kv, "="); printf "%s%s_s=%s", (i > 4 ? " " : ""), kv[1], kv[2] } }' "$log")
+        printf '%-16s %7s %10s %9s %7s %9.2f %14.4g %10.1f %12s %10s\n' "$name" "$t" "$parts" \
+            "$nodes" "$steps" "$wall" "$pps" "$peak" "$bpp" "$bpn"
+        echo "$name threads=$t $phases" >> "$out/phases"
         echo "BENCH case=$name threads=$t particles=$parts nodes=$nodes steps=$steps" \
-             "wall_s=$wall particle_steps_per_s=$pps peak_mb=$peak bytes_per_particle=$bpp" >> "$out/lines"
+             "wall_s=$wall particle_steps_per_s=$pps peak_mb=$peak bytes_per_particle=$bpp" \
+             "bytes_per_node=$bpn $phases" >> "$out/lines"
     done
 done
+echo
+echo "time per phase [s] (sorting: shape functions, particle order, chunks; P2G: scatters;"
+echo "nodal: nodal update; G2P: velocities, positions, MUSL remap; stress: stress update;"
+echo "other: time step, guard, energies, moving the particles; output: files)"
+cat "$out/phases"
+echo
 cat "$out/lines"

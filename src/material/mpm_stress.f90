@@ -27,7 +27,8 @@ contains
         real(wp) :: dsig(size(stress))
             !! stress increment from the rotation [Pa]
 
-        real(wp) :: s(3, 3), w(3, 3), r(3, 3)
+        real(wp) :: s(3, 3), w(3, 3), ws(3, 3)
+        integer :: i, j
 
         if (size(stress) == 4) then
             dsig(1) = 2.0_wp*omega(1)*stress(4)
@@ -36,14 +37,34 @@ contains
             dsig(4) = omega(1)*(stress(2) - stress(1))
             return
         end if
-        s = reshape([stress(1), stress(4), stress(6), &
-                     stress(4), stress(2), stress(5), &
-                     stress(6), stress(5), stress(3)], [3, 3])
-        w = reshape([0.0_wp, -omega(1), omega(3), &
-                     omega(1), 0.0_wp, -omega(2), &
-                     -omega(3), omega(2), 0.0_wp], [3, 3])
-        r = matmul(w, s) - matmul(s, w)
-        dsig = [r(1, 1), r(2, 2), r(3, 3), r(1, 2), r(2, 3), r(3, 1)]
+        s(1, 1) = stress(1)
+        s(2, 2) = stress(2)
+        s(3, 3) = stress(3)
+        s(1, 2) = stress(4)
+        s(2, 1) = stress(4)
+        s(2, 3) = stress(5)
+        s(3, 2) = stress(5)
+        s(3, 1) = stress(6)
+        s(1, 3) = stress(6)
+        w = 0.0_wp
+        w(1, 2) = omega(1)
+        w(2, 1) = -omega(1)
+        w(2, 3) = omega(2)
+        w(3, 2) = -omega(2)
+        w(3, 1) = omega(3)
+        w(1, 3) = -omega(3)
+        ! W S - S W = W S + (W S)^T for W antisymmetric and S symmetric
+        do j = 1, 3
+            do i = 1, 3
+                ws(i, j) = w(i, 1)*s(1, j) + w(i, 2)*s(2, j) + w(i, 3)*s(3, j)
+            end do
+        end do
+        dsig(1) = 2.0_wp*ws(1, 1)
+        dsig(2) = 2.0_wp*ws(2, 2)
+        dsig(3) = 2.0_wp*ws(3, 3)
+        dsig(4) = ws(1, 2) + ws(2, 1)
+        dsig(5) = ws(2, 3) + ws(3, 2)
+        dsig(6) = ws(3, 1) + ws(1, 3)
     end function jaumann_rotation
 
     !> Trace of a symmetric tensor in Voigt storage.

@@ -8,7 +8,7 @@ module mpm_grid
     use mpm_case, only: case_type, bc_sliding, bc_fixed, bc_frictional
     implicit none
     private
-    public :: grid_type, new_grid, node_index, node_position, contact_index
+    public :: grid_type, new_grid, node_index, node_position, contact_index, grid_bytes
 
     !> Geometry of the grid and the nodal fields of one step.
     type :: grid_type
@@ -59,6 +59,13 @@ module mpm_grid
             !! nodes lighter than this get no force (their velocity is the mapped one) [kg]
         real(wp) :: contact_time = 0.0_wp
             !! time constant of the running mean of the normal contact impulse [s]; 0: a fixed
+        integer :: active_layers(2) = [0, huge(1)/2]
+            !! node layers along the slowest axis that the last P2G wrote (0-based; every
+            !! other node is zero), the whole grid until the first one
+        integer :: first_node = 1
+            !! first node of the nodal loops of the step (the layers P2G touched)
+        integer :: last_node = 0
+            !! last node of the nodal loops of the step
             !! weight per step
             !! index before the first pair of each face (side, axis); -1: face not frictional
     end type grid_type
@@ -215,5 +222,14 @@ contains
         ijk(3) = r/grid%nn(2)
         x = grid%origin + grid%dx*real(ijk, wp)
     end function node_position
+
+    !> Bytes of nodal storage per node (mass, momentum, forces, velocity, acceleration,
+    !> constraints; the frictional-face arrays and the scatter buffers of a pass not counted).
+    pure integer function grid_bytes(grid)
+        type(grid_type), intent(in) :: grid
+            !! the grid
+        grid_bytes = (storage_size(1.0_wp)/8)*(1 + 5*grid%dim) &
+            + (storage_size(.true.)/8)*grid%dim
+    end function grid_bytes
 
 end module mpm_grid

@@ -26,31 +26,99 @@ module mpm_shape
             !! weight gradients dN_i/dx (first dim components used) [1/m]
     end type stencil_type
 
-    !> A shape function.
+    !> A shape function: a tensor product of 1D weights.
     type, abstract :: shape_type
     contains
-        procedure(evaluate_interface), deferred :: evaluate
+        procedure(weights_1d_interface), deferred :: weights_1d
+            !! 1D weights and derivatives of the nodes around a coordinate
+        procedure(nodes_per_axis_interface), deferred :: nodes_per_axis
+            !! nodes per axis a particle can touch (2 linear, 3 cpGIMP)
+        procedure(weights_all_interface), deferred :: weights_all
+            !! weights_1d for every particle and axis (one call per step, threaded)
+        procedure :: evaluate
             !! nodes, weights and gradients of one particle
     end type shape_type
 
     abstract interface
-        !> Evaluate the stencil of a particle at `xp` with GIMP half-sizes `lp`.
-        pure subroutine evaluate_interface(self, grid, xp, lp, st)
-            import :: shape_type, grid_type, stencil_type, wp
+        !> 1D weights of the nodes first .. first + nodes_per_axis - 1 (0-based) around the
+        !> coordinate xi (in cell units from the grid origin) of a particle of half-size lp.
+        !> Nodes outside the grid may be named; their weights are zero.
+        pure subroutine weights_1d_interface(self, xi, lp, dx, ncells, first, w, dw)
+            import :: shape_type, wp
+            class(shape_type), intent(in) :: self
+                !! the shape function
+            real(wp), intent(in) :: xi
+                !! particle coordinate in cell units, (x - origin) / dx [-]
+            real(wp), intent(in) :: lp
+                !! particle half-size [m]; unused by linear shape functions
+            real(wp), intent(in) :: dx
+                !! cell size [m]
+            integer, intent(in) :: ncells
+                !! cells along this axis
+            integer, intent(out) :: first
+                !! first node (0-based)
+            real(wp), intent(out) :: w(3)
+                !! weights [-] (unused entries zero)
+            real(wp), intent(out) :: dw(3)
+                !! derivatives [1/m] (unused entries zero)
+        end subroutine weights_1d_interface
+
+        !> weights_1d of every particle along every axis of the grid.
+        subroutine weights_all_interface(self, grid, x, lp, first, w, dw)
+            import :: shape_type, grid_type, wp
             class(shape_type), intent(in) :: self
                 !! the shape function
             type(grid_type), intent(in) :: grid
-                !! grid geometry (nn, dx, origin)
-            real(wp), intent(in) :: xp(:)
-                !! particle position (dim) [m]
-            real(wp), intent(in) :: lp(:)
-                !! particle half-sizes (dim) [m]; unused by linear shape functions
-            type(stencil_type), intent(out) :: st
-                !! nodes, weights, gradients
-        end subroutine evaluate_interface
+                !! grid geometry
+            real(wp), intent(in) :: x(:, :)
+                !! particle positions (dim, n) [m]
+            real(wp), intent(in) :: lp(:, :)
+                !! particle half-sizes (dim, n) [m]
+            integer, intent(out) :: first(:, :)
+                !! first node per axis, 0-based (dim, n)
+            real(wp), intent(out) :: w(:, :, :)
+                !! weights (nodes_per_axis, dim, n) [-]
+            real(wp), intent(out) :: dw(:, :, :)
+                !! derivatives (nodes_per_axis, dim, n) [1/m]
+        end subroutine weights_all_interface
+
+        !> Nodes per axis that a particle can touch.
+        pure integer function nodes_per_axis_interface(self)
+            import :: shape_type
+            class(shape_type), intent(in) :: self
+                !! the shape function
+        end function nodes_per_axis_interface
     end interface
 
 contains
+
+    !> Stencil of a particle at `xp` with GIMP half-sizes `lp`: the tensor product of the
+    !> 1D weights, nodes outside the grid and zero weights skipped.
+    pure subroutine evaluate(self, grid, xp, lp, st)
+        class(shape_type), intent(in) :: self
+            !! the shape function
+        type(grid_type), intent(in) :: grid
+            !! grid geometry (nn, dx, origin)
+        real(wp), intent(in) :: xp(:)
+            !! particle position (dim) [m]
+        real(wp), intent(in) :: lp(:)
+            !! particle half-sizes (dim) [m]; unused by linear shape functions
+        type(stencil_type), intent(out) :: st
+            !! nodes, weights, gradients
+
+        integer :: a, first(3)
+        real(wp) :: w1(3, 3), dw1(3, 3)
+
+        first = 0
+        w1 = 0.0_wp
+        dw1 = 0.0_wp
+        w1(1, 3) = 1.0_wp
+        do a = 1, grid%dim
+            call self%weights_1d((xp(a) - grid%origin(a))/grid%dx, lp(a), grid%dx, &
+                grid%ncells(a), first(a), w1(:, a), dw1(:, a))
+        end do
+        call tensor_product(grid, first, self%nodes_per_axis(), w1, dw1, st)
+    end subroutine evaluate
 
     !> Tensor-product stencil from per-axis weights.
     !>

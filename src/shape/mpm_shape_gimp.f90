@@ -15,7 +15,7 @@
 module mpm_shape_gimp
     use mpm_kinds, only: wp
     use mpm_grid, only: grid_type
-    use mpm_shape, only: shape_type, stencil_type, tensor_product
+    use mpm_shape, only: shape_type
     implicit none
     private
     public :: gimp_shape_type, gimp_weight, gimp_weights_1d
@@ -23,7 +23,9 @@ module mpm_shape_gimp
     !> cpGIMP: a particle touches up to 3 nodes per direction (lp <= dx/2).
     type, extends(shape_type) :: gimp_shape_type
     contains
-        procedure :: evaluate => gimp_evaluate
+        procedure :: weights_1d => gimp_shape_weights_1d
+        procedure :: nodes_per_axis => gimp_nodes_per_axis
+        procedure :: weights_all => gimp_weights_all
     end type gimp_shape_type
 
 contains
@@ -96,25 +98,42 @@ contains
         end do
     end subroutine gimp_weights_1d
 
-    pure subroutine gimp_evaluate(self, grid, xp, lp, st)
+    pure subroutine gimp_shape_weights_1d(self, xi, lp, dx, ncells, first, w, dw)
+        class(gimp_shape_type), intent(in) :: self
+        real(wp), intent(in) :: xi, lp, dx
+        integer, intent(in) :: ncells
+        integer, intent(out) :: first
+        real(wp), intent(out) :: w(3), dw(3)
+
+        call gimp_weights_1d(xi, lp, dx, ncells, first, w, dw)
+    end subroutine gimp_shape_weights_1d
+
+    pure integer function gimp_nodes_per_axis(self)
+        class(gimp_shape_type), intent(in) :: self
+        gimp_nodes_per_axis = 3
+    end function gimp_nodes_per_axis
+
+    subroutine gimp_weights_all(self, grid, x, lp, first, w, dw)
         class(gimp_shape_type), intent(in) :: self
         type(grid_type), intent(in) :: grid
-        real(wp), intent(in) :: xp(:)
-        real(wp), intent(in) :: lp(:)
-        type(stencil_type), intent(out) :: st
+        real(wp), intent(in) :: x(:, :), lp(:, :)
+        integer, intent(out) :: first(:, :)
+        real(wp), intent(out) :: w(:, :, :), dw(:, :, :)
 
-        integer :: a, first(3)
-        real(wp) :: w1(3, 3), dw1(3, 3)
+        integer :: p, a
+        real(wp) :: xi, w3(3), dw3(3)
 
-        first = 0
-        w1 = 0.0_wp
-        dw1 = 0.0_wp
-        w1(1, 3) = 1.0_wp
-        do a = 1, grid%dim
-            call gimp_weights_1d((xp(a) - grid%origin(a))/grid%dx, lp(a), grid%dx, &
-                grid%ncells(a), first(a), w1(:, a), dw1(:, a))
+        !$omp parallel do default(none) schedule(static) shared(grid, x, lp, first, w, dw) &
+        !$omp private(p, a, xi, w3, dw3)
+        do p = 1, size(x, 2)
+            do a = 1, grid%dim
+                xi = (x(a, p) - grid%origin(a))/grid%dx
+                call gimp_weights_1d(xi, lp(a, p), grid%dx, grid%ncells(a), first(a, p), w3, dw3)
+                w(:, a, p) = w3(1:3)
+                dw(:, a, p) = dw3(1:3)
+            end do
         end do
-        call tensor_product(grid, first, 3, w1, dw1, st)
-    end subroutine gimp_evaluate
+        !$omp end parallel do
+    end subroutine gimp_weights_all
 
 end module mpm_shape_gimp

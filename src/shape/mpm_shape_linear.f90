@@ -2,7 +2,7 @@
 module mpm_shape_linear
     use mpm_kinds, only: wp
     use mpm_grid, only: grid_type
-    use mpm_shape, only: shape_type, stencil_type, tensor_product
+    use mpm_shape, only: shape_type
     implicit none
     private
     public :: linear_shape_type, linear_weights_1d
@@ -10,7 +10,9 @@ module mpm_shape_linear
     !> Standard MPM hat functions: a particle touches the 2**dim nodes of its cell.
     type, extends(shape_type) :: linear_shape_type
     contains
-        procedure :: evaluate => linear_evaluate
+        procedure :: weights_1d => linear_shape_weights_1d
+        procedure :: nodes_per_axis => linear_nodes_per_axis
+        procedure :: weights_all => linear_weights_all
     end type linear_shape_type
 
 contains
@@ -38,25 +40,42 @@ contains
         dw = [-1.0_wp/dx, 1.0_wp/dx, 0.0_wp]
     end subroutine linear_weights_1d
 
-    pure subroutine linear_evaluate(self, grid, xp, lp, st)
+    pure subroutine linear_shape_weights_1d(self, xi, lp, dx, ncells, first, w, dw)
+        class(linear_shape_type), intent(in) :: self
+        real(wp), intent(in) :: xi, lp, dx
+        integer, intent(in) :: ncells
+        integer, intent(out) :: first
+        real(wp), intent(out) :: w(3), dw(3)
+
+        call linear_weights_1d(xi, ncells, dx, first, w, dw)
+    end subroutine linear_shape_weights_1d
+
+    pure integer function linear_nodes_per_axis(self)
+        class(linear_shape_type), intent(in) :: self
+        linear_nodes_per_axis = 2
+    end function linear_nodes_per_axis
+
+    subroutine linear_weights_all(self, grid, x, lp, first, w, dw)
         class(linear_shape_type), intent(in) :: self
         type(grid_type), intent(in) :: grid
-        real(wp), intent(in) :: xp(:)
-        real(wp), intent(in) :: lp(:)
-        type(stencil_type), intent(out) :: st
+        real(wp), intent(in) :: x(:, :), lp(:, :)
+        integer, intent(out) :: first(:, :)
+        real(wp), intent(out) :: w(:, :, :), dw(:, :, :)
 
-        integer :: a, first(3)
-        real(wp) :: w1(3, 3), dw1(3, 3)
+        integer :: p, a
+        real(wp) :: xi, w3(3), dw3(3)
 
-        first = 0
-        w1 = 0.0_wp
-        dw1 = 0.0_wp
-        w1(1, 3) = 1.0_wp
-        do a = 1, grid%dim
-            call linear_weights_1d((xp(a) - grid%origin(a))/grid%dx, grid%ncells(a), grid%dx, &
-                first(a), w1(:, a), dw1(:, a))
+        !$omp parallel do default(none) schedule(static) shared(grid, x, lp, first, w, dw) &
+        !$omp private(p, a, xi, w3, dw3)
+        do p = 1, size(x, 2)
+            do a = 1, grid%dim
+                xi = (x(a, p) - grid%origin(a))/grid%dx
+                call linear_weights_1d(xi, grid%ncells(a), grid%dx, first(a, p), w3, dw3)
+                w(:, a, p) = w3(1:2)
+                dw(:, a, p) = dw3(1:2)
+            end do
         end do
-        call tensor_product(grid, first, 2, w1, dw1, st)
-    end subroutine linear_evaluate
+        !$omp end parallel do
+    end subroutine linear_weights_all
 
 end module mpm_shape_linear

@@ -8,7 +8,9 @@ module mpm_run
     use mpm_particles, only: particle_bytes
     use mpm_case, only: case_type
     use mpm_solver, only: simulation_type, new_simulation, advance, stable_time_step, &
-        compute_energies, has_text
+        compute_energies, has_text, nphases, phase_names, phase_other, phase_output
+    use mpm_stencil, only: stencil_bytes
+    use mpm_grid, only: grid_bytes
     use mpm_output, only: output_writer_type, new_output_writer, write_output, remove_outputs
     use mpm_state, only: save_state
     use mpm_filesystem, only: make_directory, directory_exists
@@ -42,8 +44,12 @@ module mpm_run
             !! particle output files written
         integer :: bytes_per_particle = 0
             !! particle storage per particle [bytes]
+        integer :: bytes_per_node = 0
+            !! grid storage per node [bytes]
         real(wp) :: peak_memory_mb = 0.0_wp
             !! peak resident memory of the process [MB]
+        real(wp) :: phase_time(nphases) = 0.0_wp
+            !! wall time per phase of the time loop (mpm_solver phase_names) [s]
     end type run_summary_type
 
 contains
@@ -63,7 +69,7 @@ contains
 
         type(output_writer_type) :: writer
         integer :: history_unit, stat
-        real(wp) :: t_start, t_last_progress, dt, next_output, next_history, eps_t
+        real(wp) :: t_start, t_last_progress, dt, next_output, next_history, eps_t, clock
         character(len=256) :: msg
         logical :: written
 
@@ -107,10 +113,13 @@ contains
         t_start = wall_time()
         t_last_progress = t_start
         do while (sim%time < case%tend - eps_t)
+            clock = wall_time()
             dt = min(stable_time_step(sim), case%tend - sim%time)
+            sim%phase_time(phase_other) = sim%phase_time(phase_other) + (wall_time() - clock)
             call advance(sim, dt, error)
             if (allocated(error)) exit
             written = .false.
+            clock = wall_time()
             if (options%write_files) then
                 if (sim%time >= next_output - eps_t .or. sim%time >= case%tend - eps_t) then
                     call compute_energies(sim)
@@ -128,6 +137,8 @@ contains
                     call write_history(history_unit, sim)
                     next_history = sim%time + case%history_interval
                 end if
+                sim%phase_time(phase_output) = sim%phase_time(phase_output) &
+                    + (wall_time() - clock)
             end if
             if (.not. options%quiet .and. wall_time() - t_last_progress >= case%progress_seconds) then
                 t_last_progress = wall_time()
@@ -137,6 +148,7 @@ contains
         summary%steps = sim%step
         summary%time = sim%time
         summary%wall = wall_time() - t_start
+        summary%phase_time = sim%phase_time
         if (summary%wall > 0.0_wp) summary%particle_steps_per_second = &
             real(sim%particles%n, wp)*real(sim%step, wp)/summary%wall
         if (history_unit >= 0) close (history_unit)
@@ -150,7 +162,10 @@ contains
             call save_state(case%save_state, case, sim%particles, sim%time, int(sim%step), error)
             if (allocated(error)) return
         end if
-        summary%bytes_per_particle = particle_bytes(sim%particles)
+        ! particle arrays and the per-step scratch: stencils, order, position increments
+        summary%bytes_per_particle = particle_bytes(sim%particles) &
+            + stencil_bytes(sim%stencils) + case%dim*storage_size(1.0_wp)/8
+        summary%bytes_per_node = grid_bytes(sim%grid)
         summary%peak_memory_mb = peak_memory_mb()
         if (.not. options%quiet) call print_summary(summary, case)
     end subroutine run_case
@@ -200,6 +215,8 @@ contains
         type(run_summary_type), intent(in) :: summary
         type(case_type), intent(in) :: case
 
+        integer :: k
+
         write (output_unit, "(a)") "mpm_geo: finished case '"//case%name//"'"
         write (output_unit, "(a,i0)") "  particles            ", summary%particles
         write (output_unit, "(a,i0)") "  nodes                ", summary%nodes
@@ -210,8 +227,16 @@ contains
         write (output_unit, "(a,f10.1,a)") "  peak memory          ", summary%peak_memory_mb, " MB"
         write (output_unit, "(a,i0,a)") "  particle storage     ", summary%bytes_per_particle, &
             " bytes/particle"
+        write (output_unit, "(a,i0,a)") "  grid storage         ", summary%bytes_per_node, &
+            " bytes/node"
         write (output_unit, "(a,i0,a)") "  output files         ", summary%outputs, &
             " in "//case%output_dir
+        write (output_unit, "(a)", advance="no") "  time per phase      "
+        do k = 1, nphases
+            write (output_unit, "(1x,a,'=',f0.3)", advance="no") trim(phase_names(k)), &
+                summary%phase_time(k)
+        end do
+        write (output_unit, "(a)") " s"
     end subroutine print_summary
 
     function format_seconds(s) result(text)

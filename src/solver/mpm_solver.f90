@@ -20,12 +20,28 @@ module mpm_solver
     use mpm_material, only: material_holder_type
     use mpm_material_factory, only: new_materials
     use mpm_state, only: load_state
-    use mpm_transfer, only: reset_grid, p2g, nodal_velocity, integrate_nodes, g2p, &
-        move_particles, remap_momentum, update_stress
+    use mpm_stencil, only: stencils_type, compute_stencils
+    use mpm_transfer, only: p2g, nodal_velocity, integrate_nodes, g2p, &
+        move_particles, update_stress
+    use mpm_clock, only: wall_time
     implicit none
     private
     public :: simulation_type, new_simulation, advance, stable_time_step, energies_type
     public :: compute_energies, has_text
+    public :: nphases, phase_names, phase_stencils, phase_p2g, phase_nodal, phase_g2p, &
+        phase_stress, phase_other, phase_output
+
+    integer, parameter :: nphases = 7
+        !! phases of a step timed separately (summary, make bench)
+    integer, parameter :: phase_stencils = 1, phase_p2g = 2, phase_nodal = 3, phase_g2p = 4, &
+        phase_stress = 5, phase_other = 6, phase_output = 7
+    character(len=*), parameter :: phase_names(nphases) = [character(len=8) :: &
+        "sorting", "P2G", "nodal", "G2P", "stress", "other", "output"]
+        !! sorting: shape functions, particle order by cell and chunks; P2G: scatters;
+        !! nodal: nodal update; G2P: velocities and positions (and the MUSL remap);
+        !! stress: stress update; other: guard, energies, moving the particles; output
+    integer, parameter :: sum_block = 4096
+        !! particles per partial sum of the energies (fixed order with any thread count)
 
     !> Energy terms of a run [J] (per metre of thickness in 2D [J/m]).
     type :: energies_type
@@ -57,6 +73,10 @@ module mpm_solver
             !! other stable-step limit of each material (viscosity), huge when none [s]
         real(wp), allocatable :: dxp(:, :)
             !! scratch: position increments of the step (dim, n) [m]
+        type(stencils_type) :: stencils
+            !! shape functions of the step, particle order and scatter chunks
+        real(wp) :: phase_time(nphases) = 0.0_wp
+            !! wall time spent in each phase since the start [s]
         real(wp) :: time = 0.0_wp
             !! simulated time [s]
         integer(i8) :: step = 0
@@ -179,41 +199,49 @@ contains
         type(error_type), allocatable, intent(out) :: error
             !! set on a numerical failure (exit_numerical)
 
-        real(wp) :: work, damping_work
+        real(wp) :: work, damping_work, clock
         integer :: scheme
 
         scheme = sim%case%scheme
-        call reset_grid(sim%grid)
-        if (scheme == scheme_usf) then
-            call p2g(sim%grid, sim%particles, sim%shape, sim%case%gravity, .true., .false., &
-                sim%case%fbar)
-            call nodal_velocity(sim%grid)
-            call update_stress(sim%grid, sim%particles, sim%shape, sim%materials, dt, &
-                sim%case%fbar, work)
-            call p2g(sim%grid, sim%particles, sim%shape, sim%case%gravity, .false., .true., &
-                sim%case%fbar)
-        else
-            call p2g(sim%grid, sim%particles, sim%shape, sim%case%gravity, .true., .true., &
-                sim%case%fbar)
-        end if
-        call integrate_nodes(sim%grid, dt, sim%case%damping, sim%case%damping_value, &
-            damping_work)
-        call g2p(sim%grid, sim%particles, sim%shape, dt, sim%case%flip_fraction, sim%dxp)
-        select case (scheme)
-        case (scheme_usl)
-            call update_stress(sim%grid, sim%particles, sim%shape, sim%materials, dt, &
-                sim%case%fbar, work)
-        case (scheme_musl)
-            call remap_momentum(sim%grid, sim%particles, sim%shape)
-            ! the particles move with the remapped velocities that strain them: moved with the
-            ! velocities of the nodal update instead, the difference (dt times the nodal
-            ! acceleration) feeds particle noise under tension that FLIP never damps (growth
-            ! ~ sigma dt / (rho dx^2), see docs/accuracy-vs-cost.md)
-            call update_stress(sim%grid, sim%particles, sim%shape, sim%materials, dt, &
-                sim%case%fbar, work, sim%dxp)
-        case default
-            continue ! USF: the stress was updated before the momentum
-        end select
+        clock = wall_time()
+        call compute_stencils(sim%stencils, sim%grid, sim%particles, sim%shape, error)
+        if (allocated(error)) return
+        call lap(sim, phase_stencils, clock)
+        associate (grid => sim%grid, particles => sim%particles, stc => sim%stencils, &
+                   fbar => sim%case%fbar)
+            if (scheme == scheme_usf) then
+                call p2g(grid, particles, stc, .true., .false., fbar)
+                call lap(sim, phase_p2g, clock)
+                call nodal_velocity(grid)
+                call lap(sim, phase_nodal, clock)
+                call update_stress(grid, particles, stc, sim%materials, dt, fbar, work)
+                call lap(sim, phase_stress, clock)
+                call p2g(grid, particles, stc, .false., .true., fbar)
+            else
+                call p2g(grid, particles, stc, .true., .true., fbar)
+            end if
+            call lap(sim, phase_p2g, clock)
+            call integrate_nodes(grid, dt, sim%case%gravity, sim%case%damping, &
+                sim%case%damping_value, damping_work)
+            call lap(sim, phase_nodal, clock)
+            ! MUSL: the same pass maps the updated particle momentum back to the nodes
+            call g2p(grid, particles, stc, dt, sim%case%flip_fraction, sim%dxp, &
+                scheme == scheme_musl)
+            call lap(sim, phase_g2p, clock)
+            select case (scheme)
+            case (scheme_usl)
+                call update_stress(grid, particles, stc, sim%materials, dt, fbar, work)
+            case (scheme_musl)
+                ! the particles move with the remapped velocities that strain them: moved with
+                ! the velocities of the nodal update instead, the difference (dt times the
+                ! nodal acceleration) feeds particle noise under tension that FLIP never damps
+                ! (growth ~ sigma dt / (rho dx^2), see docs/accuracy-vs-cost.md)
+                call update_stress(grid, particles, stc, sim%materials, dt, fbar, work, sim%dxp)
+            case default
+                continue ! USF: the stress was updated before the momentum
+            end select
+            call lap(sim, phase_stress, clock)
+        end associate
         ! the blow-up guard comes before the move, so an unstable run is reported as such
         ! rather than as the particles it throws out of the grid
         sim%energy%kinetic = kinetic_energy(sim%particles)
@@ -234,7 +262,21 @@ contains
                 + abs(potential_energy(sim)))
         end associate
         if (sim%case%damping == damping_kinetic) call kinetic_damping(sim)
+        call lap(sim, phase_other, clock)
     end subroutine advance
+
+    !> Add the wall time since `clock` to a phase and restart the clock.
+    subroutine lap(sim, phase, clock)
+        type(simulation_type), intent(inout) :: sim
+        integer, intent(in) :: phase
+        real(wp), intent(inout) :: clock
+
+        real(wp) :: now
+
+        now = wall_time()
+        sim%phase_time(phase) = sim%phase_time(phase) + (now - clock)
+        clock = now
+    end subroutine lap
 
     !> Stop a run that blows up: a particle about to move more than a cell in one step, a
     !> kinetic energy that is not finite, or one that exceeds blow_up_factor times the largest
@@ -307,18 +349,27 @@ contains
         type(simulation_type), intent(in) :: sim
             !! the simulation
 
-        integer :: p, dim
+        integer :: p, dim, b, nb
+        real(wp), allocatable :: partial(:)
 
         dim = sim%case%dim
         potential_energy = 0.0_wp
         if (all(sim%case%gravity == 0.0_wp)) return
-        !$omp parallel do default(none) schedule(static) shared(sim, dim) private(p) &
-        !$omp reduction(+: potential_energy)
-        do p = 1, sim%particles%n
-            potential_energy = potential_energy - sim%particles%mass(p) &
-                *dot_product(sim%case%gravity(1:dim), sim%particles%u(:, p))
+        nb = (sim%particles%n + sum_block - 1)/sum_block
+        allocate (partial(nb))
+        !$omp parallel do default(none) schedule(static) shared(sim, dim, nb, partial) &
+        !$omp private(p, b)
+        do b = 1, nb
+            partial(b) = 0.0_wp
+            do p = (b - 1)*sum_block + 1, min(b*sum_block, sim%particles%n)
+                partial(b) = partial(b) - sim%particles%mass(p) &
+                    *dot_product(sim%case%gravity(1:dim), sim%particles%u(:, p))
+            end do
         end do
         !$omp end parallel do
+        do b = 1, nb
+            potential_energy = potential_energy + partial(b)
+        end do
     end function potential_energy
 
     !> "step N, t = T s: " for messages.
@@ -348,15 +399,26 @@ contains
     real(wp) function kinetic_energy(particles)
         type(particles_type), intent(in) :: particles
 
-        integer :: p
+        integer :: p, b, nb
+        real(wp), allocatable :: partial(:)
 
-        kinetic_energy = 0.0_wp
-        !$omp parallel do default(none) schedule(static) shared(particles) private(p) &
-        !$omp reduction(+: kinetic_energy)
-        do p = 1, particles%n
-            kinetic_energy = kinetic_energy + 0.5_wp*particles%mass(p)*sum(particles%v(:, p)**2)
+        ! partial sums over fixed blocks, added in block order: the same bits with any number
+        ! of threads
+        nb = (particles%n + sum_block - 1)/sum_block
+        allocate (partial(nb))
+        !$omp parallel do default(none) schedule(static) shared(particles, nb, partial) &
+        !$omp private(p, b)
+        do b = 1, nb
+            partial(b) = 0.0_wp
+            do p = (b - 1)*sum_block + 1, min(b*sum_block, particles%n)
+                partial(b) = partial(b) + 0.5_wp*particles%mass(p)*sum(particles%v(:, p)**2)
+            end do
         end do
         !$omp end parallel do
+        kinetic_energy = 0.0_wp
+        do b = 1, nb
+            kinetic_energy = kinetic_energy + partial(b)
+        end do
     end function kinetic_energy
 
     !> Refresh the kinetic and potential energy terms from the particles.

@@ -4,20 +4,27 @@
 !> integrates the momentum with damping and boundary conditions; grid-to-particle (G2P)
 !> gathers accelerations and velocities back; the stress update uses the nodal velocities
 !> chosen by the scheme. Each pass is one procedure; the scheme (USF/USL/MUSL) only orders
-!> them (see mpm_solver).
+!> them (see mpm_solver). Every pass reads the stencils of the step (mpm_stencil): the shape
+!> functions are evaluated once per step.
+!>
+!> Threads: the gathers (G2P, stress update) are parallel over particles; the scatters (P2G,
+!> remap) sum each chunk of cell-sorted particles into its own buffer and fold the buffers
+!> into the grid in chunk order; the nodal update is parallel over nodes; every sum over
+!> particles or nodes (energies) is taken per chunk or block and the partial sums added in a
+!> fixed order. A run gives the same bits with any number of threads.
 module mpm_transfer
     use mpm_kinds, only: wp
     use mpm_strings, only: vector_text
     use mpm_error, only: error_type, fatal_error, exit_numerical
-    use mpm_grid, only: grid_type, contact_index, node_position
+    use mpm_grid, only: grid_type, contact_index
     use mpm_particles, only: particles_type
-    use mpm_shape, only: shape_type, stencil_type
+    use mpm_stencil, only: stencils_type, particle_nodes, max_nodes
     use mpm_material, only: material_holder_type
     use mpm_stress, only: double_contraction
     use mpm_case, only: damping_local, bc_free
     implicit none
     private
-    public :: reset_grid, p2g, nodal_velocity, integrate_nodes, g2p, move_particles, remap_momentum
+    public :: p2g, nodal_velocity, integrate_nodes, g2p, move_particles
     public :: update_stress
 
     real(wp), parameter :: contact_tolerance = 1.0e-3_wp
@@ -25,47 +32,52 @@ module mpm_transfer
     real(wp), parameter :: load_smoothing = 0.1_wp
         !! weight of the newest step in the running mean of the normal contact impulse when
         !! grid%contact_time is 0 [-]
+    integer, parameter :: full_gimp_3d = 1, full_gimp_2d = 2, full_linear_3d = 3, &
+        full_linear_2d = 4, other_stencil = 5
+        !! stencil kinds with loops of constant length (stencil_kind)
+    integer, parameter :: sum_block = 4096
+        !! nodes per partial sum of the dissipated energy (fixed order with any thread count)
+
+    !> Buffers of one scatter pass: per chunk, the node layers it touches (mpm_stencil).
+    type :: scatter_type
+        real(wp), allocatable :: mass(:)
+        real(wp), allocatable :: momentum(:, :)
+        real(wp), allocatable :: fint(:, :)
+        real(wp), allocatable :: fext(:, :)
+    end type scatter_type
 
 contains
 
-    !> Zero the nodal fields before a P2G pass.
-    subroutine reset_grid(grid)
-        type(grid_type), intent(inout) :: grid
-            !! the grid
-
-        grid%mass = 0.0_wp
-        grid%momentum = 0.0_wp
-        grid%fint = 0.0_wp
-        grid%fext = 0.0_wp
-        if (grid%ncontacts > 0) grid%contact_gap = huge(1.0_wp)
-    end subroutine reset_grid
-
-    !> Scatter particle mass, momentum and gravity (and the internal force when asked).
+    !> Scatter particle mass, momentum and body forces (with_mass) and the internal force
+    !> (with_fint) to the nodes; the fields not scattered keep their values.
     !>
     !> f_int,i = - sum_p V_p sigma_p . grad N_i(x_p); in 2D only the in-plane components.
-    subroutine p2g(grid, particles, shape, gravity, with_mass, with_fint, fbar)
+    !> Gravity is not scattered: the nodal update adds m_i g. Only the extra body force of
+    !> drivers that prescribe one (particles%body_force) goes to grid%fext.
+    subroutine p2g(grid, particles, stc, with_mass, with_fint, fbar)
         type(grid_type), intent(inout) :: grid
             !! grid receiving the nodal sums
         type(particles_type), intent(in) :: particles
             !! particles
-        class(shape_type), intent(in) :: shape
-            !! shape function
-        real(wp), intent(in) :: gravity(3)
-            !! gravitational acceleration [m/s2]
+        type(stencils_type), intent(in) :: stc
+            !! stencils, order and chunks of the step
         logical, intent(in) :: with_mass
-            !! scatter mass, momentum and external force
+            !! scatter mass, momentum and the extra body force
         logical, intent(in) :: with_fint
             !! scatter the internal force
         logical, intent(in) :: fbar
             !! F-bar: the internal force takes the pressure of each particle as the mean of its
             !! cell, the counterpart of the cell-averaged volume change of `update_stress`
 
-        integer :: p, c, id, dim
-        type(stencil_type) :: st
-        real(wp) :: w, mw, f(3), s(6)
-        real(wp), allocatable :: cell_pv(:), cell_v(:)
+        integer :: p, q, k, c, dim, ns, shift, fint_row, body_row, rows
+        real(wp) :: s(6), vs(6), xp(3), vp(3), aff(3, 3), bf(3)
+        logical :: apic, body
+        real(wp), allocatable :: cell_pv(:), cell_v(:), buf(:, :)
 
         dim = grid%dim
+        ns = particles%nstress
+        apic = allocated(particles%affine) .and. with_mass
+        body = allocated(particles%body_force) .and. with_mass
         if (with_fint .and. fbar) then
             ! the stress power sum_p V_p p_p (mean of dJ over the cell) equals
             ! sum_q V_q (mean of V p over the cell) tr(L_q): the force that does the work of
@@ -73,52 +85,147 @@ contains
             allocate (cell_pv(product(grid%ncells)), cell_v(product(grid%ncells)))
             cell_pv = 0.0_wp
             cell_v = 0.0_wp
-            do p = 1, particles%n
-                c = cell_of(grid, particles%x(:, p))
+            do q = 1, particles%n   ! in cell order: a fixed order of the sums
+                p = stc%order(q)
+                c = stc%cell(p)
                 cell_pv(c) = cell_pv(c) + particles%volume(p)*sum(particles%stress(1:3, p))/3.0_wp
                 cell_v(c) = cell_v(c) + particles%volume(p)
             end do
             where (cell_v > 0.0_wp) cell_pv = cell_pv/cell_v
+        else
+            allocate (cell_pv(1))
         end if
-        do p = 1, particles%n
-            call shape%evaluate(grid, particles%x(:, p), particles%lp(:, p), st)
-            do c = 1, st%count
-                id = st%node(c)
-                w = st%w(c)
+        rows = 0
+        if (with_mass) rows = 1 + dim
+        fint_row = 0
+        if (with_fint) fint_row = rows + 1
+        if (with_fint) rows = rows + dim
+        body_row = 0
+        if (body) body_row = rows + 1
+        if (body) rows = rows + dim
+        allocate (buf(rows, stc%chunk_offset(stc%nchunks + 1)))
+
+        !$omp parallel do default(none) schedule(dynamic, 1) &
+        !$omp shared(grid, particles, stc, buf, with_mass, with_fint, fbar, apic, body, &
+        !$omp dim, ns, cell_pv, fint_row, body_row) &
+        !$omp private(k, q, p, shift, s, vs, xp, vp, aff, bf)
+        do k = 1, stc%nchunks
+            shift = stc%chunk_offset(k) - stc%chunk_lo(k)*stc%stride(stc%slow)
+            buf(:, stc%chunk_offset(k) + 1:stc%chunk_offset(k + 1)) = 0.0_wp
+            xp = 0.0_wp
+            vp = 0.0_wp
+            aff = 0.0_wp
+            bf = 0.0_wp
+            vs = 0.0_wp
+            do q = stc%chunk_start(k), stc%chunk_start(k + 1) - 1
+                p = stc%order(q)
                 if (with_mass) then
-                    mw = particles%mass(p)*w
-                    grid%mass(id) = grid%mass(id) + mw
-                    grid%momentum(:, id) = grid%momentum(:, id) + mw*particle_velocity(grid, &
-                        particles, p, id)
-                    grid%fext(:, id) = grid%fext(:, id) + mw*gravity(1:dim)
-                    if (allocated(particles%body_force)) grid%fext(:, id) = grid%fext(:, id) &
-                        + mw*particles%body_force(:, p)
+                    vp(1:dim) = particles%v(:, p)
+                    if (apic) then
+                        xp(1:dim) = particles%x(:, p)
+                        aff(1:dim, 1:dim) = particles%affine(:, :, p)
+                    end if
+                    if (body) bf(1:dim) = particles%body_force(:, p)
                 end if
-                if (with_fint .and. fbar) then
-                    s(1:particles%nstress) = particles%stress(:, p)
-                    s(1:3) = s(1:3) + cell_pv(cell_of(grid, particles%x(:, p))) - sum(s(1:3))/3.0_wp
-                    call internal_force(s(1:particles%nstress), st%dw(:, c), dim, f)
-                    grid%fint(:, id) = grid%fint(:, id) - particles%volume(p)*f(1:dim)
-                else if (with_fint) then
-                    call internal_force(particles%stress(:, p), st%dw(:, c), dim, f)
-                    grid%fint(:, id) = grid%fint(:, id) - particles%volume(p)*f(1:dim)
+                if (with_fint) then
+                    s(1:ns) = particles%stress(:, p)
+                    if (fbar) s(1:3) = s(1:3) + cell_pv(stc%cell(p)) - sum(s(1:3))/3.0_wp
+                    vs(1:ns) = -particles%volume(p)*s(1:ns)
                 end if
+                call scatter_particle(stc, grid, p, shift, particles%mass(p), xp, vp, aff, apic, &
+                    with_mass, vs, fint_row, bf, body_row, buf)
             end do
-            if (with_mass .and. grid%ncontacts > 0) call contact_gaps(grid, particles, p, st)
         end do
+        !$omp end parallel do
+
+        call fold(grid, stc, buf, with_mass, fint_row, body_row)
+        if (with_mass .and. grid%ncontacts > 0) then
+            grid%contact_gap = huge(1.0_wp)
+            do p = 1, particles%n
+                call contact_gaps(grid, particles, stc, p)
+            end do
+        end if
     end subroutine p2g
 
-    !> Record, for the frictional-face nodes a particle maps to, the gap between the
+    !> Nodal sums from the chunk buffers, added chunk by chunk in a fixed order, for every
+    !> node of the grid (nodes no chunk touches get zero): mass and momentum (rows 1 : 1 + dim)
+    !> when `mass_rows`, the internal force from fint_row, the extra body force from body_row.
+    subroutine fold(grid, stc, buf, mass_rows, fint_row, body_row, only_momentum)
+        type(grid_type), intent(inout) :: grid
+        type(stencils_type), intent(in) :: stc
+        real(wp), intent(in) :: buf(:, :)
+        logical, intent(in) :: mass_rows
+        integer, intent(in) :: fint_row, body_row
+        logical, intent(in), optional :: only_momentum
+            !! set the momentum only (the MUSL remap)
+
+        integer :: layer, id, k, cross, b, rows, dim, lo, hi
+        real(wp) :: total(10)
+        logical :: momentum
+
+        momentum = .false.
+        if (present(only_momentum)) momentum = only_momentum
+        cross = stc%stride(stc%slow)
+        rows = size(buf, 1)
+        dim = grid%dim
+        if (mass_rows .and. .not. momentum) then
+            ! grid work only where the material is: this pass writes the layers it touches
+            ! and zeroes every field of those that earlier passes wrote and it does not touch;
+            ! the nodal loops then cover the layers it touches
+            lo = max(0, min(stc%layer_lo, grid%active_layers(1)))
+            hi = min(grid%nn(stc%slow) - 1, max(stc%layer_hi, grid%active_layers(2)))
+            grid%active_layers = [stc%layer_lo, stc%layer_hi]
+            grid%first_node = max(0, stc%layer_lo)*cross + 1
+            grid%last_node = (stc%layer_hi + 1)*cross
+        else
+            lo = (grid%first_node - 1)/cross
+            hi = grid%last_node/cross - 1
+        end if
+        !$omp parallel do default(none) schedule(static) &
+        !$omp shared(grid, stc, buf, mass_rows, fint_row, body_row, cross, rows, dim, momentum, &
+        !$omp lo, hi) private(layer, id, k, b, total)
+        do layer = lo, hi
+            do id = layer*cross + 1, (layer + 1)*cross
+                total(1:rows) = 0.0_wp
+                do k = stc%layer_chunks(1, layer), stc%layer_chunks(2, layer)
+                    b = id + stc%chunk_offset(k) - stc%chunk_lo(k)*cross
+                    total(1:rows) = total(1:rows) + buf(:, b)
+                end do
+                if (momentum) then
+                    grid%momentum(:, id) = total(2:1 + dim)
+                else if (mass_rows) then
+                    grid%mass(id) = total(1)
+                    grid%momentum(:, id) = total(2:1 + dim)
+                    if (stc%layer_chunks(1, layer) > stc%layer_chunks(2, layer)) then
+                        grid%velocity(:, id) = 0.0_wp
+                        grid%acceleration(:, id) = 0.0_wp
+                    end if
+                    if (body_row > 0) then
+                        grid%fext(:, id) = total(body_row:body_row + dim - 1)
+                    else
+                        grid%fext(:, id) = 0.0_wp
+                    end if
+                end if
+                if (fint_row > 0) grid%fint(:, id) = total(fint_row:fint_row + dim - 1)
+            end do
+        end do
+        !$omp end parallel do
+    end subroutine fold
+
+    !> Record, for the frictional-face nodes particle p maps to, the gap between the
     !> particle's domain and the face (negative when it reaches past it).
-    subroutine contact_gaps(grid, particles, p, st)
+    subroutine contact_gaps(grid, particles, stc, p)
         type(grid_type), intent(inout) :: grid
         type(particles_type), intent(in) :: particles
+        type(stencils_type), intent(in) :: stc
         integer, intent(in) :: p
-        type(stencil_type), intent(in) :: st
 
         integer :: a, side, c, k
-        real(wp) :: gap, face
+        integer :: node(max_nodes)
+        real(wp) :: gap, face, w(max_nodes), dw(3, max_nodes)
+        logical :: have_nodes
 
+        have_nodes = .false.
         do a = 1, grid%dim
             do side = 1, 2
                 if (grid%contact_offset(side, a) < 0) cycle
@@ -130,31 +237,18 @@ contains
                     gap = face - particles%x(a, p) - particles%lp(a, p)
                 end if
                 if (gap > 2.0_wp*grid%dx) cycle
-                do k = 1, st%count
-                    c = contact_index(grid, st%node(k), side, a)
+                if (.not. have_nodes) then
+                    call particle_nodes(stc, p, node, w, dw)
+                    have_nodes = .true.
+                end if
+                do k = 1, stc%count
+                    if (w(k) <= 0.0_wp) cycle
+                    c = contact_index(grid, node(k), side, a)
                     if (c > 0) grid%contact_gap(c) = min(grid%contact_gap(c), gap)
                 end do
             end do
         end do
     end subroutine contact_gaps
-
-    !> sigma . grad N for Voigt-stored stress.
-    pure subroutine internal_force(s, dw, dim, f)
-        real(wp), intent(in) :: s(:)
-        real(wp), intent(in) :: dw(3)
-        integer, intent(in) :: dim
-        real(wp), intent(out) :: f(3)
-
-        if (dim == 2) then
-            f(1) = s(1)*dw(1) + s(4)*dw(2)
-            f(2) = s(4)*dw(1) + s(2)*dw(2)
-            f(3) = 0.0_wp
-        else
-            f(1) = s(1)*dw(1) + s(4)*dw(2) + s(6)*dw(3)
-            f(2) = s(4)*dw(1) + s(2)*dw(2) + s(5)*dw(3)
-            f(3) = s(6)*dw(1) + s(5)*dw(2) + s(3)*dw(3)
-        end if
-    end subroutine internal_force
 
     !> Nodal velocity v_i = p_i / m_i with the boundary conditions applied.
     subroutine nodal_velocity(grid)
@@ -165,7 +259,8 @@ contains
         real(wp) :: work
 
         call apply_contacts(grid, 0.0_wp, work)
-        do i = 1, grid%nnodes
+        !$omp parallel do default(none) schedule(static) shared(grid) private(i)
+        do i = grid%first_node, grid%last_node
             if (grid%mass(i) > 0.0_wp) then
                 where (grid%constrained(:, i)) grid%momentum(:, i) = 0.0_wp
                 grid%velocity(:, i) = grid%momentum(:, i)/grid%mass(i)
@@ -173,19 +268,23 @@ contains
                 grid%velocity(:, i) = 0.0_wp
             end if
         end do
+        !$omp end parallel do
     end subroutine nodal_velocity
 
-    !> Advance the nodal momentum over dt with damping and boundary conditions.
+    !> Advance the nodal momentum over dt with gravity, damping and boundary conditions.
     !>
-    !> Local damping adds f_d = - alpha |f| sign(v) per component, f = f_int + f_ext the
-    !> unbalanced force and v the nodal velocity at the start of the step. Frictional faces
-    !> then act on the updated velocities (apply_contacts). Returns the energy damping and
-    !> boundary friction removed in this step (positive).
-    subroutine integrate_nodes(grid, dt, damping, alpha, dissipated)
+    !> f = f_int + m_i g + f_ext (f_ext: extra body forces only). Local damping adds
+    !> f_d = - alpha |f| sign(v) per component, f the unbalanced force and v the nodal velocity
+    !> at the start of the step. Frictional faces then act on the updated velocities
+    !> (apply_contacts). Returns the energy damping and boundary friction removed in this
+    !> step (positive).
+    subroutine integrate_nodes(grid, dt, gravity, damping, alpha, dissipated)
         type(grid_type), intent(inout) :: grid
             !! grid with mass, momentum and forces set
         real(wp), intent(in) :: dt
             !! time step [s]
+        real(wp), intent(in) :: gravity(3)
+            !! gravitational acceleration [m/s2]
         integer, intent(in) :: damping
             !! case%damping
         real(wp), intent(in) :: alpha
@@ -193,51 +292,68 @@ contains
         real(wp), intent(out) :: dissipated
             !! energy removed by local damping and boundary friction in this step [J]
 
-        integer :: i
+        integer :: i, dim, nb, b
         real(wp) :: f(3), v0(3), fd(3), contact_work
-        integer :: dim
+        real(wp), allocatable :: partial(:)
 
         dim = grid%dim
-        dissipated = 0.0_wp
-        do i = 1, grid%nnodes
-            if (grid%mass(i) <= 0.0_wp) then
-                grid%momentum(:, i) = 0.0_wp
-                grid%acceleration(:, i) = 0.0_wp
-                cycle
-            end if
-            f(1:dim) = grid%fint(:, i) + grid%fext(:, i)
-            v0(1:dim) = grid%momentum(:, i)/grid%mass(i)
-            ! Held components are zero in the nodal velocity of the start of the step as well as
-            ! of its end, so their acceleration is zero and the FLIP update leaves the particle
-            ! velocities beside a fixed or sliding face to the forces (as Uintah does). Putting
-            ! the removed mapped velocity into the acceleration instead makes the manufactured
-            ! solution less accurate (cpGIMP MUSL, 64 cells: 9.4e-5 m against 3.5e-5 m).
-            where (grid%constrained(:, i))
-                grid%momentum(:, i) = 0.0_wp
-                v0(1:dim) = 0.0_wp
-            end where
-            if (damping == damping_local) then
-                fd(1:dim) = -alpha*abs(f(1:dim))*sign(1.0_wp, v0(1:dim))
-                where (v0(1:dim) == 0.0_wp) fd(1:dim) = 0.0_wp
-                where (grid%constrained(:, i)) fd(1:dim) = 0.0_wp
-                f(1:dim) = f(1:dim) + fd(1:dim)
-                dissipated = dissipated - dt*sum(fd(1:dim)*(v0(1:dim) &
-                    + 0.5_wp*dt*f(1:dim)/grid%mass(i)))
-            end if
-            where (grid%constrained(:, i)) f(1:dim) = 0.0_wp
-            if (grid%mass(i) < grid%small_mass) f(1:dim) = 0.0_wp
-            grid%acceleration(:, i) = f(1:dim)/grid%mass(i)
-            grid%momentum(:, i) = grid%momentum(:, i) + dt*f(1:dim)
-        end do
-        call apply_contacts(grid, dt, contact_work)
-        dissipated = dissipated + contact_work
-        do i = 1, grid%nnodes
-            if (grid%mass(i) > 0.0_wp) then
+        ! blocks of sum_block nodes counted from node 1, so the partial sums do not depend
+        ! on where the loop starts
+        nb = (grid%last_node + sum_block - 1)/sum_block
+        allocate (partial(nb))
+        partial = 0.0_wp
+        !$omp parallel do default(none) schedule(static) &
+        !$omp shared(grid, dt, gravity, damping, alpha, dim, nb, partial) private(b, i, f, v0, fd)
+        do b = (grid%first_node - 1)/sum_block + 1, nb
+            do i = max(grid%first_node, (b - 1)*sum_block + 1), min(b*sum_block, grid%last_node)
+                if (grid%mass(i) <= 0.0_wp) then
+                    grid%momentum(:, i) = 0.0_wp
+                    grid%acceleration(:, i) = 0.0_wp
+                    grid%velocity(:, i) = 0.0_wp
+                    cycle
+                end if
+                f(1:dim) = grid%fint(:, i) + grid%fext(:, i) + grid%mass(i)*gravity(1:dim)
+                v0(1:dim) = grid%momentum(:, i)/grid%mass(i)
+                ! Held components are zero in the nodal velocity of the start of the step as
+                ! well as of its end, so their acceleration is zero and the FLIP update leaves
+                ! the particle velocities beside a fixed or sliding face to the forces (as
+                ! Uintah does). Putting the removed mapped velocity into the acceleration
+                ! instead makes the manufactured solution less accurate (cpGIMP MUSL, 64
+                ! cells: 9.4e-5 m against 3.5e-5 m).
+                where (grid%constrained(:, i))
+                    grid%momentum(:, i) = 0.0_wp
+                    v0(1:dim) = 0.0_wp
+                end where
+                if (damping == damping_local) then
+                    fd(1:dim) = -alpha*abs(f(1:dim))*sign(1.0_wp, v0(1:dim))
+                    where (v0(1:dim) == 0.0_wp) fd(1:dim) = 0.0_wp
+                    where (grid%constrained(:, i)) fd(1:dim) = 0.0_wp
+                    f(1:dim) = f(1:dim) + fd(1:dim)
+                    partial(b) = partial(b) - dt*sum(fd(1:dim)*(v0(1:dim) &
+                        + 0.5_wp*dt*f(1:dim)/grid%mass(i)))
+                end if
+                where (grid%constrained(:, i)) f(1:dim) = 0.0_wp
+                if (grid%mass(i) < grid%small_mass) f(1:dim) = 0.0_wp
+                grid%acceleration(:, i) = f(1:dim)/grid%mass(i)
+                grid%momentum(:, i) = grid%momentum(:, i) + dt*f(1:dim)
                 grid%velocity(:, i) = grid%momentum(:, i)/grid%mass(i)
-            else
-                grid%velocity(:, i) = 0.0_wp
-            end if
+            end do
         end do
+        !$omp end parallel do
+        dissipated = 0.0_wp
+        do b = 1, nb
+            dissipated = dissipated + partial(b)
+        end do
+        if (grid%ncontacts > 0) then
+            call apply_contacts(grid, dt, contact_work)
+            dissipated = dissipated + contact_work
+            do i = 1, grid%ncontacts
+                associate (id => grid%contact_node(i))
+                    if (grid%mass(id) > 0.0_wp) grid%velocity(:, id) = grid%momentum(:, id) &
+                        /grid%mass(id)
+                end associate
+            end do
+        end if
     end subroutine integrate_nodes
 
     !> Coulomb friction on frictional faces, node by node.
@@ -310,60 +426,107 @@ contains
     !> Gather nodal accelerations and velocities: v_p += dt sum N_i a_i (FLIP), and the
     !> position increment dx_p = dt sum N_i v_i, applied later by move_particles so that every
     !> pass of a step uses the shape functions at the start-of-step positions.
-    subroutine g2p(grid, particles, shape, dt, flip, dxp)
-        type(grid_type), intent(in) :: grid
-            !! grid after the nodal update
+    !>
+    !> With `remap` (MUSL), the same pass maps the updated particle momentum back to the nodes
+    !> (chunk buffers folded in a fixed order, as in p2g) and recomputes the nodal velocities.
+    subroutine g2p(grid, particles, stc, dt, flip, dxp, remap)
+        type(grid_type), intent(inout) :: grid
+            !! grid after the nodal update (momentum and velocity replaced with `remap`)
         type(particles_type), intent(inout) :: particles
             !! particles whose velocities are updated
-        class(shape_type), intent(in) :: shape
-            !! shape function
+        type(stencils_type), intent(in) :: stc
+            !! stencils, order and chunks of the step
         real(wp), intent(in) :: dt
             !! time step [s]
         real(wp), intent(in) :: flip
             !! FLIP fraction of the velocity update (1: FLIP, 0: PIC) [-]
         real(wp), intent(out) :: dxp(:, :)
             !! position increment of each particle (dim, n) [m]
+        logical, intent(in) :: remap
+            !! MUSL: scatter the updated momentum and recompute the nodal velocities
 
-        integer :: p, c, k, dim
-        type(stencil_type) :: st
-        real(wp) :: a(3), v(3)
+        integer :: k, q, p, dim, shift
+        real(wp) :: xp(3), vp(3), aff(3, 3), bf(3), vs(6)
+        logical :: apic
+        real(wp), allocatable :: buf(:, :)
 
         dim = grid%dim
-        !$omp parallel do default(none) schedule(static) &
-        !$omp shared(grid, particles, shape, dt, flip, dim, dxp) private(p, c, k, st, a, v)
-        do p = 1, particles%n
-            call shape%evaluate(grid, particles%x(:, p), particles%lp(:, p), st)
-            a = 0.0_wp
-            v = 0.0_wp
-            do c = 1, st%count
-                a(1:dim) = a(1:dim) + st%w(c)*grid%acceleration(:, st%node(c))
-                v(1:dim) = v(1:dim) + st%w(c)*grid%velocity(:, st%node(c))
-            end do
-            if (allocated(particles%affine)) then
-                ! APIC: the particle takes the nodal velocity field, its value and its gradient.
-                ! A particle alone on its nodes would only get back the affine field it gave
-                ! them, and a stretching one would keep stretching without end (its volume grew
-                ! by 1e72 at the front of a collapse); alone, it moves without an affine part.
-                particles%v(:, p) = v(1:dim)
-                particles%affine(:, :, p) = 0.0_wp
-                if (.not. alone(grid, particles%mass(p), st)) then
-                    do c = 1, st%count
-                        do k = 1, dim
-                            particles%affine(:, k, p) = particles%affine(:, k, p) &
-                                + grid%velocity(:, st%node(c))*st%dw(k, c)
-                        end do
-                    end do
+        apic = allocated(particles%affine)
+        if (remap) then
+            allocate (buf(1 + dim, stc%chunk_offset(stc%nchunks + 1)))
+        else
+            allocate (buf(1, 1))
+        end if
+        !$omp parallel do default(none) schedule(dynamic, 1) &
+        !$omp shared(grid, particles, stc, dt, flip, dxp, remap, buf, dim, apic) &
+        !$omp private(k, q, p, shift, xp, vp, aff, bf, vs)
+        do k = 1, stc%nchunks
+            shift = stc%chunk_offset(k) - stc%chunk_lo(k)*stc%stride(stc%slow)
+            if (remap) buf(:, stc%chunk_offset(k) + 1:stc%chunk_offset(k + 1)) = 0.0_wp
+            xp = 0.0_wp
+            vp = 0.0_wp
+            aff = 0.0_wp
+            bf = 0.0_wp
+            vs = 0.0_wp
+            do q = stc%chunk_start(k), stc%chunk_start(k + 1) - 1
+                p = stc%order(q)
+                call update_particle_velocity(grid, particles, stc, p, dt, flip, apic, dxp)
+                if (remap) then
+                    vp(1:dim) = particles%v(:, p)
+                    if (apic) then
+                        xp(1:dim) = particles%x(:, p)
+                        aff(1:dim, 1:dim) = particles%affine(:, :, p)
+                    end if
+                    call scatter_particle(stc, grid, p, shift, particles%mass(p), xp, vp, aff, &
+                        apic, .true., vs, 0, bf, 0, buf)
                 end if
-            else if (flip < 1.0_wp) then
-                particles%v(:, p) = flip*(particles%v(:, p) + dt*a(1:dim)) &
-                    + (1.0_wp - flip)*v(1:dim)
-            else
-                particles%v(:, p) = particles%v(:, p) + dt*a(1:dim)
-            end if
-            dxp(:, p) = dt*v(1:dim)
+            end do
         end do
         !$omp end parallel do
+        if (remap) then
+            call fold(grid, stc, buf, .true., 0, 0, only_momentum=.true.)
+            call nodal_velocity(grid)
+        end if
     end subroutine g2p
+
+    !> The G2P update of one particle: velocity (FLIP, PIC blend or APIC) and position
+    !> increment.
+    subroutine update_particle_velocity(grid, particles, stc, p, dt, flip, apic, dxp)
+        type(grid_type), intent(in) :: grid
+        type(particles_type), intent(inout) :: particles
+        type(stencils_type), intent(in) :: stc
+        integer, intent(in) :: p
+        real(wp), intent(in) :: dt, flip
+        logical, intent(in) :: apic
+        real(wp), intent(inout) :: dxp(:, :)
+
+        integer :: dim, c
+        integer :: node(max_nodes)
+        real(wp) :: a(3), v(3), gradv(3, 3), w(max_nodes), dw(3, max_nodes)
+
+        dim = grid%dim
+        call gather_particle(stc, p, grid%acceleration, grid%velocity, .not. apic, apic, a, v, &
+            gradv)
+        if (apic) then
+            ! APIC: the particle takes the nodal velocity field, its value and its gradient.
+            ! A particle alone on its nodes would only get back the affine field it gave
+            ! them, and a stretching one would keep stretching without end (its volume grew
+            ! by 1e72 at the front of a collapse); alone, it moves without an affine part.
+            particles%v(:, p) = v(1:dim)
+            call particle_nodes(stc, p, node, w, dw)
+            c = stc%count
+            if (alone(grid, particles%mass(p), c, node, w)) then
+                particles%affine(:, :, p) = 0.0_wp
+            else
+                particles%affine(:, :, p) = gradv(1:dim, 1:dim)
+            end if
+        else if (flip < 1.0_wp) then
+            particles%v(:, p) = flip*(particles%v(:, p) + dt*a(1:dim)) + (1.0_wp - flip)*v(1:dim)
+        else
+            particles%v(:, p) = particles%v(:, p) + dt*a(1:dim)
+        end if
+        dxp(:, p) = dt*v(1:dim)
+    end subroutine update_particle_velocity
 
     !> Apply the position increments of the step; fails (exit_numerical) when a particle
     !> leaves the grid through a free face or its position is not finite.
@@ -429,36 +592,12 @@ contains
         call fatal_error(error, trim(msg), exit_numerical)
     end subroutine report_lost
 
-    !> MUSL: map the updated particle momentum back to the nodes and recompute v_i.
-    subroutine remap_momentum(grid, particles, shape)
-        type(grid_type), intent(inout) :: grid
-            !! grid whose mass is set
-        type(particles_type), intent(in) :: particles
-            !! particles with updated velocities
-        class(shape_type), intent(in) :: shape
-            !! shape function
-
-        integer :: p, c, id
-        type(stencil_type) :: st
-
-        grid%momentum = 0.0_wp
-        do p = 1, particles%n
-            call shape%evaluate(grid, particles%x(:, p), particles%lp(:, p), st)
-            do c = 1, st%count
-                id = st%node(c)
-                grid%momentum(:, id) = grid%momentum(:, id) &
-                    + st%w(c)*particles%mass(p)*particle_velocity(grid, particles, p, id)
-            end do
-        end do
-        call nodal_velocity(grid)
-    end subroutine remap_momentum
-
     !> Stress update from the nodal velocities in grid%velocity.
     !>
     !> L = sum_i v_i (x) grad N_i; strain increment D dt, spin W dt; F <- (I + L dt) F;
     !> V = det(F) V0; GIMP half-sizes lp = lp0 F_aa (contiguous particle GIMP). Returns the
     !> work of the stresses over the step (strain energy increment). Like every pass of a
-    !> step, it evaluates the shape functions at the start-of-step positions.
+    !> step, it uses the shape functions at the start-of-step positions.
     !>
     !> With `fbar`, the volumetric part of each increment is replaced by the mean of the cell
     !> the particle is in (F-bar: dF_bar = (dJ_cell / dJ_p)^(1/dim) dF_p, with dJ_cell the
@@ -466,13 +605,13 @@ contains
     !> flow (Mohr-Coulomb with psi = 0) otherwise locks on the low-order shape functions and
     !> leaves a checkerboard of pressures, and with it of strengths, between the particles of
     !> a cell (Coombs et al. 2018; Wyser et al. 2021 average the pressure per cell).
-    subroutine update_stress(grid, particles, shape, materials, dt, fbar, strain_work, dxp)
+    subroutine update_stress(grid, particles, stc, materials, dt, fbar, strain_work, dxp)
         type(grid_type), intent(in) :: grid
             !! grid with nodal velocities
         type(particles_type), intent(inout) :: particles
             !! particles to update
-        class(shape_type), intent(in) :: shape
-            !! shape function
+        type(stencils_type), intent(in) :: stc
+            !! stencils, order and chunks of the step
         type(material_holder_type), intent(in) :: materials(:)
             !! materials of the case
         real(wp), intent(in) :: dt
@@ -485,138 +624,303 @@ contains
             !! when present, the position increment dt sum_i N_i v_i from the same nodal
             !! velocities as the strain (MUSL) [m]
 
-        integer :: p, dim, ns, a
-        real(wp) :: gradv(3, 3), ldt(3, 3), de(6), omega(3), sold(6), dF(3, 3), jac, scale, v(3), &
-            vold
-        real(wp), allocatable :: grads(:, :, :), cell_old(:), cell_new(:)
-        integer, allocatable :: cell(:)
+        integer :: p, q, k, dim, ns, a
+        real(wp) :: gradv(3, 3), ldt(3, 3), de(6), omega(3), sold(6), dF(3, 3), jac, scale, &
+            v(3), vold, a3(3), fold_f(3, 3), fnew(3, 3)
+        integer :: b, c
+        real(wp), allocatable :: grads(:, :, :), cell_old(:), cell_new(:), partial(:)
 
         dim = grid%dim
         ns = particles%nstress
-        strain_work = 0.0_wp
         if (fbar) then
-            allocate (grads(3, 3, particles%n), cell(particles%n))
+            allocate (grads(3, 3, particles%n))
             allocate (cell_old(product(grid%ncells)), cell_new(product(grid%ncells)))
             !$omp parallel do default(none) schedule(static) &
-            !$omp shared(grid, particles, shape, dim, dt, grads, cell, dxp) private(p, v)
+            !$omp shared(grid, particles, stc, dim, dt, grads, dxp) private(p, v, a3)
             do p = 1, particles%n
-                if (present(dxp)) then
-                    call velocity_gradient(grid, shape, particles%x(:, p), particles%lp(:, p), &
-                        grads(:, :, p), v(1:dim))
-                    dxp(:, p) = dt*v(1:dim)
-                else
-                    call velocity_gradient(grid, shape, particles%x(:, p), particles%lp(:, p), &
-                        grads(:, :, p))
-                end if
-                cell(p) = cell_of(grid, particles%x(:, p))
+                call gather_particle(stc, p, grid%velocity, grid%velocity, .false., .true., a3, &
+                    v, grads(:, :, p))
+                if (present(dxp)) dxp(:, p) = dt*v(1:dim)
             end do
             !$omp end parallel do
             cell_old = 0.0_wp
             cell_new = 0.0_wp
-            do p = 1, particles%n   ! serial: a fixed order of the sums
+            do q = 1, particles%n   ! serial, in cell order: a fixed order of the sums
+                p = stc%order(q)
                 dF = increment(grads(:, :, p), dt, dim)
-                cell_old(cell(p)) = cell_old(cell(p)) + particles%volume(p)
-                cell_new(cell(p)) = cell_new(cell(p)) &
+                cell_old(stc%cell(p)) = cell_old(stc%cell(p)) + particles%volume(p)
+                cell_new(stc%cell(p)) = cell_new(stc%cell(p)) &
                     + particles%volume(p)*determinant(dF, dim)
             end do
         end if
-        !$omp parallel do default(none) schedule(static) &
-        !$omp shared(grid, particles, shape, materials, dt, dim, ns, fbar, grads, cell, &
-        !$omp cell_old, cell_new, dxp) &
-        !$omp private(p, gradv, v, ldt, de, omega, sold, vold, dF, jac, a, scale) &
-        !$omp reduction(+: strain_work)
-        do p = 1, particles%n
-            if (fbar) then
-                gradv = grads(:, :, p)   ! and dxp, when asked, from the same pass
-            else if (present(dxp)) then
-                call velocity_gradient(grid, shape, particles%x(:, p), particles%lp(:, p), &
-                    gradv, v(1:dim))
-                dxp(:, p) = dt*v(1:dim)
-            else
-                call velocity_gradient(grid, shape, particles%x(:, p), particles%lp(:, p), gradv)
-            end if
-            ! gradv(i, j) = d v_i / d x_j; ldt = dt gradv, dF = I + ldt
-            ldt = dt*gradv
-            if (fbar) then
-                dF = increment(gradv, dt, dim)
-                jac = determinant(dF, dim)
-                if (jac > 0.0_wp .and. cell_new(cell(p)) > 0.0_wp) then
-                    scale = (cell_new(cell(p))/(cell_old(cell(p))*jac))**(1.0_wp/dim)
-                    ldt(1:dim, 1:dim) = scale*dF(1:dim, 1:dim)
-                    do a = 1, dim
-                        ldt(a, a) = ldt(a, a) - 1.0_wp
-                    end do
+        allocate (partial(stc%nchunks))
+        !$omp parallel do default(none) schedule(dynamic, 1) &
+        !$omp shared(grid, particles, stc, materials, dt, dim, ns, fbar, grads, &
+        !$omp cell_old, cell_new, dxp, partial) &
+        !$omp private(k, q, p, gradv, v, ldt, de, omega, sold, vold, dF, jac, a, scale, a3, &
+        !$omp fold_f, fnew, b, c)
+        do k = 1, stc%nchunks
+            partial(k) = 0.0_wp
+            do q = stc%chunk_start(k), stc%chunk_start(k + 1) - 1
+                p = stc%order(q)
+                if (fbar) then
+                    gradv = grads(:, :, p)   ! and dxp, when asked, from the same pass
+                else
+                    call gather_particle(stc, p, grid%velocity, grid%velocity, .false., .true., &
+                        a3, v, gradv)
+                    if (present(dxp)) dxp(:, p) = dt*v(1:dim)
                 end if
-            end if
-            de = 0.0_wp
-            omega = 0.0_wp
-            de(1) = ldt(1, 1)
-            de(2) = ldt(2, 2)
-            de(4) = 0.5_wp*(ldt(1, 2) + ldt(2, 1))
-            omega(1) = 0.5_wp*(ldt(1, 2) - ldt(2, 1))
-            if (dim == 3) then
-                de(3) = ldt(3, 3)
-                de(5) = 0.5_wp*(ldt(2, 3) + ldt(3, 2))
-                de(6) = 0.5_wp*(ldt(3, 1) + ldt(1, 3))
-                omega(2) = 0.5_wp*(ldt(2, 3) - ldt(3, 2))
-                omega(3) = 0.5_wp*(ldt(3, 1) - ldt(1, 3))
-            end if
-            sold(1:ns) = particles%stress(:, p)
-            vold = particles%volume(p)
-            call materials(particles%material(p))%m%update_stress(particles%stress(:, p), &
-                de(1:ns), omega, dt, particles%state(:, p))
-            particles%strain(:, p) = particles%strain(:, p) + de(1:ns)
-            ! deformation gradient, volume and particle domain
-            dF = 0.0_wp
-            do a = 1, dim
-                dF(a, a) = 1.0_wp
+                ! gradv(i, j) = d v_i / d x_j; ldt = dt gradv, dF = I + ldt
+                ldt = dt*gradv
+                if (fbar) then
+                    dF = increment(gradv, dt, dim)
+                    jac = determinant(dF, dim)
+                    if (jac > 0.0_wp .and. cell_new(stc%cell(p)) > 0.0_wp) then
+                        scale = (cell_new(stc%cell(p))/(cell_old(stc%cell(p))*jac)) &
+                            **(1.0_wp/dim)
+                        ldt(1:dim, 1:dim) = scale*dF(1:dim, 1:dim)
+                        do a = 1, dim
+                            ldt(a, a) = ldt(a, a) - 1.0_wp
+                        end do
+                    end if
+                end if
+                de = 0.0_wp
+                omega = 0.0_wp
+                de(1) = ldt(1, 1)
+                de(2) = ldt(2, 2)
+                de(4) = 0.5_wp*(ldt(1, 2) + ldt(2, 1))
+                omega(1) = 0.5_wp*(ldt(1, 2) - ldt(2, 1))
+                if (dim == 3) then
+                    de(3) = ldt(3, 3)
+                    de(5) = 0.5_wp*(ldt(2, 3) + ldt(3, 2))
+                    de(6) = 0.5_wp*(ldt(3, 1) + ldt(1, 3))
+                    omega(2) = 0.5_wp*(ldt(2, 3) - ldt(3, 2))
+                    omega(3) = 0.5_wp*(ldt(3, 1) - ldt(1, 3))
+                end if
+                sold(1:ns) = particles%stress(:, p)
+                vold = particles%volume(p)
+                call materials(particles%material(p))%m%update_stress(particles%stress(:, p), &
+                    de(1:ns), omega, dt, particles%state(:, p))
+                particles%strain(:, p) = particles%strain(:, p) + de(1:ns)
+                ! deformation gradient F <- (I + ldt) F, volume and particle domain
+                fold_f(1:dim, 1:dim) = particles%f(:, :, p)
+                do b = 1, dim
+                    do a = 1, dim
+                        fnew(a, b) = fold_f(a, b)
+                        do c = 1, dim
+                            fnew(a, b) = fnew(a, b) + ldt(a, c)*fold_f(c, b)
+                        end do
+                    end do
+                end do
+                particles%f(:, :, p) = fnew(1:dim, 1:dim)
+                jac = determinant(fnew, dim)
+                particles%volume(p) = jac*particles%volume0(p)
+                do a = 1, dim
+                    particles%lp(a, p) = particles%lp0(a, p)*abs(particles%f(a, a, p))
+                end do
+                ! trapezoidal rule on V sigma (volume and stress at both ends of the step):
+                ! second order in dt, also when the volume changes with the strain
+                partial(k) = partial(k) + 0.5_wp*double_contraction(vold*sold(1:ns) &
+                    + particles%volume(p)*particles%stress(:, p), de(1:ns))
             end do
-            dF(1:dim, 1:dim) = dF(1:dim, 1:dim) + ldt(1:dim, 1:dim)
-            particles%f(:, :, p) = matmul(dF(1:dim, 1:dim), particles%f(:, :, p))
-            jac = determinant(particles%f(:, :, p), dim)
-            particles%volume(p) = jac*particles%volume0(p)
-            do a = 1, dim
-                particles%lp(a, p) = particles%lp0(a, p)*abs(particles%f(a, a, p))
-            end do
-            ! trapezoidal rule on V sigma (volume and stress at both ends of the step): second
-            ! order in dt, also when the volume changes with the strain (large deformation)
-            strain_work = strain_work + 0.5_wp*double_contraction(vold*sold(1:ns) &
-                + particles%volume(p)*particles%stress(:, p), de(1:ns))
         end do
         !$omp end parallel do
+        strain_work = 0.0_wp
+        do k = 1, stc%nchunks
+            strain_work = strain_work + partial(k)
+        end do
     end subroutine update_stress
 
-    !> Velocity gradient L(i, j) = d v_i / d x_j at a particle from the nodal velocities, and
-    !> optionally the velocity sum_i N_i v_i itself.
-    subroutine velocity_gradient(grid, shape, x, lp, gradv, v)
+    pure subroutine scatter_particle(stc, grid, p, shift, m, xp, vp, aff, apic, mass_rows, &
+            vs, fint_row, bf, body_row, buf)
+        type(stencils_type), intent(in) :: stc
         type(grid_type), intent(in) :: grid
-            !! grid with nodal velocities
-        class(shape_type), intent(in) :: shape
-            !! shape function
-        real(wp), intent(in) :: x(:), lp(:)
-            !! particle position [m] and half size [m]
-        real(wp), intent(out) :: gradv(3, 3)
-            !! velocity gradient [1/s]
-        real(wp), intent(out), optional :: v(:)
-            !! interpolated velocity (dim) [m/s]
+        integer, intent(in) :: p, shift, fint_row, body_row
+        real(wp), intent(in) :: m, xp(3), vp(3), aff(3, 3), vs(6), bf(3)
+        logical, intent(in) :: apic, mass_rows
+        real(wp), intent(inout) :: buf(:, :)
 
-        type(stencil_type) :: st
-        integer :: c, a
+        select case (stencil_kind(stc))
+        case (full_gimp_3d)
+            call scatter_g3(stc, grid, p, shift, m, xp, vp, aff, apic, mass_rows, vs, &
+                fint_row, bf, body_row, buf)
+        case (full_gimp_2d)
+            call scatter_g2(stc, grid, p, shift, m, xp, vp, aff, apic, mass_rows, vs, &
+                fint_row, bf, body_row, buf)
+        case (full_linear_3d)
+            call scatter_l3(stc, grid, p, shift, m, xp, vp, aff, apic, mass_rows, vs, &
+                fint_row, bf, body_row, buf)
+        case (full_linear_2d)
+            call scatter_l2(stc, grid, p, shift, m, xp, vp, aff, apic, mass_rows, vs, &
+                fint_row, bf, body_row, buf)
+        case default
+            call scatter_any(stc, grid, p, shift, m, xp, vp, aff, apic, mass_rows, vs, &
+                fint_row, bf, body_row, buf, stc%nper(1), stc%nper(2), stc%nper(3))
+        end select
+    end subroutine scatter_particle
 
-        call shape%evaluate(grid, x, lp, st)
-        gradv = 0.0_wp
-        do c = 1, st%count
-            do a = 1, grid%dim
-                gradv(1:grid%dim, a) = gradv(1:grid%dim, a) + grid%velocity(:, st%node(c))*st%dw(a, c)
-            end do
+    !> scatter_particle for full stencils, cpGIMP in 3D.
+    pure subroutine scatter_g3(stc, grid, p, shift, m, xp, vp, aff, apic, mass_rows, &
+            vs, fint_row, bf, body_row, buf)
+        integer, parameter :: n1 = 3, n2 = 3, n3 = 3
+        include "mpm_transfer_scatter.inc"
+    end subroutine scatter_g3
+
+    !> scatter_particle for full stencils, cpGIMP in 2D.
+    pure subroutine scatter_g2(stc, grid, p, shift, m, xp, vp, aff, apic, mass_rows, &
+            vs, fint_row, bf, body_row, buf)
+        integer, parameter :: n1 = 3, n2 = 3, n3 = 1
+        include "mpm_transfer_scatter.inc"
+    end subroutine scatter_g2
+
+    !> scatter_particle for full stencils, linear in 3D.
+    pure subroutine scatter_l3(stc, grid, p, shift, m, xp, vp, aff, apic, mass_rows, &
+            vs, fint_row, bf, body_row, buf)
+        integer, parameter :: n1 = 2, n2 = 2, n3 = 2
+        include "mpm_transfer_scatter.inc"
+    end subroutine scatter_l3
+
+    !> scatter_particle for full stencils, linear in 2D.
+    pure subroutine scatter_l2(stc, grid, p, shift, m, xp, vp, aff, apic, mass_rows, &
+            vs, fint_row, bf, body_row, buf)
+        integer, parameter :: n1 = 2, n2 = 2, n3 = 1
+        include "mpm_transfer_scatter.inc"
+    end subroutine scatter_l2
+
+    !> scatter_particle for any stencil (an axis of the grid with fewer nodes than the shape
+    !> function touches).
+    pure subroutine scatter_any(stc, grid, p, shift, m, xp, vp, aff, apic, mass_rows, &
+            vs, fint_row, bf, body_row, buf, n1, n2, n3)
+        integer, intent(in) :: n1, n2, n3
+        include "mpm_transfer_scatter.inc"
+    end subroutine scatter_any
+
+
+    !> APIC: the parts C_p(:, a) (x_i,a - x_p,a) of the node velocity, per axis and node.
+    pure subroutine apic_terms(stc, grid, p, xp, aff, cx, cy, cz)
+        type(stencils_type), intent(in) :: stc
+        type(grid_type), intent(in) :: grid
+        integer, intent(in) :: p
+        real(wp), intent(in) :: xp(3), aff(3, 3)
+        real(wp), intent(out) :: cx(3, 3), cy(3, 3), cz(3, 3)
+
+        integer :: i
+        real(wp) :: r
+
+        cx = 0.0_wp
+        cy = 0.0_wp
+        cz = 0.0_wp
+        do i = 1, stc%nper(1)
+            r = grid%origin(1) + grid%dx*real(stc%first(1, p) + i - 1, wp) - xp(1)
+            cx(:, i) = aff(:, 1)*r
         end do
-        if (present(v)) then
-            v = 0.0_wp
-            do c = 1, st%count
-                v = v + st%w(c)*grid%velocity(:, st%node(c))
+        do i = 1, stc%nper(2)
+            r = grid%origin(2) + grid%dx*real(stc%first(2, p) + i - 1, wp) - xp(2)
+            cy(:, i) = aff(:, 2)*r
+        end do
+        if (stc%dim == 3) then
+            do i = 1, stc%nper(3)
+                r = grid%origin(3) + grid%dx*real(stc%first(3, p) + i - 1, wp) - xp(3)
+                cz(:, i) = aff(:, 3)*r
             end do
         end if
-    end subroutine velocity_gradient
+    end subroutine apic_terms
+
+    !> Gather at one particle from two nodal vector fields: sum N_i fa_i, sum N_i fv_i and,
+    !> when `with_gradient`, sum fv_i (x) grad N_i (gradient(i, j) = d fv_i / d x_j).
+    pure subroutine gather_particle(stc, p, fa, fv, with_a, with_gradient, a, v, gradient)
+        type(stencils_type), intent(in) :: stc
+            !! stencils of the step
+        integer, intent(in) :: p
+            !! particle
+        real(wp), intent(in) :: fa(:, :), fv(:, :)
+            !! nodal fields (dim, nodes): acceleration and velocity
+        logical, intent(in) :: with_a, with_gradient
+            !! gather fa; gather the gradient of fv
+        real(wp), intent(out) :: a(3), v(3), gradient(3, 3)
+            !! results (first dim components)
+
+        select case (stencil_kind(stc))
+        case (full_gimp_3d)
+            call gather_g3(stc, p, fa, fv, with_a, with_gradient, a, v, gradient)
+        case (full_gimp_2d)
+            call gather_g2(stc, p, fa, fv, with_a, with_gradient, a, v, gradient)
+        case (full_linear_3d)
+            call gather_l3(stc, p, fa, fv, with_a, with_gradient, a, v, gradient)
+        case (full_linear_2d)
+            call gather_l2(stc, p, fa, fv, with_a, with_gradient, a, v, gradient)
+        case default
+            call gather_any(stc, p, fa, fv, with_a, with_gradient, a, v, gradient, &
+                stc%nper(1), stc%nper(2), stc%nper(3))
+        end select
+    end subroutine gather_particle
+
+    !> gather_particle for full stencils, cpGIMP in 3D.
+    pure subroutine gather_g3(stc, p, fa, fv, with_a, with_gradient, a, v, gradient)
+        integer, parameter :: n1 = 3, n2 = 3, n3 = 3
+        include "mpm_transfer_gather.inc"
+    end subroutine gather_g3
+
+    !> gather_particle for full stencils, cpGIMP in 2D.
+    pure subroutine gather_g2(stc, p, fa, fv, with_a, with_gradient, a, v, gradient)
+        integer, parameter :: n1 = 3, n2 = 3, n3 = 1
+        include "mpm_transfer_gather.inc"
+    end subroutine gather_g2
+
+    !> gather_particle for full stencils, linear in 3D.
+    pure subroutine gather_l3(stc, p, fa, fv, with_a, with_gradient, a, v, gradient)
+        integer, parameter :: n1 = 2, n2 = 2, n3 = 2
+        include "mpm_transfer_gather.inc"
+    end subroutine gather_l3
+
+    !> gather_particle for full stencils, linear in 2D.
+    pure subroutine gather_l2(stc, p, fa, fv, with_a, with_gradient, a, v, gradient)
+        integer, parameter :: n1 = 2, n2 = 2, n3 = 1
+        include "mpm_transfer_gather.inc"
+    end subroutine gather_l2
+
+    !> gather_particle for any stencil (an axis of the grid with fewer nodes than the shape
+    !> function touches).
+    pure subroutine gather_any(stc, p, fa, fv, with_a, with_gradient, a, v, gradient, n1, n2, n3)
+        integer, intent(in) :: n1, n2, n3
+        include "mpm_transfer_gather.inc"
+    end subroutine gather_any
+
+
+    !> Which constant-length loops a step's stencils can use: full cpGIMP or linear stencils
+    !> in 2D or 3D, or another (an axis of the grid with fewer nodes than the shape touches).
+    pure integer function stencil_kind(stc)
+        type(stencils_type), intent(in) :: stc
+        stencil_kind = other_stencil
+        if (stc%dim == 3 .and. stc%count == 27) stencil_kind = full_gimp_3d
+        if (stc%dim == 2 .and. stc%count == 9) stencil_kind = full_gimp_2d
+        if (stc%dim == 3 .and. stc%count == 8) stencil_kind = full_linear_3d
+        if (stc%dim == 2 .and. stc%count == 4) stencil_kind = full_linear_2d
+    end function stencil_kind
+
+    !> Whether a particle of mass m is alone on the nodes of its stencil (each node with a
+    !> weight has its mass from this particle, to round-off).
+    pure logical function alone(grid, m, count, node, w)
+        type(grid_type), intent(in) :: grid
+            !! grid with nodal masses
+        real(wp), intent(in) :: m
+            !! particle mass [kg]
+        integer, intent(in) :: count
+            !! nodes of the stencil
+        integer, intent(in) :: node(:)
+            !! nodes
+        real(wp), intent(in) :: w(:)
+            !! weights
+        integer :: c
+        alone = .true.
+        do c = 1, count
+            if (w(c) <= 0.0_wp) cycle
+            if (grid%mass(node(c)) > (1.0_wp + 1.0e-9_wp)*m*w(c)) then
+                alone = .false.
+                return
+            end if
+        end do
+    end function alone
 
     !> Deformation gradient increment I + dt L (the identity outside the first dim axes).
     pure function increment(gradv, dt, dim) result(dF)
@@ -630,63 +934,6 @@ contains
         end do
         dF(1:dim, 1:dim) = dF(1:dim, 1:dim) + dt*gradv(1:dim, 1:dim)
     end function increment
-
-    !> Linear index of the grid cell holding position x (clamped to the grid).
-    pure integer function cell_of(grid, x)
-        type(grid_type), intent(in) :: grid
-            !! the grid
-        real(wp), intent(in) :: x(:)
-            !! position [m]
-        integer :: a, i, stride
-        cell_of = 1
-        stride = 1
-        do a = 1, grid%dim
-            i = int(floor((x(a) - grid%origin(a))/grid%dx))
-            i = min(max(i, 0), grid%ncells(a) - 1)
-            cell_of = cell_of + i*stride
-            stride = stride*grid%ncells(a)
-        end do
-    end function cell_of
-
-    !> Velocity that particle p gives node id in a transfer: v_p, plus C_p (x_i - x_p) with
-    !> APIC (Jiang et al. 2015; for multilinear and GIMP weights C_p is the gradient of the
-    !> nodal velocity field at the particle, as the inertia-tensor form is singular there).
-    pure function particle_velocity(grid, particles, p, id) result(v)
-        type(grid_type), intent(in) :: grid
-            !! grid
-        type(particles_type), intent(in) :: particles
-            !! particles
-        integer, intent(in) :: p, id
-            !! particle and node
-        real(wp) :: v(grid%dim)
-
-        real(wp) :: xi(3)
-
-        v = particles%v(:, p)
-        if (.not. allocated(particles%affine)) return
-        xi = node_position(grid, id)
-        v = v + matmul(particles%affine(:, :, p), xi(1:grid%dim) - particles%x(:, p))
-    end function particle_velocity
-
-    !> Whether a particle of mass m is alone on the nodes of its stencil (each node with a
-    !> weight has its mass from this particle, to round-off).
-    pure logical function alone(grid, m, st)
-        type(grid_type), intent(in) :: grid
-            !! grid with nodal masses
-        real(wp), intent(in) :: m
-            !! particle mass [kg]
-        type(stencil_type), intent(in) :: st
-            !! stencil of the particle
-        integer :: c
-        alone = .true.
-        do c = 1, st%count
-            if (st%w(c) <= 0.0_wp) cycle
-            if (grid%mass(st%node(c)) > (1.0_wp + 1.0e-9_wp)*m*st%w(c)) then
-                alone = .false.
-                return
-            end if
-        end do
-    end function alone
 
     !> Unit vector along axis a.
     pure function unit(a, dim) result(e)

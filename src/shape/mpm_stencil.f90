@@ -1,0 +1,319 @@
+!> Per-step particle stencils, the particle order by cell and the chunks of the scatter passes.
+!>
+!> Every pass of a step (P2G, G2P, MUSL remap, stress update) uses the shape functions at the
+!> start-of-step positions, so they are evaluated once per step (`compute_stencils`) and kept
+!> as 1D factors: for particle p and axis a, the first node `first(a, p)` and the weights
+!> `w(k, a, p)` and derivatives `dw(k, a, p)` of nodes first .. first + nper(a) - 1. Every
+!> kept node is inside the grid (the stencil is shifted where it reaches past a face, the
+!> nodes it drops having zero weight), so the passes need no bounds checks. Derivatives of
+!> zero weights are zero, as the stencils of `mpm_shape` skip those nodes.
+!>
+!> Threads without atomics or locks, and the same sums with any number of threads: the
+!> particles are sorted by cell (counting sort, stable: a fixed order for a given state) and
+!> cut into chunks of equal particle count whose number depends on the particle count only.
+!> A scatter pass (P2G, remap) sums each chunk into its own buffer, which spans the node
+!> layers of the chunk along the slowest axis (z in 3D, y in 2D; contiguous node indices);
+!> the buffers are then folded into the grid node by node in chunk order. The order of every
+!> sum is therefore fixed, and a run gives the same bits on 1, 2 or 64 threads.
+module mpm_stencil
+    use mpm_kinds, only: wp
+    use mpm_error, only: error_type, fatal_error, exit_other
+    use mpm_grid, only: grid_type
+    use mpm_particles, only: particles_type
+    use mpm_shape, only: shape_type
+    implicit none
+    private
+    public :: stencils_type, compute_stencils, max_nodes, particle_nodes, chunk_of_layer, &
+        stencil_bytes
+
+    integer, parameter :: max_nodes = 27
+        !! largest number of nodes one particle touches (3 per direction in 3D)
+    integer, parameter :: particles_per_chunk = 2048
+        !! particles per chunk of a scatter pass (at least; fewer chunks for small runs)
+    integer, parameter :: max_chunks = 32
+        !! chunks of a scatter pass at most (load balance for up to ~16 threads)
+
+    !> Stencils of all particles for one step, their order and the scatter chunks.
+    type :: stencils_type
+        integer :: n = 0
+            !! particles
+        integer :: dim = 2
+            !! space dimensions
+        integer :: nps = 3
+            !! nodes per axis of the shape function (2 linear, 3 cpGIMP)
+        integer :: nper(3) = 1
+            !! nodes kept per axis: nps, less on an axis of the grid with fewer nodes; 1 on
+            !! axis 3 in 2D
+        integer :: count = 1
+            !! nodes per particle, product(nper)
+        integer :: stride(3) = 0
+            !! node index step along each axis: 1, nn(1), nn(1) nn(2)
+        integer :: slow = 2
+            !! slowest axis of the node numbering (dim)
+        integer, allocatable :: first(:, :)
+            !! first node per axis, 0-based (dim, n)
+        real(wp), allocatable :: w(:, :, :)
+            !! 1D weights (nps, dim, n) [-]
+        real(wp), allocatable :: dw(:, :, :)
+            !! 1D weight derivatives (nps, dim, n) [1/m]
+        integer, allocatable :: order(:)
+            !! particles sorted by cell (n)
+        integer :: nchunks = 0
+            !! chunks of the scatter passes
+        integer, allocatable :: chunk_start(:)
+            !! chunk k holds order(chunk_start(k) : chunk_start(k + 1) - 1)
+        integer, allocatable :: chunk_lo(:), chunk_hi(:)
+            !! first and last node layer (0-based, slowest axis) that chunk k touches
+        integer, allocatable :: chunk_offset(:)
+            !! buffer entries of chunk k start after chunk_offset(k); chunk_offset(nchunks + 1)
+            !! is the buffer size
+        integer :: layer_lo = 0, layer_hi = -1
+            !! node layers (slowest axis) that some chunk touches
+        integer, allocatable :: layer_chunks(:, :)
+            !! first and last chunk touching each node layer (2, 0:nn(slow) - 1); first > last
+            !! when none does
+        integer, allocatable :: histogram(:)
+            !! scratch of the counting sort (cells)
+        integer, allocatable :: cell(:)
+            !! scratch: cell of each particle, 1-based linear index (n)
+    end type stencils_type
+
+contains
+
+    !> Evaluate the stencils of every particle at its current position, sort the particles by
+    !> cell and cut the chunks of the scatter passes.
+    subroutine compute_stencils(stc, grid, particles, shape, error)
+        type(stencils_type), intent(inout) :: stc
+            !! stencils (allocated on first use and when the particle count changes)
+        type(grid_type), intent(in) :: grid
+            !! the grid
+        type(particles_type), intent(in) :: particles
+            !! particles at the start of the step
+        class(shape_type), intent(in) :: shape
+            !! shape function
+        type(error_type), allocatable, intent(out) :: error
+            !! set when the scratch cannot be allocated
+
+        integer :: p, a, k, dim, nps, kept, first, shift, c, q, ncells
+        real(wp) :: w(3), dw(3), xi
+
+        dim = grid%dim
+        nps = shape%nodes_per_axis()
+        call allocate_stencils(stc, grid, particles%n, nps, error)
+        if (allocated(error)) return
+        call shape%weights_all(grid, particles%x, particles%lp, stc%first, stc%w, stc%dw)
+        !$omp parallel do default(none) schedule(static) shared(stc, grid, particles, dim, nps) &
+        !$omp private(p, a, k, kept, first, shift, w, dw, xi, c)
+        do p = 1, particles%n
+            c = 1
+            do a = 1, dim
+                ! keep the stencil inside the grid: the nodes it drops have zero weight
+                first = stc%first(a, p)
+                kept = stc%nper(a)
+                shift = max(0, min(first, grid%nn(a) - kept)) - first
+                if (shift /= 0 .or. kept < nps) then
+                    w(1:nps) = stc%w(:, a, p)
+                    dw(1:nps) = stc%dw(:, a, p)
+                    do k = 1, nps
+                        if (k + shift >= 1 .and. k + shift <= nps .and. k <= kept) then
+                            stc%w(k, a, p) = w(k + shift)
+                            stc%dw(k, a, p) = dw(k + shift)
+                        else
+                            stc%w(k, a, p) = 0.0_wp
+                            stc%dw(k, a, p) = 0.0_wp
+                        end if
+                    end do
+                    stc%first(a, p) = first + shift
+                end if
+                do k = 1, nps
+                    if (stc%w(k, a, p) <= 0.0_wp) stc%dw(k, a, p) = 0.0_wp
+                end do
+                xi = (particles%x(a, p) - grid%origin(a))/grid%dx
+                c = c + min(max(int(floor(xi)), 0), grid%ncells(a) - 1) &
+                    *product(grid%ncells(1:a - 1))
+            end do
+            stc%cell(p) = c
+        end do
+        !$omp end parallel do
+
+        ! counting sort by cell (stc%cell is 1-based): stable, so the order is fixed for a
+        ! given state
+        ncells = product(grid%ncells(1:dim))
+        stc%histogram = 0
+        do p = 1, particles%n
+            stc%histogram(stc%cell(p)) = stc%histogram(stc%cell(p)) + 1
+        end do
+        q = 1
+        do c = 1, ncells
+            k = stc%histogram(c)
+            stc%histogram(c) = q
+            q = q + k
+        end do
+        do p = 1, particles%n
+            q = stc%histogram(stc%cell(p))
+            stc%order(q) = p
+            stc%histogram(stc%cell(p)) = q + 1
+        end do
+        call cut_chunks(stc, grid)
+    end subroutine compute_stencils
+
+    !> Allocate the per-particle arrays and the chunk tables.
+    subroutine allocate_stencils(stc, grid, n, nps, error)
+        type(stencils_type), intent(inout) :: stc
+        type(grid_type), intent(in) :: grid
+        integer, intent(in) :: n, nps
+        type(error_type), allocatable, intent(out) :: error
+
+        integer :: stat, dim, a
+        character(len=256) :: msg
+
+        dim = grid%dim
+        stc%dim = dim
+        stc%nps = nps
+        stc%nper = 1
+        do a = 1, dim
+            stc%nper(a) = min(nps, grid%nn(a))
+        end do
+        stc%count = product(stc%nper)
+        stc%stride = [1, grid%nn(1), grid%nn(1)*grid%nn(2)]
+        stc%slow = dim
+        if (allocated(stc%first) .and. stc%n == n) then
+            if (size(stc%w, 1) == nps) return
+        end if
+        if (allocated(stc%first)) deallocate (stc%first, stc%w, stc%dw, stc%order, stc%cell, &
+            stc%histogram, stc%layer_chunks)
+        stc%n = n
+        allocate (stc%first(dim, n), stc%w(nps, dim, n), stc%dw(nps, dim, n), stc%order(n), &
+            stc%cell(n), stc%histogram(product(grid%ncells(1:dim))), &
+            stc%layer_chunks(2, 0:grid%nn(dim) - 1), stat=stat, errmsg=msg)
+        if (stat /= 0) then
+            call fatal_error(error, "cannot allocate the particle stencils: "//trim(msg), &
+                exit_other)
+            return
+        end if
+    end subroutine allocate_stencils
+
+    !> Cut the sorted particles into chunks of equal count and find the node layers each
+    !> touches along the slowest axis.
+    subroutine cut_chunks(stc, grid)
+        type(stencils_type), intent(inout) :: stc
+        type(grid_type), intent(in) :: grid
+
+        integer :: k, nc, q, p, lo, hi, s, layer, nlayers, cross
+
+        s = stc%slow
+        nc = max(1, min(max_chunks, stc%n/particles_per_chunk))
+        if (stc%n == 0) nc = 0
+        if (.not. allocated(stc%chunk_start)) then
+            allocate (stc%chunk_start(max_chunks + 1), stc%chunk_lo(max_chunks), &
+                stc%chunk_hi(max_chunks), stc%chunk_offset(max_chunks + 1))
+        end if
+        stc%nchunks = nc
+        nlayers = grid%nn(s)
+        cross = stc%stride(s)
+        stc%layer_chunks(1, :) = huge(1)
+        stc%layer_chunks(2, :) = -huge(1)
+        stc%chunk_offset(1) = 0
+        do k = 1, nc
+            stc%chunk_start(k) = 1 + int((int(k - 1, 8)*stc%n)/nc)
+        end do
+        stc%chunk_start(nc + 1) = stc%n + 1
+        do k = 1, nc
+            lo = huge(1)
+            hi = -huge(1)
+            do q = stc%chunk_start(k), stc%chunk_start(k + 1) - 1
+                p = stc%order(q)
+                lo = min(lo, stc%first(s, p))
+                hi = max(hi, stc%first(s, p))
+            end do
+            hi = min(hi + stc%nper(s) - 1, nlayers - 1)
+            stc%chunk_lo(k) = lo
+            stc%chunk_hi(k) = hi
+            stc%chunk_offset(k + 1) = stc%chunk_offset(k) + (hi - lo + 1)*cross
+            do layer = lo, hi
+                stc%layer_chunks(1, layer) = min(stc%layer_chunks(1, layer), k)
+                stc%layer_chunks(2, layer) = max(stc%layer_chunks(2, layer), k)
+            end do
+        end do
+        stc%layer_lo = 0
+        stc%layer_hi = -1
+        if (nc > 0) then
+            stc%layer_lo = minval(stc%chunk_lo(1:nc))
+            stc%layer_hi = maxval(stc%chunk_hi(1:nc))
+        end if
+    end subroutine cut_chunks
+
+    !> Chunk range touching a node layer (first > last when none).
+    pure subroutine chunk_of_layer(stc, layer, first, last)
+        type(stencils_type), intent(in) :: stc
+        integer, intent(in) :: layer
+        integer, intent(out) :: first, last
+        first = stc%layer_chunks(1, layer)
+        last = stc%layer_chunks(2, layer)
+    end subroutine chunk_of_layer
+
+    !> Nodes, weights and gradients of particle p (the tensor product of its 1D factors), in
+    !> the order x fastest.
+    pure subroutine particle_nodes(stc, p, node, w, dw)
+        type(stencils_type), intent(in) :: stc
+            !! stencils of the step
+        integer, intent(in) :: p
+            !! particle
+        integer, intent(out) :: node(max_nodes)
+            !! linear node indices (first stc%count used)
+        real(wp), intent(out) :: w(max_nodes)
+            !! weights [-]
+        real(wp), intent(out) :: dw(3, max_nodes)
+            !! weight gradients [1/m] (first dim components)
+
+        integer :: i, j, k, c, base, basej
+        real(wp) :: wjk, dwj, wj, wk, dwk
+
+        if (stc%dim == 2) then
+            base = 1 + stc%first(1, p) + stc%stride(2)*stc%first(2, p)
+            c = 0
+            do j = 1, stc%nper(2)
+                wj = stc%w(j, 2, p)
+                dwj = stc%dw(j, 2, p)
+                basej = base + stc%stride(2)*(j - 1)
+                do i = 1, stc%nper(1)
+                    c = c + 1
+                    node(c) = basej + i - 1
+                    w(c) = stc%w(i, 1, p)*wj
+                    dw(1, c) = stc%dw(i, 1, p)*wj
+                    dw(2, c) = stc%w(i, 1, p)*dwj
+                end do
+            end do
+        else
+            base = 1 + stc%first(1, p) + stc%stride(2)*stc%first(2, p) &
+                + stc%stride(3)*stc%first(3, p)
+            c = 0
+            do k = 1, stc%nper(3)
+                wk = stc%w(k, 3, p)
+                dwk = stc%dw(k, 3, p)
+                do j = 1, stc%nper(2)
+                    wj = stc%w(j, 2, p)
+                    wjk = wj*wk
+                    basej = base + stc%stride(2)*(j - 1) + stc%stride(3)*(k - 1)
+                    do i = 1, stc%nper(1)
+                        c = c + 1
+                        node(c) = basej + i - 1
+                        w(c) = stc%w(i, 1, p)*wjk
+                        dw(1, c) = stc%dw(i, 1, p)*wjk
+                        dw(2, c) = stc%w(i, 1, p)*stc%dw(j, 2, p)*wk
+                        dw(3, c) = stc%w(i, 1, p)*wj*dwk
+                    end do
+                end do
+            end do
+        end if
+    end subroutine particle_nodes
+
+    !> Bytes per particle of the stencils, the order and the cell scratch.
+    pure integer function stencil_bytes(stc)
+        type(stencils_type), intent(in) :: stc
+            !! stencils of the run
+        stencil_bytes = (storage_size(1.0_wp)/8)*2*stc%nps*stc%dim &
+            + (storage_size(1)/8)*(stc%dim + 2)
+    end function stencil_bytes
+
+end module mpm_stencil
