@@ -22,9 +22,7 @@ Figures compared (targets of the issue in TARGETS below):
 import argparse
 import copy
 import json
-import math
 import os
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
@@ -40,6 +38,10 @@ from mpm_post.run import run_mpm_geo  # noqa: E402
 from mpm_post.profiles import (  # noqa: E402
     bin_edges, failure_surface, free_surface, height_at_wall, load_reference_profile,
     particle_half_size, rms_height_difference, slip_angle, toe_position)
+from mpm_post.validation import (  # noqa: E402
+    agg_figure, common_arguments, exe_missing, exe_version, load_json, print_table, relative,
+    write_json)
+from mpm_post.validation import target as _target  # noqa: E402
 
 CASE = HERE / "bui2008.json"
 DATA = HERE / "data"
@@ -130,17 +132,7 @@ WHAT_THE_MODEL_MISSES = [
 # set-up
 # ---------------------------------------------------------------------------------------------
 
-def _relative(path):
-    """``path`` relative to the repository when it lies inside it."""
-    try:
-        return str(Path(path).resolve().relative_to(REPO))
-    except ValueError:
-        return str(path)
-
-
-def load_case(path):
-    with open(path, encoding="utf-8") as handle:
-        return json.load(handle)
+load_case = load_json   # the name bench/study_cases.py and bench/write_study.py use
 
 
 def coarse_case(case, dx=COARSE_DX):
@@ -207,15 +199,6 @@ def run_case(exe, case, output, overwrite, quiet):
         case_path = Path(tmp) / f"{case['name']}.json"
         case_path.write_text(json.dumps(case, indent=2), encoding="utf-8")
         return run_mpm_geo(exe, case_path, output, overwrite, quiet, cwd=REPO)
-
-
-def exe_version(exe):
-    try:
-        result = subprocess.run([str(exe), "--version"], capture_output=True, text=True,
-                                check=False, timeout=30)
-        return result.stdout.strip() or None
-    except OSError:
-        return None
 
 
 # ---------------------------------------------------------------------------------------------
@@ -302,9 +285,8 @@ def analyse(run_dir, case, exp):
 
 
 def target(name, value, reference, band, passed, gating, why, unit="m"):
-    """One compared figure; ``unit`` is how to show it: m, mm (value in m) or deg."""
-    return {"name": name, "value": value, "reference": reference, "band": band,
-            "passed": bool(passed), "gating": gating, "why": why, "unit": unit}
+    """One compared figure (mpm_post.validation.target) in m, unless ``unit`` is mm or deg."""
+    return _target(name, value, reference, band, passed, gating, why, unit=unit)
 
 
 def compare(metrics, exp, dx, coarse):
@@ -351,14 +333,6 @@ def compare(metrics, exp, dx, coarse):
 # plots
 # ---------------------------------------------------------------------------------------------
 
-def _figure(width, height):
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-    figure = Figure(figsize=(width, height), layout="constrained")
-    FigureCanvasAgg(figure)
-    return figure
-
-
 def _experiment_lines(axes, exp):
     axes.plot(*exp["surface"], color="red", lw=1.6, label="experiment: free surface")
     axes.plot(*exp["failure"], color="red", lw=1.4, ls="--",
@@ -368,7 +342,7 @@ def _experiment_lines(axes, exp):
 
 
 def plot_deposit(path, arrays, metrics, exp, title):
-    figure = _figure(9.0, 2.9)
+    figure = agg_figure(9.0, 2.9)
     axes = figure.add_subplot()
     cloud = axes.scatter(arrays["x"], arrays["y"], c=arrays["moved"] * 100.0, s=0.5, lw=0,
                          cmap="viridis", rasterized=True)
@@ -394,7 +368,7 @@ def plot_deposit(path, arrays, metrics, exp, title):
 
 
 def plot_sensitivity(path, surfaces, exp, study):
-    figure = _figure(9.0, 2.7)
+    figure = agg_figure(9.0, 2.7)
     axes = figure.add_subplot()
     colours = ("black", "tab:blue", "tab:green", "tab:orange", "tab:purple", "tab:brown")
     for (key, (xc, height)), colour in zip(surfaces.items(), colours):
@@ -419,40 +393,6 @@ def plot_sensitivity(path, surfaces, exp, study):
 # ---------------------------------------------------------------------------------------------
 # modes
 # ---------------------------------------------------------------------------------------------
-
-def write_json(path, data):
-    path.parent.mkdir(parents=True, exist_ok=True)
-
-    def clean(value):
-        if isinstance(value, float) and not math.isfinite(value):
-            return None
-        if isinstance(value, dict):
-            return {k: clean(v) for k, v in value.items()}
-        if isinstance(value, (list, tuple)):
-            return [clean(v) for v in value]
-        if isinstance(value, np.generic):
-            return clean(value.item())
-        return value
-
-    path.write_text(json.dumps(clean(data), indent=2) + "\n", encoding="utf-8")
-
-
-def _shown(value, unit):
-    if value is None or not math.isfinite(value):
-        return "n/a"
-    if unit == "mm":
-        return f"{value * 1e3:.1f} mm"
-    return f"{value:.4f} m" if unit == "m" else f"{value:.1f} {unit}"
-
-
-def print_table(results):
-    print(f"{'figure':<22} {'model':>10} {'experiment':>11}  {'band':<16} result")
-    for t in results:
-        state = "pass" if t["passed"] else ("FAIL" if t["gating"] else "outside (reported)")
-        reference = "-" if t["reference"] is None else _shown(t["reference"], t["unit"])
-        print(f"{t['name']:<22} {_shown(t['value'], t['unit']):>10} {reference:>11}  "
-              f"{t['band']:<16} {state}")
-
 
 def validate(args, case, coarse):
     """Run (or read) one resolution and compare it; returns the exit code."""
@@ -479,7 +419,7 @@ def validate(args, case, coarse):
         "wall_time_s": wall,
         "threads": os.environ.get("OMP_NUM_THREADS", str(os.cpu_count())),
         "mpm_geo": exe_version(args.exe) if not args.no_run else None,
-        "output": _relative(output),
+        "output": relative(output),
         "static_threshold_m": STATIC_THRESHOLD,
         "what_the_model_misses": WHAT_THE_MODEL_MISSES,
     }
@@ -491,7 +431,7 @@ def validate(args, case, coarse):
                  f"Bui et al. (2008) column collapse, {resolution}, t = {metrics['time_s']:.2f} s:"
                  f" particles coloured by displacement")
     write_json(results_dir / f"metrics{suffix}.json", report)
-    print_table(results)
+    print_table(results, (22, 10, 11, 16), reference="experiment")
     print(f"toe of the deposit at least one cell thick: {metrics['toe_one_cell_thick_m']:.4f} m;"
           f" volume change {metrics['volume_relative_change']:+.1%}; kinetic energy at the end"
           f" / peak {metrics['kinetic_final_over_peak']}")
@@ -569,24 +509,17 @@ def parse_args(argv):
                       help="coarse runs with floor mu = tan(phi), fixed and frictionless")
     mode.add_argument("--numerics", action="store_true",
                       help="coarse runs that change one numerical choice of the case each")
-    parser.add_argument("--exe", default=str(REPO / "build" / "mpm_geo"),
-                        help="mpm_geo executable (default: build/mpm_geo)")
-    parser.add_argument("--output", default=None,
-                        help="output folder (default: outputs/bui2008[_coarse], overwritten); "
-                             "a folder given here must not exist (--floors, --numerics: parent "
-                             "folder)")
-    parser.add_argument("--results", default=str(RESULTS),
-                        help="folder for metrics and plots (default: validation/bui2008/results)")
-    parser.add_argument("--no-run", action="store_true",
-                        help="analyse the existing output instead of running")
-    parser.add_argument("--quiet", action="store_true", help="no progress lines from mpm_geo")
+    common_arguments(parser, RESULTS,
+                     output_help="output folder (default: outputs/bui2008[_coarse], "
+                                 "overwritten); a folder given here must not exist (--floors, "
+                                 "--numerics: parent folder)",
+                     no_run_help="analyse the existing output instead of running")
     return parser.parse_args(argv)
 
 
 def main(argv=None):
     args = parse_args(argv)
-    if not args.no_run and not os.access(args.exe, os.X_OK):
-        print(f"check.py: executable not found: {args.exe} (make build)", file=sys.stderr)
+    if not args.no_run and exe_missing(args.exe):
         return 2
     case = load_case(CASE)
     try:
