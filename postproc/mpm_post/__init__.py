@@ -3,8 +3,9 @@
 A run directory (``outputs/<case>/``) holds ``particles_NNNNNN.h5`` files, one per output time,
 a ``<case>.xdmf`` index for ParaView and ``history.csv`` with the energy balance.
 Layout: docs/output.md; the command line and the modules: docs/postproc.md.
-Figures (matplotlib) are in ``mpm_post.plots``, study tools in ``mpm_post.study``: imported on
-demand, so that reading outputs does not load matplotlib.
+Figures (matplotlib) are in ``mpm_post.plots``, study tools in ``mpm_post.study`` and the helpers
+shared by the validation scripts (validation/<case>/check.py) in ``mpm_post.validation``:
+imported on demand, so that reading outputs does not load matplotlib.
 """
 
 from .energy import energy_drift, plot_energy

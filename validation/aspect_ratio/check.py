@@ -28,7 +28,6 @@ import json
 import math
 import os
 import resource
-import subprocess
 import sys
 from pathlib import Path
 
@@ -43,6 +42,9 @@ from mpm_post.run import run_mpm_geo  # noqa: E402
 from mpm_post.profiles import (  # noqa: E402
     bin_edges, free_surface, height_at_wall, load_reference_profile, max_height,
     particle_half_size, slip_angle, toe_position)
+from mpm_post.validation import (  # noqa: E402
+    agg_figure, common_arguments, exe_missing, exe_version, load_json, print_table, relative,
+    target, write_json)
 
 BUI_DIR = REPO / "validation" / "bui2008"
 BUI_CASE = BUI_DIR / "bui2008.json"
@@ -144,19 +146,6 @@ WHAT_THE_MODEL_MISSES = [
 # set-up
 # ---------------------------------------------------------------------------------------------
 
-def _relative(path):
-    """``path`` relative to the repository when it lies inside it."""
-    try:
-        return str(Path(path).resolve().relative_to(REPO))
-    except ValueError:
-        return str(path)
-
-
-def load_json(path):
-    with open(path, encoding="utf-8") as handle:
-        return json.load(handle)
-
-
 def published_runout(a):
     """Upper envelope of the published runouts (Lf - L0)/L0 at aspect ratio ``a``."""
     return max(LAMBDA_PUBLISHED[1] * a, POWER_COEFFICIENT * a ** POWER_EXPONENT)
@@ -256,7 +245,7 @@ def setup_rows(cases, bui):
                                                     "case: see the notes)"],
         ["solver", ", ".join(f"{k} {v}" for k, v in first.get("solver", {}).items())],
         ["time step", ", ".join(f"{k} {v}" for k, v in first["time"].items() if k != "tend")],
-        ["taken from the Bui case", f"`{_relative(BUI_CASE)}` at run time: materials[0], "
+        ["taken from the Bui case", f"`{relative(BUI_CASE)}` at run time: materials[0], "
          "domain.boundaries (top face excepted), particles, gravity, solver, time (without tend)"],
     ]
 
@@ -289,15 +278,6 @@ def run_case(exe, case, output, overwrite, quiet):
             (output / CASE_FILE).write_text(json.dumps(case, indent=2) + "\n", encoding="utf-8")
         case_path.unlink(missing_ok=True)
     return wall, cpu
-
-
-def exe_version(exe):
-    try:
-        result = subprocess.run([str(exe), "--version"], capture_output=True, text=True,
-                                check=False, timeout=30)
-        return result.stdout.strip() or None
-    except OSError:
-        return None
 
 
 # ---------------------------------------------------------------------------------------------
@@ -406,12 +386,6 @@ def analyse(run_dir, case, a):
 def fit_through_origin(a, r):
     a, r = np.asarray(a, float), np.asarray(r, float)
     return float(np.sum(a * r) / np.sum(a * a))
-
-
-def target(name, value, reference, band, passed, gating, why, unit=""):
-    """One compared figure; ``unit``: m, mm (value in m), deg, % (value a fraction) or ""."""
-    return {"name": name, "value": value, "reference": reference, "band": band,
-            "passed": bool(passed), "gating": gating, "why": why, "unit": unit}
 
 
 def compare(runs, exp, dx):
@@ -537,14 +511,6 @@ def compare(runs, exp, dx):
 # plots
 # ---------------------------------------------------------------------------------------------
 
-def _figure(width, height):
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-    figure = Figure(figsize=(width, height), layout="constrained")
-    FigureCanvasAgg(figure)
-    return figure
-
-
 def _log_axes(axes, yticks):
     from matplotlib.ticker import FixedLocator, NullFormatter, NullLocator, ScalarFormatter
     axes.set_xscale("log")
@@ -565,7 +531,7 @@ def plot_trends(path, runs, summary, exp, dx):
     hf = np.array([runs[k]["final_height_ratio"] for k in a])
     hw = np.array([runs[k]["height_at_wall_ratio"] for k in a])
     grid = np.geomspace(0.3, 4.0, 200)
-    figure = _figure(10.0, 5.6)
+    figure = agg_figure(10.0, 5.6)
     left, right = figure.subplots(1, 2)
 
     low, high = summary["runout_slope_band"]
@@ -631,7 +597,7 @@ def plot_trends(path, runs, summary, exp, dx):
 
 
 def plot_profiles(path, runs, arrays, dx):
-    figure = _figure(10.0, 5.0)
+    figure = agg_figure(10.0, 5.0)
     axes = figure.add_subplot()
     colours = ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown",
                "tab:pink", "tab:gray")
@@ -663,23 +629,6 @@ def plot_profiles(path, runs, arrays, dx):
 # ---------------------------------------------------------------------------------------------
 # report
 # ---------------------------------------------------------------------------------------------
-
-def write_json(path, data):
-    path.parent.mkdir(parents=True, exist_ok=True)
-
-    def clean(value):
-        if isinstance(value, float) and not math.isfinite(value):
-            return None
-        if isinstance(value, dict):
-            return {str(k): clean(v) for k, v in value.items()}
-        if isinstance(value, (list, tuple)):
-            return [clean(v) for v in value]
-        if isinstance(value, np.generic):
-            return clean(value.item())
-        return value
-
-    path.write_text(json.dumps(clean(data), indent=2) + "\n", encoding="utf-8")
-
 
 def _num(value, digits=2):
     return "n/a" if value is None or not math.isfinite(value) else f"{value:.{digits}f}"
@@ -721,32 +670,11 @@ def per_a_table(runs, walls, failures, dx):
             "header": header, "rows": rows}
 
 
-def _shown(value, unit):
-    if value is None or not math.isfinite(value):
-        return "n/a"
-    if unit == "mm":
-        return f"{value * 1e3:.1f} mm"
-    if unit == "m":
-        return f"{value:.4f} m"
-    if unit == "%":
-        return f"{value:+.1%}"
-    return f"{value:.3g}"
-
-
-def print_table(results):
-    print(f"{'figure':<48} {'model':>9} {'reference':>9}  {'band':<30} result")
-    for t in results:
-        state = "pass" if t["passed"] else ("FAIL" if t["gating"] else "outside (reported)")
-        reference = "-" if t["reference"] is None else _shown(t["reference"], t["unit"])
-        print(f"{t['name']:<48} {_shown(t['value'], t['unit']):>9} {reference:>9}  "
-              f"{t['band']:<30} {state}")
-
-
 def check_copied(case, bui_case, a):
     """Warn when an existing output was run with other Bui settings than the current ones."""
     if copied_parts(case) != copied_parts(bui_case):
         print(f"check.py: warning: the a = {a:g} output was run with other material, faces, "
-              f"particles, gravity, solver or time step than {_relative(BUI_CASE)} has now; "
+              f"particles, gravity, solver or time step than {relative(BUI_CASE)} has now; "
               "run again without --no-run", file=sys.stderr)
 
 
@@ -830,7 +758,7 @@ def sweep(args):
         "resolution": "full",
         "heading": f"sweep over a = {', '.join(f'{a:g}' for a in ASPECT_RATIOS)} "
                    f"({dx * 1e3:g} mm cells, L0 = {COLUMN_WIDTH:g} m)",
-        "case_files": [_relative(BUI_CASE)],
+        "case_files": [relative(BUI_CASE)],
         "setup": {"rows": setup_rows(cases, bui)},
         "metrics": metrics,
         "targets": results,
@@ -840,13 +768,13 @@ def sweep(args):
         "cpu_time_s": cpu_total,
         "threads": os.environ.get("OMP_NUM_THREADS", str(os.cpu_count())),
         "mpm_geo": exe_version(args.exe) if not args.no_run else None,
-        "output": _relative(base) + "/aspect_ratio_a<a>",
+        "output": relative(base) + "/aspect_ratio_a<a>",
         "plots": [trends_png.name, profiles_png.name],
         "notes": notes,
         "what_the_model_misses": WHAT_THE_MODEL_MISSES,
     }
-    write_json(results_dir / "metrics.json", report)
-    print_table(results)
+    write_json(results_dir / "metrics.json", report, str_keys=True)
+    print_table(results, (48, 9, 9, 30))
     print(f"wrote {results_dir / 'metrics.json'}, {trends_png} and {profiles_png}")
     if failures:
         print("aspect_ratio: FAIL (a run failed)")
@@ -857,25 +785,16 @@ def sweep(args):
 
 def parse_args(argv):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--exe", default=str(REPO / "build" / "mpm_geo"),
-                        help="mpm_geo executable (default: build/mpm_geo)")
-    parser.add_argument("--output", default=None,
-                        help="parent folder of the run folders aspect_ratio_a<a> (default: "
-                             "outputs/, overwritten); the run folders under a folder given here "
-                             "must not exist")
-    parser.add_argument("--results", default=str(RESULTS),
-                        help="folder for metrics and plots (default: "
-                             "validation/aspect_ratio/results)")
-    parser.add_argument("--no-run", action="store_true",
-                        help="analyse the existing outputs instead of running")
-    parser.add_argument("--quiet", action="store_true", help="no progress lines from mpm_geo")
+    common_arguments(parser, RESULTS,
+                     output_help="parent folder of the run folders aspect_ratio_a<a> (default: "
+                                 "outputs/, overwritten); the run folders under a folder given "
+                                 "here must not exist")
     return parser.parse_args(argv)
 
 
 def main(argv=None):
     args = parse_args(argv)
-    if not args.no_run and not os.access(args.exe, os.X_OK):
-        print(f"check.py: executable not found: {args.exe} (make build)", file=sys.stderr)
+    if not args.no_run and exe_missing(args.exe):
         return 2
     try:
         return sweep(args)

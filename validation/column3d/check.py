@@ -16,8 +16,6 @@ The output (outputs/column3d/column3d.xdmf) opens in ParaView; see docs/output.m
 """
 
 import argparse
-import json
-import math
 import os
 import sys
 from pathlib import Path
@@ -32,6 +30,8 @@ from mpm_post import list_outputs, load_history, load_particles  # noqa: E402
 from mpm_post.run import run_mpm_geo  # noqa: E402
 from mpm_post.profiles import (  # noqa: E402
     bin_edges, free_surface, height_at_wall, particle_half_size, toe_position)
+from mpm_post.validation import (  # noqa: E402
+    agg_figure, common_arguments, exe_missing, load_json, relative, verdict, write_json)
 
 CASE = HERE / "column3d.json"
 RESULTS = HERE / "results"
@@ -39,14 +39,6 @@ MASS_TOLERANCE = 1e-12      # particle masses never change: only summation round
 REST_FRACTION = 1e-3        # kinetic energy at the end / its peak
 REST_WINDOW = 0.1           # the largest particle displacement over the last REST_WINDOW [s]
                             # is reported too: at rest in position, whatever the kinetic energy
-
-
-def _relative(path):
-    """``path`` relative to the repository when it lies inside it."""
-    try:
-        return str(Path(path).resolve().relative_to(REPO))
-    except ValueError:
-        return str(path)
 
 
 def run_case(exe, output, overwrite, quiet):
@@ -140,11 +132,7 @@ def checks(metrics):
 
 
 def plot(path, arrays, metrics):
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    figure = Figure(figsize=(9.0, 3.6), layout="constrained")
-    FigureCanvasAgg(figure)
+    figure = agg_figure(9.0, 3.6)
     top, side, energy = figure.subplots(1, 3, width_ratios=[1.0, 1.3, 1.0])
     order = np.argsort(arrays["z"])
     cloud = top.scatter(arrays["x"][order], arrays["y"][order], c=arrays["z"][order] * 100.0,
@@ -194,25 +182,20 @@ def plot(path, arrays, metrics):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--exe", default=str(REPO / "build" / "mpm_geo"),
-                        help="mpm_geo executable (default: build/mpm_geo)")
-    parser.add_argument("--output", default=None,
-                        help="output folder (default: outputs/column3d, overwritten); a folder "
-                             "given here must not exist")
-    parser.add_argument("--results", default=str(RESULTS),
-                        help="folder for metrics and plot (default: validation/column3d/results)")
-    parser.add_argument("--no-run", action="store_true", help="analyse the existing output")
-    parser.add_argument("--quiet", action="store_true", help="no progress lines from mpm_geo")
+    common_arguments(parser, RESULTS,
+                     output_help="output folder (default: outputs/column3d, overwritten); a "
+                                 "folder given here must not exist",
+                     results_help="folder for metrics and plot (default: "
+                                  "validation/column3d/results)",
+                     no_run_help="analyse the existing output")
     args = parser.parse_args(argv)
 
-    case = json.loads(CASE.read_text(encoding="utf-8"))
+    case = load_json(CASE)
     output = Path(args.output) if args.output else REPO / "outputs" / case["name"]
     try:
         wall = None
         if not args.no_run:
-            if not os.access(args.exe, os.X_OK):
-                print(f"check.py: executable not found: {args.exe} (make build)",
-                      file=sys.stderr)
+            if exe_missing(args.exe):
                 return 2
             wall = run_case(args.exe, output, overwrite=args.output is None, quiet=args.quiet)
         metrics, arrays = analyse(output, case)
@@ -242,8 +225,8 @@ def main(argv=None):
         "passed": passed,
         "wall_time_s": wall,
         "threads": os.environ.get("OMP_NUM_THREADS", str(os.cpu_count())),
-        "output": _relative(output),
-        "xdmf": _relative(output / f"{case['name']}.xdmf"),
+        "output": relative(output),
+        "xdmf": relative(output / f"{case['name']}.xdmf"),
         "notes": [
             "No experiment: the checks are physical sanity only. The case uses the settings "
             "recommended for granular flows: separation (sand pulled apart carries no stress and "
@@ -255,25 +238,12 @@ def main(argv=None):
     png = Path(args.results) / "column3d.png"
     report["plots"] = [png.name]
     plot(png, arrays, metrics)
-    Path(args.results).mkdir(parents=True, exist_ok=True)
-
-    def clean(value):
-        if isinstance(value, float) and not math.isfinite(value):
-            return None
-        if isinstance(value, dict):
-            return {k: clean(v) for k, v in value.items()}
-        if isinstance(value, list):
-            return [clean(v) for v in value]
-        return value
-
-    (Path(args.results) / "metrics.json").write_text(json.dumps(clean(report), indent=2) + "\n",
-                                                     encoding="utf-8")
+    write_json(Path(args.results) / "metrics.json", report)
     print(f"runout along the axis {metrics['runout_axis_m']:.4f} m "
           f"((Lf - L0)/L0 = {metrics['runout_ratio_axis']:.2f}), along the diagonal "
           f"{metrics['runout_diagonal_m']:.4f} m; final height {metrics['final_height_m']:.4f} m")
     for c in results:
-        print(f"{c['name']:<24} {c['value']!s:<24} {c['band']:<26} "
-              f"{'pass' if c['passed'] else ('FAIL' if c['gating'] else 'outside (reported)')}")
+        print(f"{c['name']:<24} {c['value']!s:<24} {c['band']:<26} {verdict(c)}")
     print(f"wrote {Path(args.results) / 'metrics.json'} and {png}")
     print(f"column3d: {'PASS' if passed else 'FAIL'}")
     return 0 if passed else 1

@@ -36,7 +36,6 @@ Exit codes: 0 every target met, 1 a target missed, 2 a run or the analysis faile
 """
 
 import argparse
-import json
 import math
 import os
 import sys
@@ -50,6 +49,8 @@ import numpy as np  # noqa: E402
 
 from mpm_post import list_outputs, load_history, load_particles  # noqa: E402
 from mpm_post.run import run_mpm_geo  # noqa: E402
+from mpm_post.validation import (  # noqa: E402
+    agg_figure, common_arguments, exe_missing, load_json, relative, target, verdict, write_json)
 
 RESULTS = HERE / "results"
 RESOLUTIONS = [5, 10, 20, 40]          # cells over the height
@@ -69,13 +70,6 @@ REST_PERIODS = 4.0
 # CB-Geo benchmark (REFERENCES.md section 2): linear shape functions, 5 x 5 particles per
 # cell, base stress error at 10, 20 and 40 cells over the height.
 CBGEO = {10: 0.0485, 20: 0.0233, 40: 0.0108}
-
-
-def _relative(path):
-    try:
-        return str(Path(path).resolve().relative_to(REPO))
-    except ValueError:
-        return str(path)
 
 
 def parameters(case):
@@ -179,11 +173,6 @@ def observed_order(cells, errors):
     return float(-np.polyfit(np.log(cells[ok]), np.log(errors[ok]), 1)[0])
 
 
-def target(name, value, reference, band, passed, gating, why, unit=""):
-    return {"name": name, "value": value, "reference": reference, "band": band,
-            "passed": bool(passed), "gating": gating, "why": why, "unit": unit}
-
-
 def targets_of(rows, par):
     eps = par["base_strain"]
     out = []
@@ -236,20 +225,12 @@ def targets_of(rows, par):
 # plots
 # ---------------------------------------------------------------------------------------------
 
-def _figure(width, height):
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-    figure = Figure(figsize=(width, height), layout="constrained")
-    FigureCanvasAgg(figure)
-    return figure
-
-
 COLOURS = ["tab:blue", "tab:orange", "tab:green", "tab:purple"]
 MARKERS = ["o", "s", "^", "v"]
 
 
 def plot_profiles(path, fields, par):
-    figure = _figure(9.0, 3.8)
+    figure = agg_figure(9.0, 3.8)
     stress, disp = figure.subplots(1, 2)
     y = np.linspace(0.0, par["height"], 200)
     stress.plot(-exact_stress(par, y) / 1e3, y, color="red", lw=1.4, label="exact")
@@ -273,7 +254,7 @@ def plot_profiles(path, fields, par):
 
 
 def plot_convergence(path, rows, orders):
-    figure = _figure(6.4, 4.4)
+    figure = agg_figure(6.4, 4.4)
     axes = figure.add_subplot()
     cells = np.array([r["cells"] for r in rows], float)
     fine = np.geomspace(cells[0] * 0.8, cells[-1] * 1.25, 20)
@@ -308,50 +289,24 @@ def plot_convergence(path, rows, orders):
 # main
 # ---------------------------------------------------------------------------------------------
 
-def write_json(path, data):
-    path.parent.mkdir(parents=True, exist_ok=True)
-
-    def clean(value):
-        if isinstance(value, float) and not math.isfinite(value):
-            return None
-        if isinstance(value, dict):
-            return {k: clean(v) for k, v in value.items()}
-        if isinstance(value, (list, tuple)):
-            return [clean(v) for v in value]
-        if isinstance(value, np.generic):
-            return clean(value.item())
-        return value
-
-    path.write_text(json.dumps(clean(data), indent=2) + "\n", encoding="utf-8")
-
-
 def parse_args(argv):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--exe", default=str(REPO / "build" / "mpm_geo"),
-                        help="mpm_geo executable (default: build/mpm_geo)")
-    parser.add_argument("--output", default=None,
-                        help="parent folder of the runs' output folders (default: outputs/, "
-                             "each run overwriting outputs/<case name>); folders under a "
-                             "parent given here must not exist")
-    parser.add_argument("--results", default=str(RESULTS),
-                        help="folder for metrics and plots (default: "
-                             "validation/column_self_weight/results)")
-    parser.add_argument("--no-run", action="store_true",
-                        help="analyse the existing outputs instead of running")
-    parser.add_argument("--quiet", action="store_true", help="no progress lines from mpm_geo")
+    common_arguments(parser, RESULTS,
+                     output_help="parent folder of the runs' output folders (default: "
+                                 "outputs/, each run overwriting outputs/<case name>); folders "
+                                 "under a parent given here must not exist")
     return parser.parse_args(argv)
 
 
 def main(argv=None):
     args = parse_args(argv)
-    if not args.no_run and not os.access(args.exe, os.X_OK):
-        print(f"check.py: executable not found: {args.exe} (make build)", file=sys.stderr)
+    if not args.no_run and exe_missing(args.exe):
         return 2
     base = Path(args.output) if args.output else REPO / "outputs"
     rows, fields, walls = [], {}, []
     try:
         for path in CASES:
-            case = json.loads(path.read_text(encoding="utf-8"))
+            case = load_json(path)
             par = parameters(case)
             output = base / case["name"]
             if not args.no_run:
@@ -390,7 +345,7 @@ def main(argv=None):
                  "(REFERENCES.md section 2): convergence in the cell size",
         "resolution": f"{rows[0]['cells']}-{rows[-1]['cells']} cells",
         "heading": f"{', '.join(str(r['cells']) for r in rows)} cells over the height",
-        "case_files": [_relative(p) for p in CASES],
+        "case_files": [relative(p) for p in CASES],
         "default_run": True,
         "setup": {"rows": [
             ["column", f"H = {par['height']:g} m high, {par['width']:g} m wide; sliding side "
@@ -439,9 +394,8 @@ def main(argv=None):
     plot_convergence(convergence, rows, orders)
     write_json(results / "metrics.json", report)
     for t in targets:
-        state = "pass" if t["passed"] else ("FAIL" if t["gating"] else "outside (reported)")
         ref = "" if t["reference"] is None else f" (expected {t['reference']:.4g})"
-        print(f"{t['name']:<48} {t['value']:.4g}{ref}  [{t['band']}] {state}")
+        print(f"{t['name']:<48} {t['value']:.4g}{ref}  [{t['band']}] {verdict(t)}")
     print(f"wrote {results / 'metrics.json'}, {profiles} and {convergence}")
     print(f"column_self_weight: {'PASS' if passed else 'FAIL'}")
     return 0 if passed else 1

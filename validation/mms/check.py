@@ -25,7 +25,6 @@ command-line options, at 16, 32, 64, 128 and 256 cells:
 import argparse
 import csv
 import io
-import json
 import math
 import os
 import subprocess
@@ -36,8 +35,12 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parents[1]
 RESULTS = HERE / "results"
+sys.path.insert(0, str(REPO / "postproc"))
 
 import numpy as np  # noqa: E402
+
+from mpm_post.validation import (  # noqa: E402
+    agg_figure, common_arguments, exe_missing, target, verdict, write_json)
 
 CELLS = [16, 32, 64, 128, 256]
 CFL = 0.2
@@ -57,13 +60,6 @@ SERIES = [
 ]
 # The runs, one study_mms call each: (amplitude, schemes, tension budget or None)
 CALLS = [(SMALL, "USL,MUSL,USF", None), (LARGE, "USL,MUSL,USF", None), (LARGE, "MUSL", BUDGET)]
-
-
-def _relative(path):
-    try:
-        return str(Path(path).resolve().relative_to(REPO))
-    except ValueError:
-        return str(path)
 
 
 def run_study(exe, quiet):
@@ -150,8 +146,7 @@ def analyse(rows):
 
 def targets(m):
     def t(name, value, band, passed, gating, why, reference=None, unit=""):
-        return {"name": name, "value": value, "reference": reference, "band": band,
-                "passed": bool(passed), "gating": gating, "why": why, "unit": unit}
+        return target(name, value, reference, band, passed, gating, why, unit=unit)
 
     out = []
     low, high = 2.0 - ORDER_SLACK, 3.5
@@ -206,11 +201,7 @@ def targets(m):
 
 
 def plot(path, m):
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    figure = Figure(figsize=(10.0, 4.0), layout="constrained")
-    FigureCanvasAgg(figure)
+    figure = agg_figure(10.0, 4.0)
     axes = figure.subplots(1, 2)
     groups = [("A = 0.001 m (strains 0.6 %)", ["small_musl", "small_usl", "small_usf"], 2.0),
               ("A = 0.05 m (strains 31 %)", ["large_usl", "large_musl_tension", "large_musl",
@@ -238,28 +229,16 @@ def plot(path, m):
     figure.savefig(path, dpi=100)
 
 
-def clean(value):
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    if isinstance(value, dict):
-        return {k: clean(v) for k, v in value.items()}
-    if isinstance(value, list):
-        return [clean(v) for v in value]
-    return value
-
-
 def fmt(value):
     return "-" if value is None or not math.isfinite(value) else f"{value:.3g}"
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--exe", default=str(REPO / "build" / "mpm_geo"),
-                        help="mpm_geo executable; study_mms is taken from its folder")
+    common_arguments(parser, RESULTS, results_help="folder for metrics and plot",
+                     exe_help="mpm_geo executable; study_mms is taken from its folder",
+                     no_run_help="analyse results/runs.csv again", quiet_help="no progress lines")
     parser.add_argument("--study-exe", default=None, help="study_mms executable")
-    parser.add_argument("--results", default=str(RESULTS), help="folder for metrics and plot")
-    parser.add_argument("--no-run", action="store_true", help="analyse results/runs.csv again")
-    parser.add_argument("--quiet", action="store_true", help="no progress lines")
     args = parser.parse_args(argv)
 
     results = Path(args.results)
@@ -270,8 +249,7 @@ def main(argv=None):
         if args.no_run:
             text = runs_csv.read_text()
         else:
-            if not os.access(exe, os.X_OK):
-                print(f"check.py: executable not found: {exe} (make build)", file=sys.stderr)
+            if exe_missing(exe):
                 return 2
             text, wall = run_study(exe, args.quiet)
             results.mkdir(parents=True, exist_ok=True)
@@ -346,13 +324,11 @@ def main(argv=None):
     png = results / "mms_convergence.png"
     report["plots"] = [png.name]
     plot(png, metrics)
-    (results / "metrics.json").write_text(json.dumps(clean(report), indent=2) + "\n",
-                                          encoding="utf-8")
+    write_json(results / "metrics.json", report)
     for row in table_rows:
         print(" | ".join(str(c) for c in row))
     for c in checked:
-        print(f"{c['name']:<62} {fmt(c['value']):>10}  {c['band']:<30} "
-              f"{'pass' if c['passed'] else ('FAIL' if c['gating'] else 'outside (reported)')}")
+        print(f"{c['name']:<62} {fmt(c['value']):>10}  {c['band']:<30} {verdict(c)}")
     print(f"wrote {results / 'metrics.json'} and {png}")
     print(f"mms: {'PASS' if passed else 'FAIL'}")
     return 0 if passed else 1

@@ -47,6 +47,8 @@ import numpy as np  # noqa: E402
 
 from mpm_post import list_outputs, load_particles  # noqa: E402
 from mpm_post.run import run_mpm_geo  # noqa: E402
+from mpm_post.validation import (  # noqa: E402
+    agg_figure, common_arguments, exe_missing, load_json, relative, target, verdict, write_json)
 
 RESULTS = HERE / "results"
 FRICTION = ["0.0", "0.2", "0.4", "0.6"]
@@ -61,13 +63,6 @@ STICK_VARIANTS = [
     ("damped", "local damping 0.05", lambda c: c.update(damping={"type": "local", "value": 0.05})),
     ("mu_0.8", "mu = 0.8", lambda c: c["domain"]["boundaries"]["ymin"].update(mu=0.8)),
 ]
-
-
-def _relative(path):
-    try:
-        return str(Path(path).resolve().relative_to(REPO))
-    except ValueError:
-        return str(path)
 
 
 def parameters(case):
@@ -177,11 +172,6 @@ def stick_variants(args, base, case):
     return rows, series, wall
 
 
-def target(name, value, reference, band, passed, gating, why, unit=""):
-    return {"name": name, "value": value, "reference": reference, "band": band,
-            "passed": bool(passed), "gating": gating, "why": why, "unit": unit}
-
-
 def targets_of(rows, pars):
     out = []
     for m, par in zip(rows, pars):
@@ -218,16 +208,8 @@ def targets_of(rows, pars):
     return out
 
 
-def _figure(width, height):
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-    figure = Figure(figsize=(width, height), layout="constrained")
-    FigureCanvasAgg(figure)
-    return figure
-
-
 def plot(path, series, rows, pars, variants):
-    figure = _figure(10.0, 3.4)
+    figure = agg_figure(10.0, 3.4)
     slide, error, stick = figure.subplots(1, 3, width_ratios=[1.2, 1.0, 1.0])
     colours = ["tab:blue", "tab:orange", "tab:green", "tab:red"]
     t = np.linspace(0.0, pars[0]["tend"], 200)
@@ -269,50 +251,26 @@ def plot(path, series, rows, pars, variants):
     figure.savefig(path, dpi=100)
 
 
-def write_json(path, data):
-    path.parent.mkdir(parents=True, exist_ok=True)
-
-    def clean(value):
-        if isinstance(value, float) and not math.isfinite(value):
-            return None
-        if isinstance(value, dict):
-            return {k: clean(v) for k, v in value.items()}
-        if isinstance(value, (list, tuple)):
-            return [clean(v) for v in value]
-        if isinstance(value, np.generic):
-            return clean(value.item())
-        return value
-
-    path.write_text(json.dumps(clean(data), indent=2) + "\n", encoding="utf-8")
-
-
 def parse_args(argv):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--exe", default=str(REPO / "build" / "mpm_geo"),
-                        help="mpm_geo executable (default: build/mpm_geo)")
-    parser.add_argument("--output", default=None,
-                        help="parent folder of the runs' output folders (default: outputs/, "
-                             "each run overwriting outputs/<case name>); folders under a "
-                             "parent given here must not exist")
-    parser.add_argument("--results", default=str(RESULTS),
-                        help="folder for metrics and plot (default: "
-                             "validation/sliding_block/results)")
-    parser.add_argument("--no-run", action="store_true",
-                        help="analyse the existing outputs instead of running")
-    parser.add_argument("--quiet", action="store_true", help="no progress lines from mpm_geo")
+    common_arguments(parser, RESULTS,
+                     output_help="parent folder of the runs' output folders (default: "
+                                 "outputs/, each run overwriting outputs/<case name>); folders "
+                                 "under a parent given here must not exist",
+                     results_help="folder for metrics and plot (default: "
+                                  "validation/sliding_block/results)")
     return parser.parse_args(argv)
 
 
 def main(argv=None):
     args = parse_args(argv)
-    if not args.no_run and not os.access(args.exe, os.X_OK):
-        print(f"check.py: executable not found: {args.exe} (make build)", file=sys.stderr)
+    if not args.no_run and exe_missing(args.exe):
         return 2
     base = Path(args.output) if args.output else REPO / "outputs"
     rows, pars, series, walls = [], [], [], []
     try:
         for path in CASES:
-            case = json.loads(path.read_text(encoding="utf-8"))
+            case = load_json(path)
             par = parameters(case)
             output = base / case["name"]
             if not args.no_run:
@@ -326,8 +284,7 @@ def main(argv=None):
     except (OSError, ValueError, RuntimeError, KeyError) as exc:
         print(f"check.py: error: {exc}", file=sys.stderr)
         return 2
-    stick_case = next((json.loads(p.read_text(encoding="utf-8")) for p, q in zip(CASES, pars)
-                       if q["sticks"]), None)
+    stick_case = next((load_json(p) for p, q in zip(CASES, pars) if q["sticks"]), None)
     variant_rows, variant_series, variant_wall = (
         stick_variants(args, base, stick_case) if stick_case else ([], [], 0.0))
     targets = targets_of(rows, pars)
@@ -356,7 +313,7 @@ def main(argv=None):
         "resolution": "4 friction coefficients",
         "heading": f"mu = {mus}, theta = "
                    f"{math.degrees(par['theta']):g} deg, {par['dx'] * 1e3:g} mm cells",
-        "case_files": [_relative(p) for p in CASES],
+        "case_files": [relative(p) for p in CASES],
         "default_run": True,
         "setup": {"rows": [
             ["block", f"{par['block'][0]:g} m x {par['block'][1]:g} m, resting on the floor "
@@ -406,9 +363,8 @@ def main(argv=None):
     plot(png, series, rows, pars, variant_series)
     write_json(Path(args.results) / "metrics.json", report)
     for t in targets:
-        state = "pass" if t["passed"] else ("FAIL" if t["gating"] else "outside (reported)")
         ref = "" if t["reference"] is None else f" (exact {t['reference']:.5g})"
-        print(f"{t['name']:<44} {t['value']:.5g}{ref}  [{t['band']}] {state}")
+        print(f"{t['name']:<44} {t['value']:.5g}{ref}  [{t['band']}] {verdict(t)}")
     print(f"wrote {Path(args.results) / 'metrics.json'} and {png}")
     print(f"sliding_block: {'PASS' if passed else 'FAIL'}")
     return 0 if passed else 1

@@ -41,6 +41,8 @@ import numpy as np  # noqa: E402
 
 from mpm_post import list_outputs, load_history, load_particles  # noqa: E402
 from mpm_post.run import run_mpm_geo  # noqa: E402
+from mpm_post.validation import (  # noqa: E402
+    agg_figure, common_arguments, exe_missing, load_json, relative, target, verdict, write_json)
 
 RESULTS = HERE / "results"
 CASES = {"small": HERE / "vibrating_bar_small.json", "large": HERE / "vibrating_bar_large.json"}
@@ -384,11 +386,6 @@ def analyse(run_dir, par):
     return metrics, s, history
 
 
-def target(name, value, reference, band, passed, gating, why, unit=""):
-    return {"name": name, "value": value, "reference": reference, "band": band,
-            "passed": bool(passed), "gating": gating, "why": why, "unit": unit}
-
-
 def energy_target(m, gating=True):
     return target(
         "energy: largest deviation", m["energy_max_deviation"], None,
@@ -497,14 +494,6 @@ def large_targets(m):
 # plots
 # ---------------------------------------------------------------------------------------------
 
-def _figure(width, height):
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-    figure = Figure(figsize=(width, height), layout="constrained")
-    FigureCanvasAgg(figure)
-    return figure
-
-
 def _energy_axes(axes, history, m, label="model"):
     e0 = m["energy_initial_J"]
     axes.plot(history["time"], (history["total"] - e0) / e0 * 100.0, color="black", lw=0.8,
@@ -518,7 +507,7 @@ def _energy_axes(axes, history, m, label="model"):
 
 
 def plot_small(path, s, history, m, par):
-    figure = _figure(9.0, 3.2)
+    figure = agg_figure(9.0, 3.2)
     left, right = figure.subplots(1, 2, width_ratios=[1.6, 1.0])
     t = np.linspace(0.0, s["time"][-1], 800)
     amp = m["vcm_amplitude_linear_m_s"]
@@ -539,7 +528,7 @@ def plot_small(path, s, history, m, par):
 
 
 def plot_large(path, s, history, m, par, ref, sweep_histories):
-    figure = _figure(10.0, 5.6)
+    figure = agg_figure(10.0, 5.6)
     grid = figure.subplots(2, 2)
     (vel, tip), (energy, sweep) = grid
     t = s["time"]
@@ -589,30 +578,6 @@ def plot_large(path, s, history, m, par, ref, sweep_histories):
 # report
 # ---------------------------------------------------------------------------------------------
 
-def write_json(path, data):
-    path.parent.mkdir(parents=True, exist_ok=True)
-
-    def clean(value):
-        if isinstance(value, float) and not math.isfinite(value):
-            return None
-        if isinstance(value, dict):
-            return {k: clean(v) for k, v in value.items()}
-        if isinstance(value, (list, tuple)):
-            return [clean(v) for v in value]
-        if isinstance(value, np.generic):
-            return clean(value.item())
-        return value
-
-    path.write_text(json.dumps(clean(data), indent=2) + "\n", encoding="utf-8")
-
-
-def _relative(path):
-    try:
-        return str(Path(path).resolve().relative_to(REPO))
-    except ValueError:
-        return str(path)
-
-
 def setup_rows(par, case):
     return [
         ["bar", f"L = {par['length']:g} m, fixed at x = 0 (fixed face), free at x = L; a strip "
@@ -640,7 +605,7 @@ def base_report(kind, par, case, metrics, targets, wall):
         "resolution": f"{kind} amplitude",
         "heading": (f"{kind} amplitude (v0 = {par['v0']:g} m/s, peak strain "
                     f"{par['v0'] / par['c']:.0%}, {par['material']}, {par['dx']:g} m cells)"),
-        "case_files": [_relative(CASES["small"]), _relative(CASES["large"])],
+        "case_files": [relative(CASES["small"]), relative(CASES["large"])],
         "default_run": True,
         "setup": {"rows": setup_rows(par, case)},
         "metrics": metrics,
@@ -653,9 +618,8 @@ def base_report(kind, par, case, metrics, targets, wall):
 
 def print_targets(label, targets):
     for t in targets:
-        state = "pass" if t["passed"] else ("FAIL" if t["gating"] else "outside (reported)")
         ref = "" if t["reference"] is None else f" (reference {t['reference']:.5g})"
-        print(f"  {label}: {t['name']:<48} {t['value']:.5g}{ref}  [{t['band']}] {state}")
+        print(f"  {label}: {t['name']:<48} {t['value']:.5g}{ref}  [{t['band']}] {verdict(t)}")
 
 
 def small(args, case):
@@ -669,7 +633,7 @@ def small(args, case):
     report = base_report("small", par, case, metrics, targets, wall)
     png = Path(args.results) / "vibrating_bar_small.png"
     report["plots"] = [png.name]
-    report["output"] = _relative(output)
+    report["output"] = relative(output)
     report["notes"] = [
         "The initial velocity is exact at the particles: each column of particles is a body "
         "of its own with the velocity v0 sin(beta x) of its centre.",
@@ -785,7 +749,7 @@ def large(args, case):
     ]
     png = Path(args.results) / "vibrating_bar_large.png"
     report["plots"] = [png.name]
-    report["output"] = _relative(output)
+    report["output"] = relative(output)
     plot_large(png, s, history, metrics, par, ref, histories)
     write_json(Path(args.results) / "metrics_large.json", report)
     print_targets("large", targets)
@@ -796,18 +760,10 @@ def large(args, case):
 
 def parse_args(argv):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--exe", default=str(REPO / "build" / "mpm_geo"),
-                        help="mpm_geo executable (default: build/mpm_geo)")
-    parser.add_argument("--output", default=None,
-                        help="parent folder of the runs' output folders (default: outputs/, "
-                             "each run overwriting outputs/<case name>); folders under a "
-                             "parent given here must not exist")
-    parser.add_argument("--results", default=str(RESULTS),
-                        help="folder for metrics and plots (default: "
-                             "validation/vibrating_bar/results)")
-    parser.add_argument("--no-run", action="store_true",
-                        help="analyse the existing outputs instead of running")
-    parser.add_argument("--quiet", action="store_true", help="no progress lines from mpm_geo")
+    common_arguments(parser, RESULTS,
+                     output_help="parent folder of the runs' output folders (default: "
+                                 "outputs/, each run overwriting outputs/<case name>); folders "
+                                 "under a parent given here must not exist")
     parser.add_argument("--write-cases", action="store_true",
                         help="write the two case files from the parameters of this script "
                              "and exit")
@@ -821,11 +777,10 @@ def main(argv=None):
             path.write_text(case_text(bar_case(kind)), encoding="utf-8")
             print(f"wrote {path}")
         return 0
-    if not args.no_run and not os.access(args.exe, os.X_OK):
-        print(f"check.py: executable not found: {args.exe} (make build)", file=sys.stderr)
+    if not args.no_run and exe_missing(args.exe):
         return 2
     try:
-        cases = {k: json.loads(p.read_text(encoding="utf-8")) for k, p in CASES.items()}
+        cases = {k: load_json(p) for k, p in CASES.items()}
         reports = [small(args, cases["small"]), large(args, cases["large"])]
     except (OSError, ValueError, RuntimeError, KeyError) as exc:
         print(f"check.py: error: {exc}", file=sys.stderr)
