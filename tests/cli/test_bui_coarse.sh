@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Bui et al. (2008) column collapse at 10 mm cells (800 particles, 1 s of flow): runs
-# validation/bui2008/check.py --coarse with the given executable into a temporary folder and
-# fails when the coarse band is missed (toe within 15 % of the experiment, a regression band;
-# free surface RMS and height at the wall within 20 mm; see docs/validation.md). A few seconds
-# on one thread.
+# Bui et al. (2008) column collapse, the case file's 5 mm cells (3200 particles, 1 s of
+# flow): runs validation/bui2008/check.py --coarse with the given executable into a temporary
+# folder and fails when its regression band is missed (toe within 15 % of the experiment;
+# free surface RMS and height at the wall within 10 mm; see docs/validation.md). About 30 s on
+# one thread.
 # Usage: tests/cli/test_bui_coarse.sh path/to/mpm_geo   (run from the repository root)
 set -u
 if [ $# -ne 1 ]; then

@@ -8,7 +8,7 @@ plot.
 
     .venv/bin/python validation/bui2008/check.py              the case file: the issue's targets
     .venv/bin/python validation/bui2008/check.py --refined    2.5 mm cells: convergence, reported
-    .venv/bin/python validation/bui2008/check.py --coarse     10 mm cells, regression (make test)
+    .venv/bin/python validation/bui2008/check.py --coarse     regression band (make test)
     .venv/bin/python validation/bui2008/check.py --floors     floor-friction sensitivity
     .venv/bin/python validation/bui2008/check.py --numerics   sensitivity to the numerics
     .venv/bin/python validation/bui2008/check.py --no-run     analyse an existing output
@@ -53,7 +53,9 @@ FAILURE_FILE = DATA / "Data_Buietal_2008_experimental_failure_surface.txt"
 RESULTS = HERE / "results"
 COLUMN_WIDTH = 0.2    # initial column L0 [m]
 COLUMN_HEIGHT = 0.1   # initial column H0 [m]
-COARSE_DX = 0.01      # cell of the coarse copy (make test) [m]
+# make test's copy (--coarse) runs at the case's 5 mm with a regression band: at 10 mm the toe
+# lands 15 % short (0.376 m; 0.46 m at 5 mm, 0.53 m at 2.5 mm), too near any band.
+COARSE_DX = 0.005     # cell of make test's copy [m]
 REFINED_DX = 0.0025   # cell of the refined copy (convergence under refinement) [m]
 # The issue's bands: toe within 5 % of the measured one, free surface "within a few millimetres"
 # RMS (5 mm), height at the wall within one cell of the case (5 mm).
@@ -312,11 +314,11 @@ def compare(metrics, exp, dx, mode):
     cell = f"{dx * 1e3:g} mm"
     if mode == "coarse":
         toe_band, surface_band, wall_band = COARSE_TOE_BAND, 2.0 * dx, 2.0 * dx
-        toe_why = ("regression band, not the issue target (that is the 5 mm case file): the "
-                   f"{cell} copy of make test lands within about 10 % of the experiment; 15 % "
-                   "catches a change for the worse (pure FLIP without separation ran 34 % too "
-                   "far at 5 mm), while the surface RMS and the wall height hold the bulk of "
-                   "the deposit to two cells")
+        toe_why = ("regression band of make test, not the issue target (the same run is "
+                   "held to 5 % by make validate): it must not fail on the round-off of a "
+                   "change of the code, and it catches a change for the worse (pure FLIP "
+                   "without separation ran 34 % too far), while the surface RMS and the wall "
+                   "height hold the bulk of the deposit to two cells")
         surface_why = f"two {cell} cells: the surface of the particle cloud is known to a cell"
     else:
         toe_band, surface_band, wall_band = TOE_BAND, SURFACE_BAND, SURFACE_BAND
@@ -529,8 +531,8 @@ def parse_args(argv):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     mode = parser.add_mutually_exclusive_group()
     mode.add_argument("--coarse", action="store_true",
-                      help=f"run a copy with {COARSE_DX * 1e3:g} mm cells "
-                           f"(toe regression band {COARSE_TOE_BAND:.0%%})")
+                      help=f"run a copy with {COARSE_DX * 1e3:g} mm cells (toe regression "
+                           f"band {COARSE_TOE_BAND * 100:.0f} %%)")
     mode.add_argument("--refined", action="store_true",
                       help=f"run a copy with {REFINED_DX * 1e3:g} mm cells (convergence under "
                            "refinement; reported, exit 0 unless the run fails)")
