@@ -255,6 +255,9 @@ contains
         stress = stress + jaumann_rotation(stress, omega) + 2.0_wp*self%shear*de
         stress(1:3) = stress(1:3) + self%lame*dvol
 
+        ! stresses clearly inside the surface (closed-form principal values) need no
+        ! eigen-decomposition and no return
+        if (clearly_elastic(stress, friction, cohesion, tension, cutoff)) return
         if (size(stress) == 4) then
             call principal_plane(stress, p, cos2, sin2)
         else
@@ -294,6 +297,64 @@ contains
             stress = 0.0_wp
         end if
     end subroutine mohr_coulomb_update_stress
+
+    !> Whether a stress is inside the Mohr-Coulomb surface (and the cut-off) by a margin.
+    !>
+    !> The principal stresses come from the closed form of the eigenvalues of a symmetric 3x3
+    !> matrix (trigonometric solution of the characteristic cubic), accurate to about
+    !> sqrt(epsilon) of the deviatoric stress where two eigenvalues nearly coincide; the margin
+    !> (1e-6 of the stress scale) is far above that, so a stress this test calls elastic is
+    !> one the return leaves unchanged, and the eigen-decomposition is spared.
+    pure logical function clearly_elastic(stress, friction, cohesion, tension, cutoff)
+        real(wp), intent(in) :: stress(:)
+            !! trial stress, 4 or 6 components, tension positive [Pa]
+        real(wp), intent(in) :: friction, cohesion, tension
+            !! phi [rad], c [Pa], sigma_t [Pa]
+        logical, intent(in) :: cutoff
+            !! whether the cut-off planes are part of the surface
+
+        real(wp), parameter :: margin_factor = 1.0e-6_wp
+        real(wp), parameter :: third_turn = 2.0_wp*acos(-1.0_wp)/3.0_wp
+        real(wp) :: m, j2, sxy, syz, szx, b(3), r, scale, s1, s3, angle, radius, half
+        real(wp) :: margin
+
+        m = (stress(1) + stress(2) + stress(3))/3.0_wp
+        b = stress(1:3) - m
+        sxy = stress(4)
+        syz = 0.0_wp
+        szx = 0.0_wp
+        if (size(stress) == 6) then
+            syz = stress(5)
+            szx = stress(6)
+        end if
+        scale = max(maxval(abs(stress)), 2.0_wp*cohesion*cos(friction), sqrt(tiny(1.0_wp)))
+        if (cutoff) scale = max(scale, abs(tension))
+        margin = margin_factor*scale
+        if (size(stress) == 4) then
+            ! plane strain: the in-plane pair from the circle, the out-of-plane value apart
+            half = 0.5_wp*(stress(1) - stress(2))
+            radius = sqrt(half*half + sxy*sxy)
+            s1 = max(0.5_wp*(stress(1) + stress(2)) + radius, stress(3))
+            s3 = min(0.5_wp*(stress(1) + stress(2)) - radius, stress(3))
+        else
+            j2 = 0.5_wp*sum(b**2) + sxy**2 + syz**2 + szx**2
+            if (j2 <= 0.0_wp) then
+                s1 = m
+                s3 = m
+            else
+                radius = sqrt(j2/3.0_wp)
+                ! r = det(deviator / radius) / 2, in [-1, 1] up to round-off
+                r = (b(1)*(b(2)*b(3) - syz*syz) - sxy*(sxy*b(3) - syz*szx) &
+                    + szx*(sxy*syz - b(2)*szx))/(2.0_wp*radius**3)
+                angle = acos(max(-1.0_wp, min(1.0_wp, r)))/3.0_wp
+                s1 = m + 2.0_wp*radius*cos(angle)
+                s3 = m + 2.0_wp*radius*cos(angle + third_turn)
+            end if
+        end if
+        clearly_elastic = (s1 - s3) + (s1 + s3)*sin(friction) - 2.0_wp*cohesion*cos(friction) &
+            < -margin
+        if (cutoff) clearly_elastic = clearly_elastic .and. s1 - tension < -margin
+    end function clearly_elastic
 
     !> Return of ordered principal stresses s1 >= s2 >= s3 to the pyramid and the cut-off.
     !>
@@ -472,7 +533,7 @@ contains
 
         centre = 0.5_wp*(stress(1) + stress(2))
         half = 0.5_wp*(stress(1) - stress(2))
-        radius = hypot(half, stress(4))
+        radius = sqrt(half*half + stress(4)*stress(4))
         if (radius > 0.0_wp) then
             cos2 = half/radius
             sin2 = stress(4)/radius
@@ -519,7 +580,7 @@ contains
                     end if
                     ! rotation angle (Numerical Recipes, jacobi); |theta| < 1e19 by the test above
                     theta = (a(iq, iq) - a(ip, ip))/(2.0_wp*apq)
-                    t = sign(1.0_wp, theta)/(abs(theta) + hypot(1.0_wp, theta))
+                    t = sign(1.0_wp, theta)/(abs(theta) + sqrt(1.0_wp + theta*theta))
                     c = 1.0_wp/sqrt(1.0_wp + t*t)
                     sn = t*c
                     tau = sn/(1.0_wp + c)

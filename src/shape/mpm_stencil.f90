@@ -9,10 +9,11 @@
 !> zero weights are zero, as the stencils of `mpm_shape` skip those nodes.
 !>
 !> Threads without atomics or locks, and the same sums with any number of threads: the
-!> particles are sorted by cell (counting sort, stable: a fixed order for a given state) and
-!> cut into chunks of equal particle count whose number depends on the particle count only.
+!> particles are sorted by their cell's layer along the slowest axis (z in 3D, y in 2D; a
+!> parallel counting sort over fixed blocks, stable: a fixed order for a given state) and cut
+!> into chunks of equal particle count whose number depends on the particle count only.
 !> A scatter pass (P2G, remap) sums each chunk into its own buffer, which spans the node
-!> layers of the chunk along the slowest axis (z in 3D, y in 2D; contiguous node indices);
+!> layers of the chunk along the slowest axis (contiguous node indices);
 !> the buffers are then folded into the grid node by node in chunk order. The order of every
 !> sum is therefore fixed, and a run gives the same bits on 1, 2 or 64 threads.
 module mpm_stencil
@@ -32,6 +33,10 @@ module mpm_stencil
         !! particles per chunk of a scatter pass (at least; fewer chunks for small runs)
     integer, parameter :: max_chunks = 32
         !! chunks of a scatter pass at most (load balance for up to ~16 threads)
+    integer, parameter :: sort_block_particles = 4096
+        !! particles per block of the parallel counting sort (at least)
+    integer, parameter :: max_sort_blocks = 32
+        !! blocks of the counting sort at most
 
     !> Stencils of all particles for one step, their order and the scatter chunks.
     type :: stencils_type
@@ -57,7 +62,7 @@ module mpm_stencil
         real(wp), allocatable :: dw(:, :, :)
             !! 1D weight derivatives (nps, dim, n) [1/m]
         integer, allocatable :: order(:)
-            !! particles sorted by cell (n)
+            !! particles sorted by cell layer along the slowest axis, then by index (n)
         integer :: nchunks = 0
             !! chunks of the scatter passes
         integer, allocatable :: chunk_start(:)
@@ -73,7 +78,7 @@ module mpm_stencil
             !! first and last chunk touching each node layer (2, 0:nn(slow) - 1); first > last
             !! when none does
         integer, allocatable :: histogram(:)
-            !! scratch of the counting sort (cells)
+            !! scratch of the counting sort (cell layers x blocks)
         integer, allocatable :: cell(:)
             !! scratch: cell of each particle, 1-based linear index (n)
     end type stencils_type
@@ -81,7 +86,7 @@ module mpm_stencil
 contains
 
     !> Evaluate the stencils of every particle at its current position, sort the particles by
-    !> cell and cut the chunks of the scatter passes.
+    !> cell layer and cut the chunks of the scatter passes.
     subroutine compute_stencils(stc, grid, particles, shape, error)
         type(stencils_type), intent(inout) :: stc
             !! stencils (allocated on first use and when the particle count changes)
@@ -94,7 +99,7 @@ contains
         type(error_type), allocatable, intent(out) :: error
             !! set when the scratch cannot be allocated
 
-        integer :: p, a, k, dim, nps, kept, first, shift, c, q, ncells
+        integer :: p, a, k, dim, nps, kept, first, shift, c, q, nlayers, layer_cells, nb, b
         real(wp) :: w(3), dw(3), xi
 
         dim = grid%dim
@@ -136,26 +141,53 @@ contains
         end do
         !$omp end parallel do
 
-        ! counting sort by cell (stc%cell is 1-based): stable, so the order is fixed for a
-        ! given state
-        ncells = product(grid%ncells(1:dim))
-        stc%histogram = 0
-        do p = 1, particles%n
-            stc%histogram(stc%cell(p)) = stc%histogram(stc%cell(p)) + 1
+        ! counting sort by node layer of the cell along the slowest axis, in parallel over
+        ! fixed blocks of particles: stable (by layer, then particle index), so the order is
+        ! fixed for a given state whatever the number of threads
+        nlayers = grid%ncells(dim)
+        layer_cells = product(grid%ncells(1:dim - 1))
+        nb = max(1, min(max_sort_blocks, particles%n/sort_block_particles))
+        if (allocated(stc%histogram)) then
+            if (size(stc%histogram) /= nlayers*nb) deallocate (stc%histogram)
+        end if
+        if (.not. allocated(stc%histogram)) allocate (stc%histogram(nlayers*nb))
+        !$omp parallel do default(none) schedule(static) &
+        !$omp shared(stc, particles, nb, nlayers, layer_cells) private(b, p, k)
+        do b = 1, nb
+            stc%histogram((b - 1)*nlayers + 1:b*nlayers) = 0
+            do p = block_start(particles%n, nb, b), block_start(particles%n, nb, b + 1) - 1
+                k = (b - 1)*nlayers + 1 + (stc%cell(p) - 1)/layer_cells
+                stc%histogram(k) = stc%histogram(k) + 1
+            end do
         end do
+        !$omp end parallel do
         q = 1
-        do c = 1, ncells
-            k = stc%histogram(c)
-            stc%histogram(c) = q
-            q = q + k
+        do c = 1, nlayers
+            do b = 1, nb
+                k = stc%histogram((b - 1)*nlayers + c)
+                stc%histogram((b - 1)*nlayers + c) = q
+                q = q + k
+            end do
         end do
-        do p = 1, particles%n
-            q = stc%histogram(stc%cell(p))
-            stc%order(q) = p
-            stc%histogram(stc%cell(p)) = q + 1
+        !$omp parallel do default(none) schedule(static) &
+        !$omp shared(stc, particles, nb, nlayers, layer_cells) private(b, p, k, q)
+        do b = 1, nb
+            do p = block_start(particles%n, nb, b), block_start(particles%n, nb, b + 1) - 1
+                k = (b - 1)*nlayers + 1 + (stc%cell(p) - 1)/layer_cells
+                q = stc%histogram(k)
+                stc%order(q) = p
+                stc%histogram(k) = q + 1
+            end do
         end do
+        !$omp end parallel do
         call cut_chunks(stc, grid)
     end subroutine compute_stencils
+
+    !> First particle of block b of nb blocks of n particles (block_start(n, nb, nb + 1) = n + 1).
+    pure integer function block_start(n, nb, b)
+        integer, intent(in) :: n, nb, b
+        block_start = 1 + int((int(b - 1, 8)*n)/nb)
+    end function block_start
 
     !> Allocate the per-particle arrays and the chunk tables.
     subroutine allocate_stencils(stc, grid, n, nps, error)
@@ -181,10 +213,10 @@ contains
             if (size(stc%w, 1) == nps) return
         end if
         if (allocated(stc%first)) deallocate (stc%first, stc%w, stc%dw, stc%order, stc%cell, &
-            stc%histogram, stc%layer_chunks)
+            stc%layer_chunks)
         stc%n = n
         allocate (stc%first(dim, n), stc%w(nps, dim, n), stc%dw(nps, dim, n), stc%order(n), &
-            stc%cell(n), stc%histogram(product(grid%ncells(1:dim))), &
+            stc%cell(n), &
             stc%layer_chunks(2, 0:grid%nn(dim) - 1), stat=stat, errmsg=msg)
         if (stat /= 0) then
             call fatal_error(error, "cannot allocate the particle stencils: "//trim(msg), &

@@ -37,7 +37,7 @@ module mpm_solver
         phase_stress = 5, phase_other = 6, phase_output = 7
     character(len=*), parameter :: phase_names(nphases) = [character(len=8) :: &
         "sorting", "P2G", "nodal", "G2P", "stress", "other", "output"]
-        !! sorting: shape functions, particle order by cell and chunks; P2G: scatters;
+        !! sorting: shape functions, particle order by cell layer and chunks; P2G: scatters;
         !! nodal: nodal update; G2P: velocities and positions (and the MUSL remap);
         !! stress: stress update; other: guard, energies, moving the particles; output
     integer, parameter :: sum_block = 4096

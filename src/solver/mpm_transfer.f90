@@ -85,7 +85,7 @@ contains
             allocate (cell_pv(product(grid%ncells)), cell_v(product(grid%ncells)))
             cell_pv = 0.0_wp
             cell_v = 0.0_wp
-            do q = 1, particles%n   ! in cell order: a fixed order of the sums
+            do q = 1, particles%n   ! in the sorted order: a fixed order of the sums
                 p = stc%order(q)
                 c = stc%cell(p)
                 cell_pv(c) = cell_pv(c) + particles%volume(p)*sum(particles%stress(1:3, p))/3.0_wp
@@ -645,7 +645,7 @@ contains
             !$omp end parallel do
             cell_old = 0.0_wp
             cell_new = 0.0_wp
-            do q = 1, particles%n   ! serial, in cell order: a fixed order of the sums
+            do q = 1, particles%n   ! serial, in the sorted order: a fixed order of the sums
                 p = stc%order(q)
                 dF = increment(grads(:, :, p), dt, dim)
                 cell_old(stc%cell(p)) = cell_old(stc%cell(p)) + particles%volume(p)
