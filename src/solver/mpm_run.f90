@@ -162,9 +162,8 @@ contains
             call save_state(case%save_state, case, sim%particles, sim%time, int(sim%step), error)
             if (allocated(error)) return
         end if
-        ! particle arrays and the per-step scratch: stencils, order, position increments
-        summary%bytes_per_particle = particle_bytes(sim%particles) &
-            + stencil_bytes(sim%stencils) + case%dim*storage_size(1.0_wp)/8
+        ! particle arrays and the per-step scratch: stencils, order, cell
+        summary%bytes_per_particle = particle_bytes(sim%particles) + stencil_bytes(sim%stencils)
         summary%bytes_per_node = grid_bytes(sim%grid)
         summary%peak_memory_mb = peak_memory_mb()
         if (.not. options%quiet) call print_summary(summary, case)

@@ -1,8 +1,9 @@
 !> The explicit MPM solver: builds a model from a case and advances it in time.
 !>
 !> One step (see docs/architecture.md):
-!>   P2G (mass, momentum, forces) -> nodal update (damping, boundaries, integration)
-!>   -> G2P (velocities, position increments) -> stress update -> move particles.
+!>   stencils -> P2G (mass, momentum, forces) -> nodal update (gravity, damping, boundaries,
+!>   integration) -> G2P (velocities; positions, except MUSL) -> stress update (MUSL:
+!>   positions) -> checks (blow-up guard, particles that left the grid).
 !> The scheme only chooses where the stress update happens and which nodal velocities it
 !> sees: USF before the momentum update, USL after it with v_i^{n+1}, MUSL after it with
 !> nodal velocities remapped from the updated particle velocities.
@@ -21,8 +22,8 @@ module mpm_solver
     use mpm_material_factory, only: new_materials
     use mpm_state, only: load_state
     use mpm_stencil, only: stencils_type, compute_stencils
-    use mpm_transfer, only: p2g, nodal_velocity, integrate_nodes, g2p, &
-        move_particles, update_stress
+    use mpm_transfer, only: p2g, nodal_velocity, integrate_nodes, g2p, motion_type, &
+        report_lost, update_stress
     use mpm_clock, only: wall_time
     implicit none
     private
@@ -71,8 +72,6 @@ module mpm_solver
             !! P-wave speed of each material [m/s]
         real(wp), allocatable :: time_step_limit(:)
             !! other stable-step limit of each material (viscosity), huge when none [s]
-        real(wp), allocatable :: dxp(:, :)
-            !! scratch: position increments of the step (dim, n) [m]
         type(stencils_type) :: stencils
             !! shape functions of the step, particle order and scatter chunks
         real(wp) :: phase_time(nphases) = 0.0_wp
@@ -133,12 +132,6 @@ contains
             call create_particles(case, sim%particles, error, nstate)
             if (allocated(error)) return
         end if
-        allocate (sim%dxp(case%dim, sim%particles%n), stat=stat, errmsg=msg)
-        if (stat /= 0) then
-            call fatal_error(error, "cannot allocate particle scratch: "//trim(msg))
-            return
-        end if
-        sim%dxp = 0.0_wp
         if (sim%particles%n > 0) sim%grid%small_mass = 1.0e-2_wp*minval(sim%particles%mass)
         ! APIC affine velocities: kept from a state file of an APIC run, zero otherwise (a
         ! uniform velocity per body); dropped when this stage does not use APIC
@@ -201,6 +194,7 @@ contains
 
         real(wp) :: work, damping_work, clock
         integer :: scheme
+        type(motion_type) :: motion
 
         scheme = sim%case%scheme
         clock = wall_time()
@@ -224,9 +218,10 @@ contains
             call integrate_nodes(grid, dt, sim%case%gravity, sim%case%damping, &
                 sim%case%damping_value, damping_work)
             call lap(sim, phase_nodal, clock)
-            ! MUSL: the same pass maps the updated particle momentum back to the nodes
-            call g2p(grid, particles, stc, dt, sim%case%flip_fraction, sim%dxp, &
-                scheme == scheme_musl)
+            ! MUSL: the same pass maps the updated particle momentum back to the nodes, and the
+            ! particles move in the stress update; USL, USF: they move here
+            call g2p(grid, particles, stc, dt, sim%case%flip_fraction, scheme == scheme_musl, &
+                motion)
             call lap(sim, phase_g2p, clock)
             select case (scheme)
             case (scheme_usl)
@@ -236,19 +231,19 @@ contains
                 ! the velocities of the nodal update instead, the difference (dt times the
                 ! nodal acceleration) feeds particle noise under tension that FLIP never damps
                 ! (growth ~ sigma dt / (rho dx^2), see docs/accuracy-vs-cost.md)
-                call update_stress(grid, particles, stc, sim%materials, dt, fbar, work, sim%dxp)
+                call update_stress(grid, particles, stc, sim%materials, dt, fbar, work, motion)
             case default
                 continue ! USF: the stress was updated before the momentum
             end select
             call lap(sim, phase_stress, clock)
         end associate
-        ! the blow-up guard comes before the move, so an unstable run is reported as such
-        ! rather than as the particles it throws out of the grid
+        ! the blow-up guard speaks first, so an unstable run is reported as such rather than
+        ! as the particles it throws out of the grid
         sim%energy%kinetic = kinetic_energy(sim%particles)
-        call check_blow_up(sim, error)
+        call check_blow_up(sim, motion, error)
         if (allocated(error)) return
-        call move_particles(sim%grid, sim%particles, sim%dxp, error)
-        if (allocated(error)) then
+        if (motion%lost > 0) then
+            call report_lost(sim%grid, sim%particles, motion%lost, error)
             error%message = step_prefix(sim)//error%message
             return
         end if
@@ -278,32 +273,33 @@ contains
         clock = now
     end subroutine lap
 
-    !> Stop a run that blows up: a particle about to move more than a cell in one step, a
+    !> Stop a run that blows up: a particle that moved more than a cell in one step, a
     !> kinetic energy that is not finite, or one that exceeds blow_up_factor times the largest
     !> energy the run has seen. An explicit run past its
     !> stability limit grows by a factor every step and passes that bound within a few steps,
     !> long before it writes NaN; a physical run cannot create that energy. The message names
     !> the step, the particle, its position and the quantity.
-    subroutine check_blow_up(sim, error)
+    subroutine check_blow_up(sim, motion, error)
         type(simulation_type), intent(in) :: sim
             !! the simulation after a step
+        type(motion_type), intent(in) :: motion
+            !! the largest move of the step
         type(error_type), allocatable, intent(out) :: error
             !! set (exit_numerical) when the run blew up
 
         real(wp), parameter :: blow_up_factor = 10.0_wp
         integer :: p, worst
-        real(wp) :: speed, fastest, jump
+        real(wp) :: speed, fastest
         character(len=512) :: msg
 
         associate (ke => sim%energy%kinetic, particles => sim%particles)
             ! a stable explicit step moves no material point by more than a cell
-            jump = maxval(abs(sim%dxp))
-            if (jump > sim%case%dx) then
-                p = maxloc(maxval(abs(sim%dxp), dim=1), dim=1)
+            if (motion%jump > sim%case%dx) then
+                p = motion%jump_particle
                 write (msg, "(a,i0,a,a,a,es10.3,a,es10.3,a)") &
-                    "the run became unstable: particle ", p, " at (", &
-                    trim(vector_text(particles%x(:, p))), ") m would move ", &
-                    norm2(sim%dxp(:, p)), " m in one step, more than a cell (dx = ", &
+                    "the run became unstable: particle ", p, " (now at ", &
+                    trim(vector_text(particles%x(:, p))), ") m moved ", &
+                    motion%jump_length, " m in one step, more than a cell (dx = ", &
                     sim%case%dx, " m)"
                 call fatal_error(error, step_prefix(sim)//trim(msg)// &
                     "; reduce time.dt or time.cfl", exit_numerical)

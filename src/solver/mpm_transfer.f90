@@ -24,7 +24,7 @@ module mpm_transfer
     use mpm_case, only: damping_local, bc_free
     implicit none
     private
-    public :: p2g, nodal_velocity, integrate_nodes, g2p, move_particles
+    public :: p2g, nodal_velocity, integrate_nodes, g2p, motion_type, report_lost
     public :: update_stress
 
     real(wp), parameter :: contact_tolerance = 1.0e-3_wp
@@ -45,6 +45,18 @@ module mpm_transfer
         real(wp), allocatable :: fint(:, :)
         real(wp), allocatable :: fext(:, :)
     end type scatter_type
+
+    !> What the particles did when they moved in a pass, for the checks of the step.
+    type :: motion_type
+        real(wp) :: jump = 0.0_wp
+            !! largest displacement component of a particle in the step [m]
+        integer :: jump_particle = 0
+            !! the particle that made it
+        real(wp) :: jump_length = 0.0_wp
+            !! its displacement length [m]
+        integer :: lost = 0
+            !! a particle that left the grid (through a free face, or not finite), 0 if none
+    end type motion_type
 
 contains
 
@@ -423,13 +435,13 @@ contains
         end do
     end subroutine apply_contacts
 
-    !> Gather nodal accelerations and velocities: v_p += dt sum N_i a_i (FLIP), and the
-    !> position increment dx_p = dt sum N_i v_i, applied later by move_particles so that every
-    !> pass of a step uses the shape functions at the start-of-step positions.
+    !> Gather nodal accelerations and velocities: v_p += dt sum N_i a_i (FLIP), and, unless
+    !> `remap`, move the particle by dx_p = dt sum N_i v_i (the later passes of the step use
+    !> the stencils of the start-of-step positions, not the positions).
     !>
     !> With `remap` (MUSL), the same pass maps the updated particle momentum back to the nodes
     !> (chunk buffers folded in a fixed order, as in p2g) and recomputes the nodal velocities.
-    subroutine g2p(grid, particles, stc, dt, flip, dxp, remap)
+    subroutine g2p(grid, particles, stc, dt, flip, remap, motion)
         type(grid_type), intent(inout) :: grid
             !! grid after the nodal update (momentum and velocity replaced with `remap`)
         type(particles_type), intent(inout) :: particles
@@ -440,26 +452,29 @@ contains
             !! time step [s]
         real(wp), intent(in) :: flip
             !! FLIP fraction of the velocity update (1: FLIP, 0: PIC) [-]
-        real(wp), intent(out) :: dxp(:, :)
-            !! position increment of each particle (dim, n) [m]
         logical, intent(in) :: remap
-            !! MUSL: scatter the updated momentum and recompute the nodal velocities
+            !! MUSL: scatter the updated momentum and recompute the nodal velocities; the
+            !! particles then move in the stress update, with the remapped velocities
+        type(motion_type), intent(out) :: motion
+            !! largest move and lost particle when the particles move here (not remap)
 
         integer :: k, q, p, dim, shift
-        real(wp) :: xp(3), vp(3), aff(3, 3), bf(3), vs(6)
+        real(wp) :: xp(3), vp(3), aff(3, 3), bf(3), vs(6), dx(3)
         logical :: apic
         real(wp), allocatable :: buf(:, :)
+        type(motion_type), allocatable :: moved(:)
 
         dim = grid%dim
         apic = allocated(particles%affine)
+        allocate (moved(stc%nchunks))
         if (remap) then
             allocate (buf(1 + dim, stc%chunk_offset(stc%nchunks + 1)))
         else
             allocate (buf(1, 1))
         end if
         !$omp parallel do default(none) schedule(dynamic, 1) &
-        !$omp shared(grid, particles, stc, dt, flip, dxp, remap, buf, dim, apic) &
-        !$omp private(k, q, p, shift, xp, vp, aff, bf, vs)
+        !$omp shared(grid, particles, stc, dt, flip, remap, buf, dim, apic, moved) &
+        !$omp private(k, q, p, shift, xp, vp, aff, bf, vs, dx)
         do k = 1, stc%nchunks
             shift = stc%chunk_offset(k) - stc%chunk_lo(k)*stc%stride(stc%slow)
             if (remap) buf(:, stc%chunk_offset(k) + 1:stc%chunk_offset(k + 1)) = 0.0_wp
@@ -470,7 +485,8 @@ contains
             vs = 0.0_wp
             do q = stc%chunk_start(k), stc%chunk_start(k + 1) - 1
                 p = stc%order(q)
-                call update_particle_velocity(grid, particles, stc, p, dt, flip, apic, dxp)
+                call update_particle_velocity(grid, particles, stc, p, dt, flip, apic, dx)
+                if (.not. remap) call move_particle(grid, particles, p, dx(1:dim), moved(k))
                 if (remap) then
                     vp(1:dim) = particles%v(:, p)
                     if (apic) then
@@ -483,22 +499,23 @@ contains
             end do
         end do
         !$omp end parallel do
+        call merge_motion(moved, motion)
         if (remap) then
             call fold(grid, stc, buf, .true., 0, 0, only_momentum=.true.)
             call nodal_velocity(grid)
         end if
     end subroutine g2p
 
-    !> The G2P update of one particle: velocity (FLIP, PIC blend or APIC) and position
-    !> increment.
-    subroutine update_particle_velocity(grid, particles, stc, p, dt, flip, apic, dxp)
+    !> The G2P update of one particle: velocity (FLIP, PIC blend or APIC) and the position
+    !> increment dt sum N_i v_i.
+    subroutine update_particle_velocity(grid, particles, stc, p, dt, flip, apic, dx)
         type(grid_type), intent(in) :: grid
         type(particles_type), intent(inout) :: particles
         type(stencils_type), intent(in) :: stc
         integer, intent(in) :: p
         real(wp), intent(in) :: dt, flip
         logical, intent(in) :: apic
-        real(wp), intent(inout) :: dxp(:, :)
+        real(wp), intent(out) :: dx(3)
 
         integer :: dim, c
         integer :: node(max_nodes)
@@ -525,66 +542,82 @@ contains
         else
             particles%v(:, p) = particles%v(:, p) + dt*a(1:dim)
         end if
-        dxp(:, p) = dt*v(1:dim)
+        dx = dt*v
     end subroutine update_particle_velocity
 
-    !> Apply the position increments of the step; fails (exit_numerical) when a particle
-    !> leaves the grid through a free face or its position is not finite.
-    subroutine move_particles(grid, particles, dxp, error)
+    !> Move particle p by dx and record the move in `motion` (largest move, lost particle).
+    !>
+    !> A closed face (sliding, fixed, frictional) cannot be crossed: the nodal velocity keeps
+    !> material off it, but a point carried by the velocities of the nodes beside the face can
+    !> overshoot it by a fraction of a step; it stays on the face. A particle beyond a free
+    !> face, or with a position that is not finite, is lost.
+    pure subroutine move_particle(grid, particles, p, dx, motion)
         type(grid_type), intent(in) :: grid
-            !! grid (its extent)
+            !! grid (extent and faces)
         type(particles_type), intent(inout) :: particles
-            !! particles to move
-        real(wp), intent(in) :: dxp(:, :)
-            !! position increments (dim, n) [m]
-        type(error_type), allocatable, intent(out) :: error
-            !! set when a particle leaves the grid
+            !! particles
+        integer, intent(in) :: p
+            !! particle
+        real(wp), intent(in) :: dx(:)
+            !! position increment (dim) [m]
+        type(motion_type), intent(inout) :: motion
+            !! record of the moves of a chunk
 
-        integer :: p, dim, bad, a
-        real(wp) :: lo(3), hi(3), x(3)
-        logical :: closed_lo(3), closed_hi(3)
+        integer :: a, dim
+        real(wp) :: x(3), lo, hi, jump
 
         dim = grid%dim
-        closed_lo = .false.
-        closed_hi = .false.
-        lo = grid%origin
-        hi = grid%origin + grid%dx*real(grid%nn - 1, wp)
-        bad = 0
-        closed_lo(1:dim) = grid%bc(1, 1:dim) /= bc_free
-        closed_hi(1:dim) = grid%bc(2, 1:dim) /= bc_free
-        !$omp parallel do default(none) schedule(static) &
-        !$omp shared(particles, dxp, dim, lo, hi, closed_lo, closed_hi) private(p, x, a) &
-        !$omp reduction(max: bad)
-        do p = 1, particles%n
-            x(1:dim) = particles%x(:, p) + dxp(:, p)
-            ! a closed face (sliding, fixed, frictional) cannot be crossed: the nodal velocity
-            ! keeps material off it, but a point carried by the velocities of the nodes
-            ! beside the face can overshoot it by a fraction of a step; it stays on the face
-            do a = 1, dim
-                if (closed_lo(a) .and. x(a) < lo(a)) x(a) = lo(a)
-                if (closed_hi(a) .and. x(a) > hi(a)) x(a) = hi(a)
-            end do
-            particles%u(:, p) = particles%u(:, p) + (x(1:dim) - particles%x(:, p))
-            particles%x(:, p) = x(1:dim)
-            if (.not. (all(particles%x(:, p) >= lo(1:dim)) .and. &
-                       all(particles%x(:, p) <= hi(1:dim)))) then
-                bad = max(bad, p)
-            end if
+        jump = maxval(abs(dx))
+        if (.not. (jump <= huge(1.0_wp))) jump = huge(1.0_wp)   ! not finite
+        if (jump > motion%jump) then
+            motion%jump = jump
+            motion%jump_particle = p
+            motion%jump_length = norm2(dx)
+        end if
+        x(1:dim) = particles%x(:, p) + dx
+        do a = 1, dim
+            lo = grid%origin(a)
+            hi = grid%origin(a) + grid%dx*real(grid%nn(a) - 1, wp)
+            if (grid%bc(1, a) /= bc_free .and. x(a) < lo) x(a) = lo
+            if (grid%bc(2, a) /= bc_free .and. x(a) > hi) x(a) = hi
+            if (.not. (x(a) >= lo .and. x(a) <= hi) .and. motion%lost == 0) motion%lost = p
         end do
-        !$omp end parallel do
-        if (bad > 0) call report_lost(particles, bad, lo, hi, error)
-    end subroutine move_particles
+        particles%u(:, p) = particles%u(:, p) + (x(1:dim) - particles%x(:, p))
+        particles%x(:, p) = x(1:dim)
+    end subroutine move_particle
 
-    subroutine report_lost(particles, p, lo, hi, error)
+    !> The record of a pass from those of its chunks, in chunk order (the same with any number
+    !> of threads).
+    pure subroutine merge_motion(moved, motion)
+        type(motion_type), intent(in) :: moved(:)
+        type(motion_type), intent(out) :: motion
+
+        integer :: k
+
+        do k = 1, size(moved)
+            if (moved(k)%jump > motion%jump) then
+                motion%jump = moved(k)%jump
+                motion%jump_particle = moved(k)%jump_particle
+                motion%jump_length = moved(k)%jump_length
+            end if
+            if (motion%lost == 0) motion%lost = moved(k)%lost
+        end do
+    end subroutine merge_motion
+
+    !> The error of a particle that left the grid.
+    subroutine report_lost(grid, particles, p, error)
+        type(grid_type), intent(in) :: grid
         type(particles_type), intent(in) :: particles
         integer, intent(in) :: p
-        real(wp), intent(in) :: lo(3), hi(3)
         type(error_type), allocatable, intent(out) :: error
 
         character(len=600) :: msg
         integer :: dim
+        real(wp) :: lo(3), hi(3)
 
         dim = particles%dim
+        lo = grid%origin
+        hi = grid%origin + grid%dx*real(grid%nn - 1, wp)
         write (msg, "(a,i0,a,a,a,a,a,a,a)") "particle ", p, " left the grid: position (", &
             vector_text(particles%x(:, p)), ") m, grid from (", vector_text(lo(1:dim)), &
             ") to (", vector_text(hi(1:dim)), &
@@ -605,7 +638,7 @@ contains
     !> flow (Mohr-Coulomb with psi = 0) otherwise locks on the low-order shape functions and
     !> leaves a checkerboard of pressures, and with it of strengths, between the particles of
     !> a cell (Coombs et al. 2018; Wyser et al. 2021 average the pressure per cell).
-    subroutine update_stress(grid, particles, stc, materials, dt, fbar, strain_work, dxp)
+    subroutine update_stress(grid, particles, stc, materials, dt, fbar, strain_work, motion)
         type(grid_type), intent(in) :: grid
             !! grid with nodal velocities
         type(particles_type), intent(inout) :: particles
@@ -620,27 +653,30 @@ contains
             !! average the volume change of the step per cell
         real(wp), intent(out) :: strain_work
             !! sum_p (V sigma)_mid : d_eps [J] (per metre in 2D)
-        real(wp), intent(inout), optional :: dxp(:, :)
-            !! when present, the position increment dt sum_i N_i v_i from the same nodal
-            !! velocities as the strain (MUSL) [m]
+        type(motion_type), intent(out), optional :: motion
+            !! when present (MUSL), the particles move by dt sum_i N_i v_i with the same nodal
+            !! velocities as the strain, and this records the moves
 
         integer :: p, q, k, dim, ns, a
         real(wp) :: gradv(3, 3), ldt(3, 3), de(6), omega(3), sold(6), dF(3, 3), jac, scale, &
             v(3), vold, a3(3), fold_f(3, 3), fnew(3, 3)
         integer :: b, c
-        real(wp), allocatable :: grads(:, :, :), cell_old(:), cell_new(:), partial(:)
+        real(wp), allocatable :: grads(:, :, :), vels(:, :), cell_old(:), cell_new(:), &
+            partial(:)
+        type(motion_type), allocatable :: moved(:)
+        logical :: move
 
         dim = grid%dim
         ns = particles%nstress
+        move = present(motion)
         if (fbar) then
-            allocate (grads(3, 3, particles%n))
+            allocate (grads(3, 3, particles%n), vels(3, particles%n))
             allocate (cell_old(product(grid%ncells)), cell_new(product(grid%ncells)))
             !$omp parallel do default(none) schedule(static) &
-            !$omp shared(grid, particles, stc, dim, dt, grads, dxp) private(p, v, a3)
+            !$omp shared(grid, particles, stc, grads, vels) private(p, a3)
             do p = 1, particles%n
                 call gather_particle(stc, p, grid%velocity, grid%velocity, .false., .true., a3, &
-                    v, grads(:, :, p))
-                if (present(dxp)) dxp(:, p) = dt*v(1:dim)
+                    vels(:, p), grads(:, :, p))
             end do
             !$omp end parallel do
             cell_old = 0.0_wp
@@ -653,10 +689,10 @@ contains
                     + particles%volume(p)*determinant(dF, dim)
             end do
         end if
-        allocate (partial(stc%nchunks))
+        allocate (partial(stc%nchunks), moved(stc%nchunks))
         !$omp parallel do default(none) schedule(dynamic, 1) &
-        !$omp shared(grid, particles, stc, materials, dt, dim, ns, fbar, grads, &
-        !$omp cell_old, cell_new, dxp, partial) &
+        !$omp shared(grid, particles, stc, materials, dt, dim, ns, fbar, grads, vels, &
+        !$omp cell_old, cell_new, move, moved, partial) &
         !$omp private(k, q, p, gradv, v, ldt, de, omega, sold, vold, dF, jac, a, scale, a3, &
         !$omp fold_f, fnew, b, c)
         do k = 1, stc%nchunks
@@ -664,11 +700,11 @@ contains
             do q = stc%chunk_start(k), stc%chunk_start(k + 1) - 1
                 p = stc%order(q)
                 if (fbar) then
-                    gradv = grads(:, :, p)   ! and dxp, when asked, from the same pass
+                    gradv = grads(:, :, p)
+                    v = vels(:, p)
                 else
                     call gather_particle(stc, p, grid%velocity, grid%velocity, .false., .true., &
                         a3, v, gradv)
-                    if (present(dxp)) dxp(:, p) = dt*v(1:dim)
                 end if
                 ! gradv(i, j) = d v_i / d x_j; ldt = dt gradv, dF = I + ldt
                 ldt = dt*gradv
@@ -722,9 +758,11 @@ contains
                 ! second order in dt, also when the volume changes with the strain
                 partial(k) = partial(k) + 0.5_wp*double_contraction(vold*sold(1:ns) &
                     + particles%volume(p)*particles%stress(:, p), de(1:ns))
+                if (move) call move_particle(grid, particles, p, dt*v(1:dim), moved(k))
             end do
         end do
         !$omp end parallel do
+        if (move) call merge_motion(moved, motion)
         strain_work = 0.0_wp
         do k = 1, stc%nchunks
             strain_work = strain_work + partial(k)
