@@ -23,7 +23,8 @@ module mpm_particles
         real(wp), allocatable :: x(:, :)
             !! position (dim, n) [m]
         real(wp), allocatable :: u(:, :)
-            !! displacement since the start of the run (dim, n) [m]
+            !! displacement since the start of the run (dim, n) [m]; kept only when the case
+            !! writes it (output field or state file)
         real(wp), allocatable :: v(:, :)
             !! velocity (dim, n) [m/s]
         real(wp), allocatable :: mass(:)
@@ -35,7 +36,8 @@ module mpm_particles
         real(wp), allocatable :: stress(:, :)
             !! Cauchy stress (nstress, n), tension positive [Pa]
         real(wp), allocatable :: strain(:, :)
-            !! accumulated logarithmic-rate strain (nstress, n), tensor components [-]
+            !! accumulated logarithmic-rate strain (nstress, n), tensor components [-]; kept
+            !! only when the case writes it (output field or state file)
         real(wp), allocatable :: f(:, :, :)
             !! deformation gradient (dim, dim, n) [-]
         real(wp), allocatable :: lp0(:, :)
@@ -135,9 +137,12 @@ contains
         ns = particles%nstress
         real_bytes = storage_size(1.0_wp)/8
         int_bytes = storage_size(1)/8
-        ! x, u, v, lp0, lp: d each; mass, volume, volume0: 1; stress, strain: ns; f: d*d;
-        ! material state: nstate
-        particle_bytes = real_bytes*(5*d + 3 + 2*ns + d*d + particles%nstate) + int_bytes
+        ! x, v, lp0, lp (and u when kept): d each; mass, volume, volume0: 1; stress (and
+        ! strain when kept): ns; f: d*d; material state: nstate
+        particle_bytes = real_bytes*(4*d + 3 + ns + d*d + particles%nstate) + int_bytes
+        if (allocated(particles%u)) particle_bytes = particle_bytes + real_bytes*d
+        if (allocated(particles%strain)) particle_bytes = particle_bytes + real_bytes*ns
+        if (allocated(particles%affine)) particle_bytes = particle_bytes + real_bytes*d*d
     end function particle_bytes
 
 end module mpm_particles

@@ -12,7 +12,7 @@ module mpm_solver
     use mpm_strings, only: vector_text
     use mpm_error, only: error_type, fatal_error, exit_numerical
     use mpm_case, only: case_type, scheme_usf, scheme_usl, scheme_musl, damping_kinetic, &
-        p_wave_speed, viscous_time_step
+        p_wave_speed, viscous_time_step, field_strain, field_displacement
     use mpm_grid, only: grid_type, new_grid
     use mpm_particles, only: particles_type
     use mpm_bodies, only: create_particles
@@ -51,7 +51,8 @@ module mpm_solver
         real(wp) :: strain = 0.0_wp
             !! work done by the stresses since the start (stored strain energy if elastic) [J]
         real(wp) :: potential = 0.0_wp
-            !! gravitational potential relative to the start, - sum m g . u [J]
+            !! gravitational potential relative to the start, - sum m g . u [J], summed step
+            !! by step from the moves
         real(wp) :: damping = 0.0_wp
             !! energy removed by damping and boundary friction since the start (positive) [J]
     end type energies_type
@@ -132,6 +133,12 @@ contains
             call create_particles(case, sim%particles, error, nstate)
             if (allocated(error)) return
         end if
+        ! a case stores what it writes: the accumulated strain and the displacement only when
+        ! an output field or a state file asks for them
+        if (.not. (case%output_fields(field_strain) .or. has_text(case%save_state))) &
+            deallocate (sim%particles%strain)
+        if (.not. (case%output_fields(field_displacement) .or. has_text(case%save_state))) &
+            deallocate (sim%particles%u)
         if (sim%particles%n > 0) sim%grid%small_mass = 1.0e-2_wp*minval(sim%particles%mass)
         ! APIC affine velocities: kept from a state file of an APIC run, zero otherwise (a
         ! uniform velocity per body); dropped when this stage does not use APIC
@@ -208,7 +215,8 @@ contains
                 call lap(sim, phase_p2g, clock)
                 call nodal_velocity(grid)
                 call lap(sim, phase_nodal, clock)
-                call update_stress(grid, particles, stc, sim%materials, dt, fbar, work)
+                call update_stress(grid, particles, stc, sim%materials, dt, fbar, work, &
+                    sim%case%gravity)
                 call lap(sim, phase_stress, clock)
                 call p2g(grid, particles, stc, .false., .true., fbar)
             else
@@ -220,18 +228,20 @@ contains
             call lap(sim, phase_nodal, clock)
             ! MUSL: the same pass maps the updated particle momentum back to the nodes, and the
             ! particles move in the stress update; USL, USF: they move here
-            call g2p(grid, particles, stc, dt, sim%case%flip_fraction, scheme == scheme_musl, &
-                motion)
+            call g2p(grid, particles, stc, dt, sim%case%flip_fraction, sim%case%gravity, &
+                scheme == scheme_musl, motion)
             call lap(sim, phase_g2p, clock)
             select case (scheme)
             case (scheme_usl)
-                call update_stress(grid, particles, stc, sim%materials, dt, fbar, work)
+                call update_stress(grid, particles, stc, sim%materials, dt, fbar, work, &
+                    sim%case%gravity)
             case (scheme_musl)
                 ! the particles move with the remapped velocities that strain them: moved with
                 ! the velocities of the nodal update instead, the difference (dt times the
                 ! nodal acceleration) feeds particle noise under tension that FLIP never damps
                 ! (growth ~ sigma dt / (rho dx^2), see docs/accuracy-vs-cost.md)
-                call update_stress(grid, particles, stc, sim%materials, dt, fbar, work, motion)
+                call update_stress(grid, particles, stc, sim%materials, dt, fbar, work, &
+                    sim%case%gravity, motion)
             case default
                 continue ! USF: the stress was updated before the momentum
             end select
@@ -252,9 +262,10 @@ contains
         sim%dt = dt
         sim%energy%strain = sim%energy%strain + work
         sim%energy%damping = sim%energy%damping + damping_work
+        sim%energy%potential = sim%energy%potential + motion%potential
         associate (e => sim%energy)
             sim%energy_scale = max(sim%energy_scale, e%kinetic + abs(e%strain) + abs(e%damping) &
-                + abs(potential_energy(sim)))
+                + abs(e%potential))
         end associate
         if (sim%case%damping == damping_kinetic) call kinetic_damping(sim)
         call lap(sim, phase_other, clock)
@@ -340,34 +351,6 @@ contains
             exit_numerical)
     end subroutine check_blow_up
 
-    !> Gravitational potential energy relative to the start, - sum m g . u [J].
-    real(wp) function potential_energy(sim)
-        type(simulation_type), intent(in) :: sim
-            !! the simulation
-
-        integer :: p, dim, b, nb
-        real(wp), allocatable :: partial(:)
-
-        dim = sim%case%dim
-        potential_energy = 0.0_wp
-        if (all(sim%case%gravity == 0.0_wp)) return
-        nb = (sim%particles%n + sum_block - 1)/sum_block
-        allocate (partial(nb))
-        !$omp parallel do default(none) schedule(static) shared(sim, dim, nb, partial) &
-        !$omp private(p, b)
-        do b = 1, nb
-            partial(b) = 0.0_wp
-            do p = (b - 1)*sum_block + 1, min(b*sum_block, sim%particles%n)
-                partial(b) = partial(b) - sim%particles%mass(p) &
-                    *dot_product(sim%case%gravity(1:dim), sim%particles%u(:, p))
-            end do
-        end do
-        !$omp end parallel do
-        do b = 1, nb
-            potential_energy = potential_energy + partial(b)
-        end do
-    end function potential_energy
-
     !> "step N, t = T s: " for messages.
     function step_prefix(sim) result(prefix)
         type(simulation_type), intent(in) :: sim
@@ -417,13 +400,13 @@ contains
         end do
     end function kinetic_energy
 
-    !> Refresh the kinetic and potential energy terms from the particles.
+    !> Refresh the kinetic energy from the particles (the potential energy is summed from the
+    !> moves of every step).
     subroutine compute_energies(sim)
         type(simulation_type), intent(inout) :: sim
             !! the simulation
 
         sim%energy%kinetic = kinetic_energy(sim%particles)
-        sim%energy%potential = potential_energy(sim)
     end subroutine compute_energies
 
 end module mpm_solver

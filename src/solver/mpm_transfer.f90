@@ -56,6 +56,8 @@ module mpm_transfer
             !! its displacement length [m]
         integer :: lost = 0
             !! a particle that left the grid (through a free face, or not finite), 0 if none
+        real(wp) :: potential = 0.0_wp
+            !! change of the gravitational potential energy, - sum m g . dx [J]
     end type motion_type
 
 contains
@@ -441,7 +443,7 @@ contains
     !>
     !> With `remap` (MUSL), the same pass maps the updated particle momentum back to the nodes
     !> (chunk buffers folded in a fixed order, as in p2g) and recomputes the nodal velocities.
-    subroutine g2p(grid, particles, stc, dt, flip, remap, motion)
+    subroutine g2p(grid, particles, stc, dt, flip, gravity, remap, motion)
         type(grid_type), intent(inout) :: grid
             !! grid after the nodal update (momentum and velocity replaced with `remap`)
         type(particles_type), intent(inout) :: particles
@@ -452,6 +454,8 @@ contains
             !! time step [s]
         real(wp), intent(in) :: flip
             !! FLIP fraction of the velocity update (1: FLIP, 0: PIC) [-]
+        real(wp), intent(in) :: gravity(3)
+            !! gravitational acceleration (potential energy of the moves) [m/s2]
         logical, intent(in) :: remap
             !! MUSL: scatter the updated momentum and recompute the nodal velocities; the
             !! particles then move in the stress update, with the remapped velocities
@@ -473,7 +477,7 @@ contains
             allocate (buf(1, 1))
         end if
         !$omp parallel do default(none) schedule(dynamic, 1) &
-        !$omp shared(grid, particles, stc, dt, flip, remap, buf, dim, apic, moved) &
+        !$omp shared(grid, particles, stc, dt, flip, gravity, remap, buf, dim, apic, moved) &
         !$omp private(k, q, p, shift, xp, vp, aff, bf, vs, dx)
         do k = 1, stc%nchunks
             shift = stc%chunk_offset(k) - stc%chunk_lo(k)*stc%stride(stc%slow)
@@ -486,7 +490,8 @@ contains
             do q = stc%chunk_start(k), stc%chunk_start(k + 1) - 1
                 p = stc%order(q)
                 call update_particle_velocity(grid, particles, stc, p, dt, flip, apic, dx)
-                if (.not. remap) call move_particle(grid, particles, p, dx(1:dim), moved(k))
+                if (.not. remap) call move_particle(grid, particles, p, dx(1:dim), gravity, &
+                    moved(k))
                 if (remap) then
                     vp(1:dim) = particles%v(:, p)
                     if (apic) then
@@ -551,7 +556,7 @@ contains
     !> material off it, but a point carried by the velocities of the nodes beside the face can
     !> overshoot it by a fraction of a step; it stays on the face. A particle beyond a free
     !> face, or with a position that is not finite, is lost.
-    pure subroutine move_particle(grid, particles, p, dx, motion)
+    pure subroutine move_particle(grid, particles, p, dx, gravity, motion)
         type(grid_type), intent(in) :: grid
             !! grid (extent and faces)
         type(particles_type), intent(inout) :: particles
@@ -560,6 +565,8 @@ contains
             !! particle
         real(wp), intent(in) :: dx(:)
             !! position increment (dim) [m]
+        real(wp), intent(in) :: gravity(3)
+            !! gravitational acceleration [m/s2]
         type(motion_type), intent(inout) :: motion
             !! record of the moves of a chunk
 
@@ -582,7 +589,10 @@ contains
             if (grid%bc(2, a) /= bc_free .and. x(a) > hi) x(a) = hi
             if (.not. (x(a) >= lo .and. x(a) <= hi) .and. motion%lost == 0) motion%lost = p
         end do
-        particles%u(:, p) = particles%u(:, p) + (x(1:dim) - particles%x(:, p))
+        motion%potential = motion%potential - particles%mass(p) &
+            *dot_product(gravity(1:dim), x(1:dim) - particles%x(:, p))
+        if (allocated(particles%u)) particles%u(:, p) = particles%u(:, p) &
+            + (x(1:dim) - particles%x(:, p))
         particles%x(:, p) = x(1:dim)
     end subroutine move_particle
 
@@ -601,6 +611,7 @@ contains
                 motion%jump_length = moved(k)%jump_length
             end if
             if (motion%lost == 0) motion%lost = moved(k)%lost
+            motion%potential = motion%potential + moved(k)%potential
         end do
     end subroutine merge_motion
 
@@ -638,7 +649,8 @@ contains
     !> flow (Mohr-Coulomb with psi = 0) otherwise locks on the low-order shape functions and
     !> leaves a checkerboard of pressures, and with it of strengths, between the particles of
     !> a cell (Coombs et al. 2018; Wyser et al. 2021 average the pressure per cell).
-    subroutine update_stress(grid, particles, stc, materials, dt, fbar, strain_work, motion)
+    subroutine update_stress(grid, particles, stc, materials, dt, fbar, strain_work, gravity, &
+            motion)
         type(grid_type), intent(in) :: grid
             !! grid with nodal velocities
         type(particles_type), intent(inout) :: particles
@@ -653,6 +665,8 @@ contains
             !! average the volume change of the step per cell
         real(wp), intent(out) :: strain_work
             !! sum_p (V sigma)_mid : d_eps [J] (per metre in 2D)
+        real(wp), intent(in) :: gravity(3)
+            !! gravitational acceleration (potential energy of the moves) [m/s2]
         type(motion_type), intent(out), optional :: motion
             !! when present (MUSL), the particles move by dt sum_i N_i v_i with the same nodal
             !! velocities as the strain, and this records the moves
@@ -691,7 +705,7 @@ contains
         end if
         allocate (partial(stc%nchunks), moved(stc%nchunks))
         !$omp parallel do default(none) schedule(dynamic, 1) &
-        !$omp shared(grid, particles, stc, materials, dt, dim, ns, fbar, grads, vels, &
+        !$omp shared(grid, particles, stc, materials, dt, dim, ns, fbar, grads, vels, gravity, &
         !$omp cell_old, cell_new, move, moved, partial) &
         !$omp private(k, q, p, gradv, v, ldt, de, omega, sold, vold, dF, jac, a, scale, a3, &
         !$omp fold_f, fnew, b, c)
@@ -737,7 +751,8 @@ contains
                 vold = particles%volume(p)
                 call materials(particles%material(p))%m%update_stress(particles%stress(:, p), &
                     de(1:ns), omega, dt, particles%state(:, p))
-                particles%strain(:, p) = particles%strain(:, p) + de(1:ns)
+                if (allocated(particles%strain)) &
+                    particles%strain(:, p) = particles%strain(:, p) + de(1:ns)
                 ! deformation gradient F <- (I + ldt) F, volume and particle domain
                 fold_f(1:dim, 1:dim) = particles%f(:, :, p)
                 do b = 1, dim
@@ -758,7 +773,7 @@ contains
                 ! second order in dt, also when the volume changes with the strain
                 partial(k) = partial(k) + 0.5_wp*double_contraction(vold*sold(1:ns) &
                     + particles%volume(p)*particles%stress(:, p), de(1:ns))
-                if (move) call move_particle(grid, particles, p, dt*v(1:dim), moved(k))
+                if (move) call move_particle(grid, particles, p, dt*v(1:dim), gravity, moved(k))
             end do
         end do
         !$omp end parallel do
