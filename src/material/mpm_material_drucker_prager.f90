@@ -25,7 +25,7 @@ module mpm_material_drucker_prager
     use mpm_softening, only: softening_weight
     use mpm_separation, only: close_opening
     use mpm_material, only: material_type
-    use mpm_stress, only: jaumann_rotation, double_contraction
+    use mpm_stress, only: add_jaumann_rotation, double_contraction
     use mpm_case, only: material_spec_type, cone_plane_strain, cone_compression, &
         cone_extension, softening_none
     implicit none
@@ -227,22 +227,25 @@ contains
 
         real(wp) :: friction, cohesion, dilatancy, alpha, k, alpha_psi
         real(wp) :: sigma_t, rho_c, m_tr, rho_tr, f_tr, m, rho, dl1, dl2
-        real(wp) :: dev(size(stress)), de(size(dstrain))
+        real(wp) :: dev(6), de(6)
+        integer :: n
         logical :: cutoff, open
 
         call self%strength(state(1), friction, cohesion, dilatancy)
         call drucker_prager_cone(self%cone, friction, cohesion, dilatancy, alpha, k, alpha_psi)
 
-        de = dstrain
+        n = size(dstrain)
+        de(1:n) = dstrain
         if (self%separation) then
-            call close_opening(de, state(3), state(1), open)
+            call close_opening(de(1:n), state(3), state(1), open)
             if (open) then
                 stress = 0.0_wp
                 return
             end if
         end if
         ! elastic trial stress from the rotated stress of the start of the step
-        stress = stress + jaumann_rotation(stress, omega) + 2.0_wp*self%shear*de
+        call add_jaumann_rotation(stress, omega)
+        stress = stress + 2.0_wp*self%shear*de(1:n)
         stress(1:3) = stress(1:3) + self%lame*(de(1) + de(2) + de(3))
 
         ! tension limit on the mean stress (none for a cylinder without a given cut-off)
@@ -256,9 +259,9 @@ contains
         end if
 
         m_tr = (stress(1) + stress(2) + stress(3))/3.0_wp
-        dev = stress
+        dev(1:n) = stress
         dev(1:3) = dev(1:3) - m_tr
-        rho_tr = sqrt(0.5_wp*double_contraction(dev, dev))
+        rho_tr = sqrt(0.5_wp*double_contraction(dev(1:n), dev(1:n)))
         f_tr = rho_tr + alpha*m_tr - k
         if (f_tr <= 0.0_wp .and. (.not. cutoff .or. m_tr <= sigma_t)) return
 
@@ -289,7 +292,7 @@ contains
 
         ! radial return in the deviatoric plane
         if (rho_tr > 0.0_wp) then
-            stress = dev*(rho/rho_tr)
+            stress = dev(1:n)*(rho/rho_tr)
         else
             stress = 0.0_wp
         end if

@@ -2,7 +2,7 @@
 module mpm_material_elastic
     use mpm_kinds, only: wp
     use mpm_material, only: material_type
-    use mpm_stress, only: jaumann_rotation
+    use mpm_stress, only: add_jaumann_rotation
     implicit none
     private
     public :: elastic_material_type, new_elastic_material
@@ -56,7 +56,8 @@ contains
         real(wp) :: dvol
 
         dvol = dstrain(1) + dstrain(2) + dstrain(3)
-        stress = stress + jaumann_rotation(stress, omega) + 2.0_wp*self%shear*dstrain
+        call add_jaumann_rotation(stress, omega)
+        stress = stress + 2.0_wp*self%shear*dstrain
         stress(1:3) = stress(1:3) + self%lame*dvol
     end subroutine elastic_update_stress
 

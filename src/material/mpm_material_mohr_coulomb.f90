@@ -60,7 +60,7 @@ module mpm_material_mohr_coulomb
     use mpm_softening, only: softening_weight
     use mpm_separation, only: close_opening
     use mpm_material, only: material_type
-    use mpm_stress, only: jaumann_rotation
+    use mpm_stress, only: add_jaumann_rotation
     use mpm_case, only: material_spec_type
     implicit none
     private
@@ -236,23 +236,26 @@ contains
             !! state(1) = eps_q [-], state(2) = plastic volumetric strain [-], with separation
             !! state(3) = opening strain [-]
 
-        real(wp) :: friction, cohesion, dilatancy, tension, dvol, de(size(dstrain)), dplastic
+        real(wp) :: friction, cohesion, dilatancy, tension, dvol, de(6), dplastic
+        integer :: n
         real(wp) :: p(3), ps(3), dp(3), vec(3, 3), cos2, sin2, dev(3)
         integer :: order(3)
         logical :: cutoff, plastic, open
 
         call self%strength(state(1), friction, cohesion, dilatancy, tension, cutoff)
 
-        de = dstrain
+        n = size(dstrain)
+        de(1:n) = dstrain
         if (self%separation) then
-            call close_opening(de, state(3), state(1), open)
+            call close_opening(de(1:n), state(3), state(1), open)
             if (open) then
                 stress = 0.0_wp
                 return
             end if
         end if
         dvol = de(1) + de(2) + de(3)
-        stress = stress + jaumann_rotation(stress, omega) + 2.0_wp*self%shear*de
+        call add_jaumann_rotation(stress, omega)
+        stress = stress + 2.0_wp*self%shear*de(1:n)
         stress(1:3) = stress(1:3) + self%lame*dvol
 
         ! stresses clearly inside the surface (closed-form principal values) need no

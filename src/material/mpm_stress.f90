@@ -11,7 +11,7 @@ module mpm_stress
     use mpm_kinds, only: wp
     implicit none
     private
-    public :: jaumann_rotation, trace, double_contraction
+    public :: jaumann_rotation, add_jaumann_rotation, trace, double_contraction
 
 contains
 
@@ -66,6 +66,29 @@ contains
         dsig(5) = ws(2, 3) + ws(3, 2)
         dsig(6) = ws(3, 1) + ws(1, 3)
     end function jaumann_rotation
+
+    !> stress <- stress + (Omega sigma - sigma Omega), in place: the objective rotation of the
+    !> stress over a step (jaumann_rotation without an array result, which would be a heap
+    !> temporary in every stress update).
+    pure subroutine add_jaumann_rotation(stress, omega)
+        real(wp), intent(inout) :: stress(:)
+            !! Cauchy stress, 4 (2D) or 6 (3D) components [Pa]
+        real(wp), intent(in) :: omega(3)
+            !! spin increment W dt (xy, yz, zx) [-]
+
+        real(wp) :: dsig(6)
+
+        if (size(stress) == 4) then
+            dsig(1) = 2.0_wp*omega(1)*stress(4)
+            dsig(2) = -2.0_wp*omega(1)*stress(4)
+            dsig(3) = 0.0_wp
+            dsig(4) = omega(1)*(stress(2) - stress(1))
+            stress(1:4) = stress(1:4) + dsig(1:4)
+        else
+            dsig = jaumann_rotation(stress(1:6), omega)
+            stress(1:6) = stress(1:6) + dsig
+        end if
+    end subroutine add_jaumann_rotation
 
     !> Trace of a symmetric tensor in Voigt storage.
     pure real(wp) function trace(t)

@@ -20,7 +20,6 @@ module mpm_transfer
     use mpm_particles, only: particles_type
     use mpm_stencil, only: stencils_type, particle_nodes, max_nodes
     use mpm_material, only: material_holder_type
-    use mpm_stress, only: double_contraction
     use mpm_case, only: damping_local, bc_free
     implicit none
     private
@@ -771,8 +770,11 @@ contains
                 end do
                 ! trapezoidal rule on V sigma (volume and stress at both ends of the step):
                 ! second order in dt, also when the volume changes with the strain
-                partial(k) = partial(k) + 0.5_wp*double_contraction(vold*sold(1:ns) &
-                    + particles%volume(p)*particles%stress(:, p), de(1:ns))
+                ! (V sigma)_mid : de, shear components twice (tensor components)
+                do a = 1, ns
+                    partial(k) = partial(k) + merge(0.5_wp, 1.0_wp, a <= 3)*(vold*sold(a) &
+                        + particles%volume(p)*particles%stress(a, p))*de(a)
+                end do
                 if (move) call move_particle(grid, particles, p, dt*v(1:dim), gravity, moved(k))
             end do
         end do
