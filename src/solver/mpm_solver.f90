@@ -135,10 +135,12 @@ contains
         end if
         ! a case stores what it writes: the accumulated strain and the displacement only when
         ! an output field or a state file asks for them
-        if (.not. (case%output_fields(field_strain) .or. has_text(case%save_state))) &
+        if (.not. (case%output_fields(field_strain) .or. has_text(case%save_state))) then
             deallocate (sim%particles%strain)
-        if (.not. (case%output_fields(field_displacement) .or. has_text(case%save_state))) &
+        end if
+        if (.not. (case%output_fields(field_displacement) .or. has_text(case%save_state))) then
             deallocate (sim%particles%u)
+        end if
         if (sim%particles%n > 0) sim%grid%small_mass = 1.0e-2_wp*minval(sim%particles%mass)
         ! APIC affine velocities: kept from a state file of an APIC run, zero otherwise (a
         ! uniform velocity per body); dropped when this stage does not use APIC

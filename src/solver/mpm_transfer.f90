@@ -590,8 +590,9 @@ contains
         end do
         motion%potential = motion%potential - particles%mass(p) &
             *dot_product(gravity(1:dim), x(1:dim) - particles%x(:, p))
-        if (allocated(particles%u)) particles%u(:, p) = particles%u(:, p) &
-            + (x(1:dim) - particles%x(:, p))
+        if (allocated(particles%u)) then
+            particles%u(:, p) = particles%u(:, p) + (x(1:dim) - particles%x(:, p))
+        end if
         particles%x(:, p) = x(1:dim)
     end subroutine move_particle
 
@@ -750,8 +751,9 @@ contains
                 vold = particles%volume(p)
                 call materials(particles%material(p))%m%update_stress(particles%stress(:, p), &
                     de(1:ns), omega, dt, particles%state(:, p))
-                if (allocated(particles%strain)) &
+                if (allocated(particles%strain)) then
                     particles%strain(:, p) = particles%strain(:, p) + de(1:ns)
+                end if
                 ! deformation gradient F <- (I + ldt) F, volume and particle domain
                 fold_f(1:dim, 1:dim) = particles%f(:, :, p)
                 do b = 1, dim
