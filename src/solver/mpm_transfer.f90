@@ -34,6 +34,9 @@ module mpm_transfer
     integer, parameter :: full_gimp_3d = 1, full_gimp_2d = 2, full_linear_3d = 3, &
         full_linear_2d = 4, other_stencil = 5
         !! stencil kinds with loops of constant length (stencil_kind)
+    integer, parameter :: gather_block = 256
+        !! particles per block of the passes that only gather (load balance; the partial sums
+        !! of a block are added in block order)
     integer, parameter :: sum_block = 4096
         !! nodes per partial sum of the dissipated energy (fixed order with any thread count)
 
@@ -461,7 +464,7 @@ contains
         type(motion_type), intent(out) :: motion
             !! largest move and lost particle when the particles move here (not remap)
 
-        integer :: k, q, p, dim, shift
+        integer :: k, q, p, dim, shift, ng, qlo, qhi
         real(wp) :: xp(3), vp(3), aff(3, 3), bf(3), vs(6), dx(3)
         logical :: apic
         real(wp), allocatable :: buf(:, :)
@@ -469,24 +472,30 @@ contains
 
         dim = grid%dim
         apic = allocated(particles%affine)
-        allocate (moved(stc%nchunks))
+        ! the remap scatters: chunks; otherwise only gathers: small blocks balance the threads
+        ng = group_count(stc, remap)
+        allocate (moved(ng))
         if (remap) then
             allocate (buf(1 + dim, stc%chunk_offset(stc%nchunks + 1)))
         else
             allocate (buf(1, 1))
         end if
         !$omp parallel do default(none) schedule(dynamic, 1) &
-        !$omp shared(grid, particles, stc, dt, flip, gravity, remap, buf, dim, apic, moved) &
-        !$omp private(k, q, p, shift, xp, vp, aff, bf, vs, dx)
-        do k = 1, stc%nchunks
-            shift = stc%chunk_offset(k) - stc%chunk_lo(k)*stc%stride(stc%slow)
-            if (remap) buf(:, stc%chunk_offset(k) + 1:stc%chunk_offset(k + 1)) = 0.0_wp
+        !$omp shared(grid, particles, stc, dt, flip, gravity, remap, buf, dim, apic, moved, ng) &
+        !$omp private(k, q, p, shift, xp, vp, aff, bf, vs, dx, qlo, qhi)
+        do k = 1, ng
+            call group_range(stc, remap, k, qlo, qhi)
+            shift = 0
+            if (remap) then
+                shift = stc%chunk_offset(k) - stc%chunk_lo(k)*stc%stride(stc%slow)
+                buf(:, stc%chunk_offset(k) + 1:stc%chunk_offset(k + 1)) = 0.0_wp
+            end if
             xp = 0.0_wp
             vp = 0.0_wp
             aff = 0.0_wp
             bf = 0.0_wp
             vs = 0.0_wp
-            do q = stc%chunk_start(k), stc%chunk_start(k + 1) - 1
+            do q = qlo, qhi
                 p = stc%order(q)
                 call update_particle_velocity(grid, particles, stc, p, dt, flip, apic, dx)
                 if (.not. remap) call move_particle(grid, particles, p, dx(1:dim), gravity, &
@@ -674,7 +683,7 @@ contains
         integer :: p, q, k, dim, ns, a
         real(wp) :: gradv(3, 3), ldt(3, 3), de(6), omega(3), sold(6), dF(3, 3), jac, scale, &
             v(3), vold, a3(3), fold_f(3, 3), fnew(3, 3)
-        integer :: b, c
+        integer :: b, c, ng, qlo, qhi
         real(wp), allocatable :: grads(:, :, :), vels(:, :), cell_old(:), cell_new(:), &
             partial(:)
         type(motion_type), allocatable :: moved(:)
@@ -703,15 +712,17 @@ contains
                     + particles%volume(p)*determinant(dF, dim)
             end do
         end if
-        allocate (partial(stc%nchunks), moved(stc%nchunks))
+        ng = group_count(stc, .false.)
+        allocate (partial(ng), moved(ng))
         !$omp parallel do default(none) schedule(dynamic, 1) &
         !$omp shared(grid, particles, stc, materials, dt, dim, ns, fbar, grads, vels, gravity, &
-        !$omp cell_old, cell_new, move, moved, partial) &
+        !$omp cell_old, cell_new, move, moved, partial, ng) &
         !$omp private(k, q, p, gradv, v, ldt, de, omega, sold, vold, dF, jac, a, scale, a3, &
-        !$omp fold_f, fnew, b, c)
-        do k = 1, stc%nchunks
+        !$omp fold_f, fnew, b, c, qlo, qhi)
+        do k = 1, ng
             partial(k) = 0.0_wp
-            do q = stc%chunk_start(k), stc%chunk_start(k + 1) - 1
+            call group_range(stc, .false., k, qlo, qhi)
+            do q = qlo, qhi
                 p = stc%order(q)
                 if (fbar) then
                     gradv = grads(:, :, p)
@@ -783,7 +794,7 @@ contains
         !$omp end parallel do
         if (move) call merge_motion(moved, motion)
         strain_work = 0.0_wp
-        do k = 1, stc%nchunks
+        do k = 1, ng
             strain_work = strain_work + partial(k)
         end do
     end subroutine update_stress
@@ -943,6 +954,33 @@ contains
         include "mpm_transfer_gather.inc"
     end subroutine gather_any
 
+
+    !> Groups of sorted particles of a pass: the scatter chunks (`chunks`), or blocks of
+    !> gather_block particles for passes that only gather.
+    pure integer function group_count(stc, chunks)
+        type(stencils_type), intent(in) :: stc
+        logical, intent(in) :: chunks
+        if (chunks) then
+            group_count = stc%nchunks
+        else
+            group_count = (stc%n + gather_block - 1)/gather_block
+        end if
+    end function group_count
+
+    !> Range qlo:qhi of stc%order that group g holds (see group_count).
+    pure subroutine group_range(stc, chunks, g, qlo, qhi)
+        type(stencils_type), intent(in) :: stc
+        logical, intent(in) :: chunks
+        integer, intent(in) :: g
+        integer, intent(out) :: qlo, qhi
+        if (chunks) then
+            qlo = stc%chunk_start(g)
+            qhi = stc%chunk_start(g + 1) - 1
+        else
+            qlo = (g - 1)*gather_block + 1
+            qhi = min(g*gather_block, stc%n)
+        end if
+    end subroutine group_range
 
     !> Which constant-length loops a step's stencils can use: full cpGIMP or linear stencils
     !> in 2D or 3D, or another (an axis of the grid with fewer nodes than the shape touches).
