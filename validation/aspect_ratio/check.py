@@ -80,12 +80,15 @@ DOMAIN_MARGIN = 4.0
 # (exit code 3, "left the grid") before the other particles are at rest.
 HEIGHT_MARGIN = 1.2
 # A particle whose area grew above INFLATION_LIMIT times its initial area is numerically broken:
-# in trial runs (a = 2 and 3, 10 and 12.5 mm cells) a few particles of the thin front lying on the
-# frictional floor grow from about 2 to 5, 30, then 1e7-1e20 times their area within 0.1-0.2 s
-# and are thrown up. The healthy front particles grow at most 1.97 times (tearing of the thin
-# sheet, kept as an opening by `separation`). Broken particles are left out of every measure
-# below, counted, and fail a gating target.
-INFLATION_LIMIT = 4.0
+# in trial runs (a = 2 and 3, 10 and 12.5 mm cells, before the fixes of the APIC lone particle
+# and the small-mass nodes) a few particles of the thin front lying on the frictional floor grew
+# from about 2 to 5, 30, then 1e7-1e20 times their area within 0.1-0.2 s and were thrown up.
+# Healthy front particles (tearing of the thin sheet, kept as an opening by `separation`) grow
+# at most 2.1 times for a <= 2 and 3.9-4.1 times at a = 3, where they stop (two runs of the same
+# case that differ in round-off: 3.87 and 4.1). The limit, twice the largest healthy growth,
+# lies between the two populations. Broken particles are left out of every measure below,
+# counted, and fail a gating target; the largest growth of each run is reported.
+INFLATION_LIMIT = 8.0
 
 # --- the published trends (REFERENCES.md section 5) -----------------------------------------
 # REFERENCES.md gives the small-a coefficient (1.2-1.35), the a^(2/3) growth above a
@@ -318,6 +321,8 @@ def analyse(run_dir, case, a):
 
     # broken (inflated) particles, over the whole run and at the end
     broken = [np.count_nonzero(~_healthy(f["volume"], volume0)) for f in frames]
+    growth = max(float(np.max(np.where(np.isfinite(f["volume"]), f["volume"], np.inf)
+                              / volume0)) for f in frames)
     first_broken = next((f["time"] for f, n in zip(frames, broken) if n > 0), None)
     ok = _healthy(last["volume"], volume0)
     ok_window = ok & _healthy(before["volume"], volume0)
@@ -371,6 +376,7 @@ def analyse(run_dir, case, a):
         "rest_window_s": last["time"] - before["time"],
         "at_rest_from_s": rest_time,
         "kinetic_final_over_peak": kinetic_ratio,
+        "largest_area_growth": growth,
         "inflated_particles_final": int(broken[-1]),
         "inflated_particles_max": int(max(broken)),
         "inflated_first_time_s": first_broken,
@@ -502,7 +508,9 @@ def compare(runs, exp, dx):
                                                           for run in runs.values()), True,
                "numerical defect: a particle area growing without bound (to 1e7-1e20 V0) is no "
                "granular dilation; largest number of such particles at one output over the "
-               "runs; they are left out of every other figure"),
+               "runs; they are left out of every other figure. The limit is twice the largest "
+               f"growth of healthy front particles (about 4 at a = 3; largest in these runs: "
+               f"{max(run.get('largest_area_growth', float('nan')) for run in runs.values()):.2f})"),
     ]
     return results, summary
 
@@ -638,8 +646,8 @@ def per_a_table(runs, walls, failures, dx):
     header = ["a", "particles", "domain [m]", "end time [s]", "(Lf - L0)/L0",
               "1.2 a / 1.9 a^(2/3)", "model over 1.9 a^(2/3)", "one cell thick",
               "farthest particle", "Hf/L0", "at the wall", "at rest from [s]",
-              "move, last 0.1 s [mm]", "KE end / peak", "volume change", "inflated (max)",
-              "mpm_geo wall / CPU [s]"]
+              "move, last 0.1 s [mm]", "KE end / peak", "volume change",
+              "largest particle growth V/V0", "inflated (max)", "mpm_geo wall / CPU [s]"]
     rows = []
     for a in sorted(set(runs) | set(failures)):
         wall = walls.get(a)
@@ -661,6 +669,7 @@ def per_a_table(runs, walls, failures, dx):
             f"{m['max_move_last_window_m'] * 1e3:.1f}",
             "n/a" if kinetic is None else f"{kinetic:.1e}",
             f"{m['volume_relative_change']:+.1%}",
+            f"{m['largest_area_growth']:.2f}" if "largest_area_growth" in m else "n/a",
             f"{m['inflated_particles_max']}"
             + (f" (from {m['inflated_first_time_s']:.2f} s)" if m["inflated_particles_max"]
                else ""),
