@@ -44,7 +44,7 @@ done
 echo
 echo "time per phase [s] (sorting: shape functions, particle order, chunks; P2G: scatters;"
 echo "nodal: nodal update; G2P: velocities, positions, MUSL remap; stress: stress update;"
-echo "other: time step, guard, energies, moving the particles; output: files)"
+echo "other: time step, guard, energies; output: files)"
 cat "$out/phases"
 echo
 cat "$out/lines"

@@ -1,4 +1,4 @@
-!> Per-step particle stencils, the particle order by cell and the chunks of the scatter passes.
+!> Per-step particle stencils, the particle order by cell layer and the scatter chunks.
 !>
 !> Every pass of a step (P2G, G2P, MUSL remap, stress update) uses the shape functions at the
 !> start-of-step positions, so they are evaluated once per step (`compute_stencils`) and kept
@@ -24,8 +24,7 @@ module mpm_stencil
     use mpm_shape, only: shape_type
     implicit none
     private
-    public :: stencils_type, compute_stencils, max_nodes, particle_nodes, chunk_of_layer, &
-        stencil_bytes
+    public :: stencils_type, compute_stencils, max_nodes, particle_nodes, stencil_bytes
 
     integer, parameter :: max_nodes = 27
         !! largest number of nodes one particle touches (3 per direction in 3D)
@@ -274,15 +273,6 @@ contains
             stc%layer_hi = maxval(stc%chunk_hi(1:nc))
         end if
     end subroutine cut_chunks
-
-    !> Chunk range touching a node layer (first > last when none).
-    pure subroutine chunk_of_layer(stc, layer, first, last)
-        type(stencils_type), intent(in) :: stc
-        integer, intent(in) :: layer
-        integer, intent(out) :: first, last
-        first = stc%layer_chunks(1, layer)
-        last = stc%layer_chunks(2, layer)
-    end subroutine chunk_of_layer
 
     !> Nodes, weights and gradients of particle p (the tensor product of its 1D factors), in
     !> the order x fastest.

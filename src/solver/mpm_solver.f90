@@ -39,8 +39,8 @@ module mpm_solver
     character(len=*), parameter :: phase_names(nphases) = [character(len=8) :: &
         "sorting", "P2G", "nodal", "G2P", "stress", "other", "output"]
         !! sorting: shape functions, particle order by cell layer and chunks; P2G: scatters;
-        !! nodal: nodal update; G2P: velocities and positions (and the MUSL remap);
-        !! stress: stress update; other: guard, energies, moving the particles; output
+        !! nodal: nodal update; G2P: velocities, positions (USL, USF), the MUSL remap;
+        !! stress: stress update (MUSL: positions); other: time step, guard, energies; output
     integer, parameter :: sum_block = 4096
         !! particles per partial sum of the energies (fixed order with any thread count)
 
