@@ -469,6 +469,7 @@ contains
         logical :: apic
         real(wp), allocatable :: buf(:, :)
         type(motion_type), allocatable :: moved(:)
+        type(motion_type) :: mine
 
         dim = grid%dim
         apic = allocated(particles%affine)
@@ -482,8 +483,11 @@ contains
         end if
         !$omp parallel do default(none) schedule(dynamic, 1) &
         !$omp shared(grid, particles, stc, dt, flip, gravity, remap, buf, dim, apic, moved, ng) &
-        !$omp private(k, q, p, shift, xp, vp, aff, bf, vs, dx, qlo, qhi)
+        !$omp private(k, q, p, shift, xp, vp, aff, bf, vs, dx, qlo, qhi, mine)
         do k = 1, ng
+            ! records and sums in private variables, stored once per group: neighbouring
+            ! groups run on other threads, and their array entries share cache lines
+            mine = motion_type()
             call group_range(stc, remap, k, qlo, qhi)
             shift = 0
             if (remap) then
@@ -498,8 +502,7 @@ contains
             do q = qlo, qhi
                 p = stc%order(q)
                 call update_particle_velocity(grid, particles, stc, p, dt, flip, apic, dx)
-                if (.not. remap) call move_particle(grid, particles, p, dx(1:dim), gravity, &
-                    moved(k))
+                if (.not. remap) call move_particle(grid, particles, p, dx(1:dim), gravity, mine)
                 if (remap) then
                     vp(1:dim) = particles%v(:, p)
                     if (apic) then
@@ -510,6 +513,7 @@ contains
                         apic, .true., vs, 0, bf, 0, buf)
                 end if
             end do
+            moved(k) = mine
         end do
         !$omp end parallel do
         call merge_motion(moved, motion)
@@ -687,6 +691,8 @@ contains
         real(wp), allocatable :: grads(:, :, :), vels(:, :), cell_old(:), cell_new(:), &
             partial(:)
         type(motion_type), allocatable :: moved(:)
+        type(motion_type) :: mine
+        real(wp) :: work
         logical :: move
 
         dim = grid%dim
@@ -718,9 +724,10 @@ contains
         !$omp shared(grid, particles, stc, materials, dt, dim, ns, fbar, grads, vels, gravity, &
         !$omp cell_old, cell_new, move, moved, partial, ng) &
         !$omp private(k, q, p, gradv, v, ldt, de, omega, sold, vold, dF, jac, a, scale, a3, &
-        !$omp fold_f, fnew, b, c, qlo, qhi)
+        !$omp fold_f, fnew, b, c, qlo, qhi, work, mine)
         do k = 1, ng
-            partial(k) = 0.0_wp
+            work = 0.0_wp
+            mine = motion_type()
             call group_range(stc, .false., k, qlo, qhi)
             do q = qlo, qhi
                 p = stc%order(q)
@@ -785,11 +792,14 @@ contains
                 ! second order in dt, also when the volume changes with the strain
                 ! (V sigma)_mid : de, shear components twice (tensor components)
                 do a = 1, ns
-                    partial(k) = partial(k) + merge(0.5_wp, 1.0_wp, a <= 3)*(vold*sold(a) &
+                    work = work + merge(0.5_wp, 1.0_wp, a <= 3)*(vold*sold(a) &
                         + particles%volume(p)*particles%stress(a, p))*de(a)
                 end do
-                if (move) call move_particle(grid, particles, p, dt*v(1:dim), gravity, moved(k))
+                if (move) call move_particle(grid, particles, p, dt*v(1:dim), gravity, mine)
             end do
+            ! stored once per group (neighbouring entries share cache lines across threads)
+            partial(k) = work
+            moved(k) = mine
         end do
         !$omp end parallel do
         if (move) call merge_motion(moved, motion)
