@@ -434,7 +434,7 @@ contains
                 end do
                 dl(j) = dot_product(a(:, act(j)), trial) - rhs(act(j))
             end do
-            call solve_small(m(1:n, 1:n), dl(1:n), ok)
+            call solve_small(m, dl, n, ok)
             if (.not. ok) cycle
             sc = trial
             do j = 1, n
@@ -480,19 +480,21 @@ contains
     end function mohr_coulomb_yield
 
     !> Solve m x = b in place for n <= 3 by Gaussian elimination with partial pivoting.
-    pure subroutine solve_small(m, b, ok)
-        real(wp), intent(inout) :: m(:, :)
-            !! n x n matrix, destroyed
-        real(wp), intent(inout) :: b(:)
-            !! right-hand side, on exit the solution
+    pure subroutine solve_small(m, b, n, ok)
+        real(wp), intent(inout) :: m(3, 3)
+            !! the n x n matrix in m(1:n, 1:n), destroyed
+        real(wp), intent(inout) :: b(3)
+            !! right-hand side in b(1:n), on exit the solution
+        integer, intent(in) :: n
+            !! size of the system
         logical, intent(out) :: ok
             !! false when the matrix is singular to working precision
 
-        integer :: n, i, j, piv
-        real(wp) :: factor, tmp(size(b)), big, t
+        ! fixed-size arguments and scratch: no array temporaries (heap) per call
+        integer :: i, j, piv
+        real(wp) :: factor, tmp(3), big, t
 
-        n = size(b)
-        big = maxval(abs(m))
+        big = maxval(abs(m(1:n, 1:n)))
         ok = big > 0.0_wp
         if (.not. ok) return
         do j = 1, n
@@ -502,9 +504,9 @@ contains
                 return
             end if
             if (piv /= j) then
-                tmp(1:n) = m(j, :)
-                m(j, :) = m(piv, :)
-                m(piv, :) = tmp(1:n)
+                tmp(1:n) = m(j, 1:n)
+                m(j, 1:n) = m(piv, 1:n)
+                m(piv, 1:n) = tmp(1:n)
                 t = b(j)
                 b(j) = b(piv)
                 b(piv) = t
