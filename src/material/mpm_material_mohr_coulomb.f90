@@ -411,8 +411,10 @@ contains
         r(:, plane_a) = [1.0_wp + spsi, 0.0_wp, -(1.0_wp - spsi)]
         r(:, plane_b) = [1.0_wp + spsi, -(1.0_wp - spsi), 0.0_wp]
         r(:, plane_c) = [0.0_wp, 1.0_wp + spsi, -(1.0_wp - spsi)]
-        a(:, plane_t1:plane_t3) = reshape([1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, &
-            0.0_wp, 0.0_wp, 1.0_wp], [3, 3])
+        a(:, plane_t1:plane_t3) = 0.0_wp
+        a(1, plane_t1) = 1.0_wp
+        a(2, plane_t2) = 1.0_wp
+        a(3, plane_t3) = 1.0_wp
         r(:, plane_t1:plane_t3) = a(:, plane_t1:plane_t3)
         do j = 1, 6
             r(:, j) = 2.0_wp*shear*r(:, j) + lame*sum(r(:, j))
@@ -569,9 +571,20 @@ contains
         real(wp) :: a(3, 3), apq, theta, t, c, sn, tau, g, h
         integer :: sweep, ip, iq, ir
 
-        a = reshape([s(1), s(4), s(6), s(4), s(2), s(5), s(6), s(5), s(3)], [3, 3])
-        vec = reshape([1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp], &
-            [3, 3])
+        ! element by element: reshape of a constructor is a library call per particle
+        a(1, 1) = s(1)
+        a(2, 2) = s(2)
+        a(3, 3) = s(3)
+        a(1, 2) = s(4)
+        a(2, 1) = s(4)
+        a(2, 3) = s(5)
+        a(3, 2) = s(5)
+        a(1, 3) = s(6)
+        a(3, 1) = s(6)
+        vec = 0.0_wp
+        vec(1, 1) = 1.0_wp
+        vec(2, 2) = 1.0_wp
+        vec(3, 3) = 1.0_wp
         do sweep = 1, max_sweeps
             if (a(1, 2) == 0.0_wp .and. a(1, 3) == 0.0_wp .and. a(2, 3) == 0.0_wp) exit
             do ip = 1, 2
