@@ -99,6 +99,7 @@ contains
             !! set when the scratch cannot be allocated
 
         integer :: p, a, k, dim, nps, kept, first, shift, c, q, nlayers, layer_cells, nb, b
+        integer :: cell_stride(3)
         real(wp) :: w(3), dw(3), xi
 
         dim = grid%dim
@@ -106,7 +107,9 @@ contains
         call allocate_stencils(stc, grid, particles%n, nps, error)
         if (allocated(error)) return
         call shape%weights_all(grid, particles%x, particles%lp, stc%first, stc%w, stc%dw)
-        !$omp parallel do default(none) schedule(static) shared(stc, grid, particles, dim, nps) &
+        cell_stride = [1, grid%ncells(1), grid%ncells(1)*grid%ncells(2)]
+        !$omp parallel do default(none) schedule(static) &
+        !$omp shared(stc, grid, particles, dim, nps, cell_stride) &
         !$omp private(p, a, k, kept, first, shift, w, dw, xi, c)
         do p = 1, particles%n
             c = 1
@@ -133,8 +136,7 @@ contains
                     if (stc%w(k, a, p) <= 0.0_wp) stc%dw(k, a, p) = 0.0_wp
                 end do
                 xi = (particles%x(a, p) - grid%origin(a))/grid%dx
-                c = c + min(max(int(floor(xi)), 0), grid%ncells(a) - 1) &
-                    *product(grid%ncells(1:a - 1))
+                c = c + min(max(int(floor(xi)), 0), grid%ncells(a) - 1)*cell_stride(a)
             end do
             stc%cell(p) = c
         end do
