@@ -60,7 +60,7 @@ module mpm_material_mohr_coulomb
     use mpm_softening, only: softening_weight
     use mpm_separation, only: close_opening
     use mpm_material, only: material_type
-    use mpm_stress, only: add_jaumann_rotation
+    use mpm_stress, only: add_jaumann_rotation, voigt_matrix
     use mpm_case, only: material_spec_type
     implicit none
     private
@@ -571,16 +571,7 @@ contains
         real(wp) :: a(3, 3), apq, theta, t, c, sn, tau, g, h
         integer :: sweep, ip, iq, ir
 
-        ! element by element: reshape of a constructor is a library call per particle
-        a(1, 1) = s(1)
-        a(2, 2) = s(2)
-        a(3, 3) = s(3)
-        a(1, 2) = s(4)
-        a(2, 1) = s(4)
-        a(2, 3) = s(5)
-        a(3, 2) = s(5)
-        a(1, 3) = s(6)
-        a(3, 1) = s(6)
+        a = voigt_matrix(s)
         vec = 0.0_wp
         vec(1, 1) = 1.0_wp
         vec(2, 2) = 1.0_wp

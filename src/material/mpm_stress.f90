@@ -11,7 +11,7 @@ module mpm_stress
     use mpm_kinds, only: wp
     implicit none
     private
-    public :: jaumann_rotation, add_jaumann_rotation, trace, double_contraction
+    public :: jaumann_rotation, add_jaumann_rotation, trace, double_contraction, voigt_matrix
 
 contains
 
@@ -37,15 +37,7 @@ contains
             dsig(4) = omega(1)*(stress(2) - stress(1))
             return
         end if
-        s(1, 1) = stress(1)
-        s(2, 2) = stress(2)
-        s(3, 3) = stress(3)
-        s(1, 2) = stress(4)
-        s(2, 1) = stress(4)
-        s(2, 3) = stress(5)
-        s(3, 2) = stress(5)
-        s(3, 1) = stress(6)
-        s(1, 3) = stress(6)
+        s = voigt_matrix(stress(1:6))
         w = 0.0_wp
         w(1, 2) = omega(1)
         w(2, 1) = -omega(1)
@@ -89,6 +81,24 @@ contains
             stress(1:6) = stress(1:6) + dsig
         end if
     end subroutine add_jaumann_rotation
+
+    !> The 3x3 matrix of a symmetric tensor in Voigt storage (xx yy zz xy yz zx), element by
+    !> element (a reshape of a constructor is a library call, too slow per particle).
+    pure function voigt_matrix(v) result(m)
+        real(wp), intent(in) :: v(6)
+            !! Voigt components
+        real(wp) :: m(3, 3)
+
+        m(1, 1) = v(1)
+        m(2, 2) = v(2)
+        m(3, 3) = v(3)
+        m(1, 2) = v(4)
+        m(2, 1) = v(4)
+        m(2, 3) = v(5)
+        m(3, 2) = v(5)
+        m(3, 1) = v(6)
+        m(1, 3) = v(6)
+    end function voigt_matrix
 
     !> Trace of a symmetric tensor in Voigt storage.
     pure real(wp) function trace(t)
