@@ -230,13 +230,19 @@ contains
             call lap(sim, phase_nodal, clock)
             ! MUSL: the same pass maps the updated particle momentum back to the nodes, and the
             ! particles move in the stress update; USL, USF: they move here
-            call g2p(grid, particles, stc, dt, sim%case%flip_fraction, sim%case%gravity, &
-                scheme == scheme_musl, motion)
+            if (scheme == scheme_usl .and. .not. fbar) then
+                ! the stress update needs the nodal velocities of the moves: same pass
+                call g2p(grid, particles, stc, dt, sim%case%flip_fraction, sim%case%gravity, &
+                    .false., motion, sim%materials, work)
+            else
+                call g2p(grid, particles, stc, dt, sim%case%flip_fraction, sim%case%gravity, &
+                    scheme == scheme_musl, motion)
+            end if
             call lap(sim, phase_g2p, clock)
             select case (scheme)
             case (scheme_usl)
-                call update_stress(grid, particles, stc, sim%materials, dt, fbar, work, &
-                    sim%case%gravity)
+                if (fbar) call update_stress(grid, particles, stc, sim%materials, dt, fbar, &
+                    work, sim%case%gravity)
             case (scheme_musl)
                 ! the particles move with the remapped velocities that strain them: moved with
                 ! the velocities of the nodal update instead, the difference (dt times the

@@ -85,7 +85,7 @@ contains
             !! F-bar: the internal force takes the pressure of each particle as the mean of its
             !! cell, the counterpart of the cell-averaged volume change of `update_stress`
 
-        integer :: p, q, k, c, dim, ns, shift, fint_row, body_row, rows
+        integer :: p, q, k, c, dim, ns, shift, fint_row, body_row, rows, mass_row
         real(wp) :: s(6), vs(6), xp(3), vp(3), aff(3, 3), bf(3)
         logical :: apic, body
         real(wp), allocatable :: cell_pv(:), cell_v(:), buf(:, :)
@@ -112,6 +112,8 @@ contains
             allocate (cell_pv(1))
         end if
         rows = 0
+        mass_row = 0
+        if (with_mass) mass_row = 1
         if (with_mass) rows = 1 + dim
         fint_row = 0
         if (with_fint) fint_row = rows + 1
@@ -123,7 +125,7 @@ contains
 
         !$omp parallel do default(none) schedule(dynamic, 1) &
         !$omp shared(grid, particles, stc, buf, with_mass, with_fint, fbar, apic, body, &
-        !$omp dim, ns, cell_pv, fint_row, body_row) &
+        !$omp dim, ns, cell_pv, fint_row, body_row, mass_row) &
         !$omp private(k, q, p, shift, s, vs, xp, vp, aff, bf)
         do k = 1, stc%nchunks
             shift = stc%chunk_offset(k) - stc%chunk_lo(k)*stc%stride(stc%slow)
@@ -149,7 +151,7 @@ contains
                     vs(1:ns) = -particles%volume(p)*s(1:ns)
                 end if
                 call scatter_particle(stc, grid, p, shift, particles%mass(p), xp, vp, aff, apic, &
-                    with_mass, vs, fint_row, bf, body_row, buf)
+                    mass_row, mass_row + 1, vs, fint_row, bf, body_row, buf)
             end do
         end do
         !$omp end parallel do
@@ -173,7 +175,7 @@ contains
         logical, intent(in) :: mass_rows
         integer, intent(in) :: fint_row, body_row
         logical, intent(in), optional :: only_momentum
-            !! set the momentum only (the MUSL remap)
+            !! set the momentum only, from rows 1 : dim (the MUSL remap)
 
         integer :: layer, id, k, cross, b, rows, dim, lo, hi
         real(wp) :: total(10)
@@ -208,7 +210,7 @@ contains
                     total(1:rows) = total(1:rows) + buf(:, b)
                 end do
                 if (momentum) then
-                    grid%momentum(:, id) = total(2:1 + dim)
+                    grid%momentum(:, id) = total(1:dim)
                 else if (mass_rows) then
                     grid%mass(id) = total(1)
                     grid%momentum(:, id) = total(2:1 + dim)
@@ -445,7 +447,11 @@ contains
     !>
     !> With `remap` (MUSL), the same pass maps the updated particle momentum back to the nodes
     !> (chunk buffers folded in a fixed order, as in p2g) and recomputes the nodal velocities.
-    subroutine g2p(grid, particles, stc, dt, flip, gravity, remap, motion)
+    !> With `materials` (USL without F-bar, whose stress update uses the same nodal velocities
+    !> as the moves), the same pass also updates the stresses: one gather per particle and step
+    !> instead of two; the blocks and the order of the work sums are those of update_stress.
+    subroutine g2p(grid, particles, stc, dt, flip, gravity, remap, motion, materials, &
+            strain_work)
         type(grid_type), intent(inout) :: grid
             !! grid after the nodal update (momentum and velocity replaced with `remap`)
         type(particles_type), intent(inout) :: particles
@@ -463,31 +469,39 @@ contains
             !! particles then move in the stress update, with the remapped velocities
         type(motion_type), intent(out) :: motion
             !! largest move and lost particle when the particles move here (not remap)
+        type(material_holder_type), intent(in), optional :: materials(:)
+            !! materials of the case: update the stresses in this pass (not with remap)
+        real(wp), intent(out), optional :: strain_work
+            !! with materials: sum_p (V sigma)_mid : d_eps [J] (per metre in 2D)
 
         integer :: k, q, p, dim, shift, ng, qlo, qhi
-        real(wp) :: xp(3), vp(3), aff(3, 3), bf(3), vs(6), dx(3)
-        logical :: apic
-        real(wp), allocatable :: buf(:, :)
+        real(wp) :: xp(3), vp(3), aff(3, 3), bf(3), vs(6), dx(3), gradv(3, 3), ldt(3, 3), work
+        logical :: apic, stress
+        real(wp), allocatable :: buf(:, :), partial(:)
         type(motion_type), allocatable :: moved(:)
         type(motion_type) :: mine
 
         dim = grid%dim
         apic = allocated(particles%affine)
+        stress = present(materials) .and. .not. remap
         ! the remap scatters: chunks; otherwise only gathers: small blocks balance the threads
         ng = group_count(stc, remap)
-        allocate (moved(ng))
+        allocate (moved(ng), partial(ng))
         if (remap) then
-            allocate (buf(1 + dim, stc%chunk_offset(stc%nchunks + 1)))
+            ! the momentum only: the nodal masses do not change
+            allocate (buf(dim, stc%chunk_offset(stc%nchunks + 1)))
         else
             allocate (buf(1, 1))
         end if
         !$omp parallel do default(none) schedule(dynamic, 1) &
-        !$omp shared(grid, particles, stc, dt, flip, gravity, remap, buf, dim, apic, moved, ng) &
-        !$omp private(k, q, p, shift, xp, vp, aff, bf, vs, dx, qlo, qhi, mine)
+        !$omp shared(grid, particles, stc, dt, flip, gravity, remap, buf, dim, apic, moved, ng, &
+        !$omp materials, stress, partial) &
+        !$omp private(k, q, p, shift, xp, vp, aff, bf, vs, dx, qlo, qhi, mine, gradv, ldt, work)
         do k = 1, ng
             ! records and sums in private variables, stored once per group: neighbouring
             ! groups run on other threads, and their array entries share cache lines
             mine = motion_type()
+            work = 0.0_wp
             call group_range(stc, remap, k, qlo, qhi)
             shift = 0
             if (remap) then
@@ -501,8 +515,13 @@ contains
             vs = 0.0_wp
             do q = qlo, qhi
                 p = stc%order(q)
-                call update_particle_velocity(grid, particles, stc, p, dt, flip, apic, dx)
+                call update_particle_velocity(grid, particles, stc, p, dt, flip, apic, stress, &
+                    dx, gradv)
                 if (.not. remap) call move_particle(grid, particles, p, dx(1:dim), gravity, mine)
+                if (stress) then
+                    ldt = dt*gradv
+                    call stress_particle(particles, materials, p, ldt, dt, dim, work)
+                end if
                 if (remap) then
                     vp(1:dim) = particles%v(:, p)
                     if (apic) then
@@ -510,13 +529,20 @@ contains
                         aff(1:dim, 1:dim) = particles%affine(:, :, p)
                     end if
                     call scatter_particle(stc, grid, p, shift, particles%mass(p), xp, vp, aff, &
-                        apic, .true., vs, 0, bf, 0, buf)
+                        apic, 0, 1, vs, 0, bf, 0, buf)
                 end if
             end do
             moved(k) = mine
+            partial(k) = work
         end do
         !$omp end parallel do
         call merge_motion(moved, motion)
+        if (present(strain_work)) then
+            strain_work = 0.0_wp
+            do k = 1, ng
+                strain_work = strain_work + partial(k)
+            end do
+        end if
         if (remap) then
             call fold(grid, stc, buf, .true., 0, 0, only_momentum=.true.)
             call nodal_velocity(grid)
@@ -524,23 +550,24 @@ contains
     end subroutine g2p
 
     !> The G2P update of one particle: velocity (FLIP, PIC blend or APIC) and the position
-    !> increment dt sum N_i v_i.
-    subroutine update_particle_velocity(grid, particles, stc, p, dt, flip, apic, dx)
+    !> increment dt sum N_i v_i; the velocity gradient too with `with_gradient` (or APIC).
+    subroutine update_particle_velocity(grid, particles, stc, p, dt, flip, apic, with_gradient, &
+            dx, gradv)
         type(grid_type), intent(in) :: grid
         type(particles_type), intent(inout) :: particles
         type(stencils_type), intent(in) :: stc
         integer, intent(in) :: p
         real(wp), intent(in) :: dt, flip
-        logical, intent(in) :: apic
-        real(wp), intent(out) :: dx(3)
+        logical, intent(in) :: apic, with_gradient
+        real(wp), intent(out) :: dx(3), gradv(3, 3)
 
         integer :: dim, c
         integer :: node(max_nodes)
-        real(wp) :: a(3), v(3), gradv(3, 3), w(max_nodes), dw(3, max_nodes)
+        real(wp) :: a(3), v(3), w(max_nodes), dw(3, max_nodes)
 
         dim = grid%dim
-        call gather_particle(stc, p, grid%acceleration, grid%velocity, .not. apic, apic, a, v, &
-            gradv)
+        call gather_particle(stc, p, grid%acceleration, grid%velocity, .not. apic, &
+            apic .or. with_gradient, a, v, gradv)
         if (apic) then
             ! APIC: the particle takes the nodal velocity field, its value and its gradient.
             ! A particle alone on its nodes would only get back the affine field it gave
@@ -684,10 +711,9 @@ contains
             !! when present (MUSL), the particles move by dt sum_i N_i v_i with the same nodal
             !! velocities as the strain, and this records the moves
 
-        integer :: p, q, k, dim, ns, a
-        real(wp) :: gradv(3, 3), ldt(3, 3), de(6), omega(3), sold(6), dF(3, 3), jac, scale, &
-            v(3), vold, a3(3), fold_f(3, 3), fnew(3, 3)
-        integer :: b, c, ng, qlo, qhi
+        integer :: p, q, k, dim, a
+        real(wp) :: gradv(3, 3), ldt(3, 3), dF(3, 3), jac, scale, v(3), a3(3)
+        integer :: ng, qlo, qhi
         real(wp), allocatable :: grads(:, :, :), vels(:, :), cell_old(:), cell_new(:), &
             partial(:)
         type(motion_type), allocatable :: moved(:)
@@ -696,7 +722,6 @@ contains
         logical :: move
 
         dim = grid%dim
-        ns = particles%nstress
         move = present(motion)
         if (fbar) then
             allocate (grads(3, 3, particles%n), vels(3, particles%n))
@@ -721,10 +746,9 @@ contains
         ng = group_count(stc, .false.)
         allocate (partial(ng), moved(ng))
         !$omp parallel do default(none) schedule(dynamic, 1) &
-        !$omp shared(grid, particles, stc, materials, dt, dim, ns, fbar, grads, vels, gravity, &
+        !$omp shared(grid, particles, stc, materials, dt, dim, fbar, grads, vels, gravity, &
         !$omp cell_old, cell_new, move, moved, partial, ng) &
-        !$omp private(k, q, p, gradv, v, ldt, de, omega, sold, vold, dF, jac, a, scale, a3, &
-        !$omp fold_f, fnew, b, c, qlo, qhi, work, mine)
+        !$omp private(k, q, p, gradv, v, ldt, dF, jac, a, scale, a3, qlo, qhi, work, mine)
         do k = 1, ng
             work = 0.0_wp
             mine = motion_type()
@@ -752,49 +776,7 @@ contains
                         end do
                     end if
                 end if
-                de = 0.0_wp
-                omega = 0.0_wp
-                de(1) = ldt(1, 1)
-                de(2) = ldt(2, 2)
-                de(4) = 0.5_wp*(ldt(1, 2) + ldt(2, 1))
-                omega(1) = 0.5_wp*(ldt(1, 2) - ldt(2, 1))
-                if (dim == 3) then
-                    de(3) = ldt(3, 3)
-                    de(5) = 0.5_wp*(ldt(2, 3) + ldt(3, 2))
-                    de(6) = 0.5_wp*(ldt(3, 1) + ldt(1, 3))
-                    omega(2) = 0.5_wp*(ldt(2, 3) - ldt(3, 2))
-                    omega(3) = 0.5_wp*(ldt(3, 1) - ldt(1, 3))
-                end if
-                sold(1:ns) = particles%stress(:, p)
-                vold = particles%volume(p)
-                call materials(particles%material(p))%m%update_stress(particles%stress(:, p), &
-                    de(1:ns), omega, dt, particles%state(:, p))
-                if (allocated(particles%strain)) then
-                    particles%strain(:, p) = particles%strain(:, p) + de(1:ns)
-                end if
-                ! deformation gradient F <- (I + ldt) F, volume and particle domain
-                fold_f(1:dim, 1:dim) = particles%f(:, :, p)
-                do b = 1, dim
-                    do a = 1, dim
-                        fnew(a, b) = fold_f(a, b)
-                        do c = 1, dim
-                            fnew(a, b) = fnew(a, b) + ldt(a, c)*fold_f(c, b)
-                        end do
-                    end do
-                end do
-                particles%f(:, :, p) = fnew(1:dim, 1:dim)
-                jac = determinant(fnew, dim)
-                particles%volume(p) = jac*particles%volume0(p)
-                do a = 1, dim
-                    particles%lp(a, p) = particles%lp0(a, p)*abs(particles%f(a, a, p))
-                end do
-                ! trapezoidal rule on V sigma (volume and stress at both ends of the step):
-                ! second order in dt, also when the volume changes with the strain
-                ! (V sigma)_mid : de, shear components twice (tensor components)
-                do a = 1, ns
-                    work = work + merge(0.5_wp, 1.0_wp, a <= 3)*(vold*sold(a) &
-                        + particles%volume(p)*particles%stress(a, p))*de(a)
-                end do
+                call stress_particle(particles, materials, p, ldt, dt, dim, work)
                 if (move) call move_particle(grid, particles, p, dt*v(1:dim), gravity, mine)
             end do
             ! stored once per group (neighbouring entries share cache lines across threads)
@@ -809,57 +791,164 @@ contains
         end do
     end subroutine update_stress
 
-    pure subroutine scatter_particle(stc, grid, p, shift, m, xp, vp, aff, apic, mass_rows, &
+    !> The stress update of particle p for the increment ldt = dt L of its velocity gradient
+    !> (ldt(i, j) = dt d v_i / d x_j): strain increment D dt and spin W dt to the material,
+    !> F <- (I + ldt) F, V = det(F) V0, lp = lp0 F_aa; adds the work of the stresses over the
+    !> step to `work`.
+    pure subroutine stress_particle(particles, materials, p, ldt, dt, dim, work)
+        type(particles_type), intent(inout) :: particles
+            !! particles
+        type(material_holder_type), intent(in) :: materials(:)
+            !! materials of the case
+        integer, intent(in) :: p
+            !! particle
+        real(wp), intent(in) :: ldt(3, 3)
+            !! dt times the velocity gradient (first dim rows and columns) [-]
+        real(wp), intent(in) :: dt
+            !! time step [s]
+        integer, intent(in) :: dim
+            !! space dimensions
+        real(wp), intent(inout) :: work
+            !! sum of (V sigma)_mid : d_eps [J]
+
+        integer :: ns, a
+        real(wp) :: de(6), omega(3), sold(6), vold, jac
+
+        ns = particles%nstress
+        de(1) = ldt(1, 1)
+        de(2) = ldt(2, 2)
+        de(4) = 0.5_wp*(ldt(1, 2) + ldt(2, 1))
+        omega(1) = 0.5_wp*(ldt(1, 2) - ldt(2, 1))
+        if (dim == 3) then
+            de(3) = ldt(3, 3)
+            de(5) = 0.5_wp*(ldt(2, 3) + ldt(3, 2))
+            de(6) = 0.5_wp*(ldt(3, 1) + ldt(1, 3))
+            omega(2) = 0.5_wp*(ldt(2, 3) - ldt(3, 2))
+            omega(3) = 0.5_wp*(ldt(3, 1) - ldt(1, 3))
+        else
+            de(3) = 0.0_wp
+            de(5:6) = 0.0_wp
+            omega(2:3) = 0.0_wp
+        end if
+        sold(1:ns) = particles%stress(:, p)
+        vold = particles%volume(p)
+        call materials(particles%material(p))%m%update_stress(particles%stress(:, p), &
+            de(1:ns), omega, dt, particles%state(:, p))
+        if (allocated(particles%strain)) then
+            particles%strain(:, p) = particles%strain(:, p) + de(1:ns)
+        end if
+        ! deformation gradient F <- (I + ldt) F, volume and particle domain
+        if (dim == 2) then
+            call deform_2d(particles%f(:, :, p), ldt, jac)
+        else
+            call deform_3d(particles%f(:, :, p), ldt, jac)
+        end if
+        particles%volume(p) = jac*particles%volume0(p)
+        do a = 1, dim
+            particles%lp(a, p) = particles%lp0(a, p)*abs(particles%f(a, a, p))
+        end do
+        ! trapezoidal rule on V sigma (volume and stress at both ends of the step):
+        ! second order in dt, also when the volume changes with the strain
+        ! (V sigma)_mid : de, shear components twice (tensor components)
+        do a = 1, 3
+            work = work + 0.5_wp*(vold*sold(a) + particles%volume(p)*particles%stress(a, p))*de(a)
+        end do
+        do a = 4, ns
+            work = work + (vold*sold(a) + particles%volume(p)*particles%stress(a, p))*de(a)
+        end do
+    end subroutine stress_particle
+
+    !> F <- (I + ldt) F in 2D and its determinant.
+    pure subroutine deform_2d(f, ldt, jac)
+        real(wp), intent(inout) :: f(2, 2)
+            !! deformation gradient
+        real(wp), intent(in) :: ldt(3, 3)
+            !! dt times the velocity gradient
+        real(wp), intent(out) :: jac
+            !! det F
+        real(wp) :: g(2, 2)
+        integer :: b
+
+        do b = 1, 2
+            g(1, b) = f(1, b) + ldt(1, 1)*f(1, b) + ldt(1, 2)*f(2, b)
+            g(2, b) = f(2, b) + ldt(2, 1)*f(1, b) + ldt(2, 2)*f(2, b)
+        end do
+        f = g
+        jac = g(1, 1)*g(2, 2) - g(1, 2)*g(2, 1)
+    end subroutine deform_2d
+
+    !> F <- (I + ldt) F in 3D and its determinant.
+    pure subroutine deform_3d(f, ldt, jac)
+        real(wp), intent(inout) :: f(3, 3)
+            !! deformation gradient
+        real(wp), intent(in) :: ldt(3, 3)
+            !! dt times the velocity gradient
+        real(wp), intent(out) :: jac
+            !! det F
+        real(wp) :: g(3, 3)
+        integer :: a, b
+
+        do b = 1, 3
+            do a = 1, 3
+                g(a, b) = f(a, b) + ldt(a, 1)*f(1, b) + ldt(a, 2)*f(2, b) + ldt(a, 3)*f(3, b)
+            end do
+        end do
+        f = g
+        jac = determinant(g, 3)
+    end subroutine deform_3d
+
+    pure subroutine scatter_particle(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
             vs, fint_row, bf, body_row, buf)
         type(stencils_type), intent(in) :: stc
         type(grid_type), intent(in) :: grid
         integer, intent(in) :: p, shift, fint_row, body_row
         real(wp), intent(in) :: m, xp(3), vp(3), aff(3, 3), vs(6), bf(3)
-        logical, intent(in) :: apic, mass_rows
+        logical, intent(in) :: apic
+        integer, intent(in) :: mass_row, momentum_row
         real(wp), intent(inout) :: buf(:, :)
 
         select case (stencil_kind(stc))
         case (full_gimp_3d)
-            call scatter_g3(stc, grid, p, shift, m, xp, vp, aff, apic, mass_rows, vs, &
+            call scatter_g3(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, vs, &
                 fint_row, bf, body_row, buf)
         case (full_gimp_2d)
-            call scatter_g2(stc, grid, p, shift, m, xp, vp, aff, apic, mass_rows, vs, &
+            call scatter_g2(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, vs, &
                 fint_row, bf, body_row, buf)
         case (full_linear_3d)
-            call scatter_l3(stc, grid, p, shift, m, xp, vp, aff, apic, mass_rows, vs, &
+            call scatter_l3(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, vs, &
                 fint_row, bf, body_row, buf)
         case (full_linear_2d)
-            call scatter_l2(stc, grid, p, shift, m, xp, vp, aff, apic, mass_rows, vs, &
+            call scatter_l2(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, vs, &
                 fint_row, bf, body_row, buf)
         case default
-            call scatter_any(stc, grid, p, shift, m, xp, vp, aff, apic, mass_rows, vs, &
+            call scatter_any(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, vs, &
                 fint_row, bf, body_row, buf, stc%nper(1), stc%nper(2), stc%nper(3))
         end select
     end subroutine scatter_particle
 
     !> scatter_particle for full stencils, cpGIMP in 3D.
-    pure subroutine scatter_g3(stc, grid, p, shift, m, xp, vp, aff, apic, mass_rows, &
+    pure subroutine scatter_g3(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
             vs, fint_row, bf, body_row, buf)
         integer, parameter :: n1 = 3, n2 = 3, n3 = 3
         include "mpm_transfer_scatter.inc"
     end subroutine scatter_g3
 
     !> scatter_particle for full stencils, cpGIMP in 2D.
-    pure subroutine scatter_g2(stc, grid, p, shift, m, xp, vp, aff, apic, mass_rows, &
+    pure subroutine scatter_g2(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
             vs, fint_row, bf, body_row, buf)
         integer, parameter :: n1 = 3, n2 = 3, n3 = 1
         include "mpm_transfer_scatter.inc"
     end subroutine scatter_g2
 
     !> scatter_particle for full stencils, linear in 3D.
-    pure subroutine scatter_l3(stc, grid, p, shift, m, xp, vp, aff, apic, mass_rows, &
+    pure subroutine scatter_l3(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
             vs, fint_row, bf, body_row, buf)
         integer, parameter :: n1 = 2, n2 = 2, n3 = 2
         include "mpm_transfer_scatter.inc"
     end subroutine scatter_l3
 
     !> scatter_particle for full stencils, linear in 2D.
-    pure subroutine scatter_l2(stc, grid, p, shift, m, xp, vp, aff, apic, mass_rows, &
+    pure subroutine scatter_l2(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
             vs, fint_row, bf, body_row, buf)
         integer, parameter :: n1 = 2, n2 = 2, n3 = 1
         include "mpm_transfer_scatter.inc"
@@ -867,7 +956,7 @@ contains
 
     !> scatter_particle for any stencil (an axis of the grid with fewer nodes than the shape
     !> function touches).
-    pure subroutine scatter_any(stc, grid, p, shift, m, xp, vp, aff, apic, mass_rows, &
+    pure subroutine scatter_any(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
             vs, fint_row, bf, body_row, buf, n1, n2, n3)
         integer, intent(in) :: n1, n2, n3
         include "mpm_transfer_scatter.inc"
@@ -911,7 +1000,7 @@ contains
             !! stencils of the step
         integer, intent(in) :: p
             !! particle
-        real(wp), intent(in) :: fa(:, :), fv(:, :)
+        real(wp), intent(in), contiguous :: fa(:, :), fv(:, :)
             !! nodal fields (dim, nodes): acceleration and velocity
         logical, intent(in) :: with_a, with_gradient
             !! gather fa; gather the gradient of fv
