@@ -79,7 +79,9 @@ module mpm_shape
             real(wp), intent(out) :: w(:, :, :)
                 !! weights (nodes_per_axis, dim, n) [-]
             real(wp), intent(out) :: dw(:, :, :)
-                !! derivatives (nodes_per_axis, dim, n) [1/m]
+                !! derivatives of the first nodes_per_axis - 1 nodes (nodes_per_axis - 1, dim,
+                !! n) [1/m]; the last one is minus their sum (the weights sum to one), so it
+                !! is not stored
         end subroutine weights_all_interface
 
         !> Nodes per axis that a particle can touch.

@@ -148,7 +148,7 @@ contains
                 xi = (x(a, p) - grid%origin(a))/grid%dx
                 call gimp_weights_1d(xi, lp(a, p), grid%dx, grid%ncells(a), first(a, p), w3, dw3)
                 w(:, a, p) = w3(1:3)
-                dw(:, a, p) = dw3(1:3)
+                dw(:, a, p) = dw3(1:2)
             end do
         end do
         !$omp end parallel do

@@ -72,7 +72,7 @@ contains
                 xi = (x(a, p) - grid%origin(a))/grid%dx
                 call linear_weights_1d(xi, grid%ncells(a), grid%dx, first(a, p), w3, dw3)
                 w(:, a, p) = w3(1:2)
-                dw(:, a, p) = dw3(1:2)
+                dw(:, a, p) = dw3(1:1)
             end do
         end do
         !$omp end parallel do

@@ -3,7 +3,9 @@
 !> Every pass of a step (P2G, G2P, MUSL remap, stress update) uses the shape functions at the
 !> start-of-step positions, so they are evaluated once per step (`compute_stencils`) and kept
 !> as 1D factors: for particle p and axis a, the first node `first(a, p)` and the weights
-!> `w(k, a, p)` and derivatives `dw(k, a, p)` of nodes first .. first + nper(a) - 1. Every
+!> `w(k, a, p)` of nodes first .. first + nper(a) - 1 and the derivatives `dw(k, a, p)` of all
+!> but the last of them: the weights sum to one, so the derivative of the last is minus the
+!> sum of the others (`axis_factors`; 16 bytes per particle less in 2D, 24 in 3D). Every
 !> kept node is inside the grid (the stencil is shifted where it reaches past a face, the
 !> nodes it drops having zero weight), so the passes need no bounds checks. Derivatives of
 !> zero weights are zero, as the stencils of `mpm_shape` skip those nodes.
@@ -24,7 +26,8 @@ module mpm_stencil
     use mpm_shape, only: shape_type
     implicit none
     private
-    public :: stencils_type, compute_stencils, max_nodes, particle_nodes, stencil_bytes
+    public :: stencils_type, compute_stencils, max_nodes, particle_nodes, stencil_bytes, &
+        axis_factors
 
     integer, parameter :: max_nodes = 27
         !! largest number of nodes one particle touches (3 per direction in 3D)
@@ -59,7 +62,7 @@ module mpm_stencil
         real(wp), allocatable :: w(:, :, :)
             !! 1D weights (nps, dim, n) [-]
         real(wp), allocatable :: dw(:, :, :)
-            !! 1D weight derivatives (nps, dim, n) [1/m]
+            !! 1D weight derivatives of the first nps - 1 nodes (nps - 1, dim, n) [1/m]
         integer, allocatable :: order(:)
             !! particles sorted by cell layer along the slowest axis, then by index (n)
         integer :: nchunks = 0
@@ -78,15 +81,18 @@ module mpm_stencil
             !! when none does
         integer, allocatable :: histogram(:)
             !! scratch of the counting sort (cell layers x blocks)
+        logical :: with_cells = .false.
+            !! whether `cell` is kept (F-bar)
         integer, allocatable :: cell(:)
-            !! scratch: cell of each particle, 1-based linear index (n)
+            !! cell of each particle at the start of the step, 1-based linear index (n); only
+            !! when asked for (F-bar averages per cell)
     end type stencils_type
 
 contains
 
     !> Evaluate the stencils of every particle at its current position, sort the particles by
     !> cell layer and cut the chunks of the scatter passes.
-    subroutine compute_stencils(stc, grid, particles, shape, error)
+    subroutine compute_stencils(stc, grid, particles, shape, error, cells)
         type(stencils_type), intent(inout) :: stc
             !! stencils (allocated on first use and when the particle count changes)
         type(grid_type), intent(in) :: grid
@@ -97,20 +103,24 @@ contains
             !! shape function
         type(error_type), allocatable, intent(out) :: error
             !! set when the scratch cannot be allocated
+        logical, intent(in), optional :: cells
+            !! also keep the cell of each particle (stc%cell; F-bar)
 
-        integer :: p, a, k, dim, nps, kept, first, shift, c, q, nlayers, layer_cells, nb, b
+        integer :: p, a, k, dim, nps, kept, first, shift, c, q, nlayers, nb, b
         integer :: cell_stride(3)
-        real(wp) :: w(3), dw(3), xi
+        real(wp) :: w(3), dw(3)
 
         dim = grid%dim
         nps = shape%nodes_per_axis()
+        stc%with_cells = .false.
+        if (present(cells)) stc%with_cells = cells
         call allocate_stencils(stc, grid, particles%n, nps, error)
         if (allocated(error)) return
         call shape%weights_all(grid, particles%x, particles%lp, stc%first, stc%w, stc%dw)
         cell_stride = [1, grid%ncells(1), grid%ncells(1)*grid%ncells(2)]
         !$omp parallel do default(none) schedule(static) &
         !$omp shared(stc, grid, particles, dim, nps, cell_stride) &
-        !$omp private(p, a, k, kept, first, shift, w, dw, xi, c)
+        !$omp private(p, a, k, kept, first, shift, w, dw, c)
         do p = 1, particles%n
             c = 1
             do a = 1, dim
@@ -120,25 +130,25 @@ contains
                 shift = max(0, min(first, grid%nn(a) - kept)) - first
                 if (shift /= 0 .or. kept < nps) then
                     w(1:nps) = stc%w(:, a, p)
-                    dw(1:nps) = stc%dw(:, a, p)
+                    dw(1:nps - 1) = stc%dw(:, a, p)
+                    dw(nps) = -sum(dw(1:nps - 1))
                     do k = 1, nps
                         if (k + shift >= 1 .and. k + shift <= nps .and. k <= kept) then
                             stc%w(k, a, p) = w(k + shift)
-                            stc%dw(k, a, p) = dw(k + shift)
+                            if (k < nps) stc%dw(k, a, p) = dw(k + shift)
                         else
                             stc%w(k, a, p) = 0.0_wp
-                            stc%dw(k, a, p) = 0.0_wp
+                            if (k < nps) stc%dw(k, a, p) = 0.0_wp
                         end if
                     end do
                     stc%first(a, p) = first + shift
                 end if
-                do k = 1, nps
-                    if (stc%w(k, a, p) <= 0.0_wp) stc%dw(k, a, p) = 0.0_wp
+                do k = 1, nps - 1   ! without branches: where w is zero depends on the position
+                    stc%dw(k, a, p) = merge(stc%dw(k, a, p), 0.0_wp, stc%w(k, a, p) > 0.0_wp)
                 end do
-                xi = (particles%x(a, p) - grid%origin(a))/grid%dx
-                c = c + min(max(int(floor(xi)), 0), grid%ncells(a) - 1)*cell_stride(a)
+                if (stc%with_cells) c = c + axis_cell(grid, particles%x(a, p), a)*cell_stride(a)
             end do
-            stc%cell(p) = c
+            if (stc%with_cells) stc%cell(p) = c
         end do
         !$omp end parallel do
 
@@ -146,18 +156,17 @@ contains
         ! fixed blocks of particles: stable (by layer, then particle index), so the order is
         ! fixed for a given state whatever the number of threads
         nlayers = grid%ncells(dim)
-        layer_cells = product(grid%ncells(1:dim - 1))
         nb = max(1, min(max_sort_blocks, particles%n/sort_block_particles))
         if (allocated(stc%histogram)) then
             if (size(stc%histogram) /= nlayers*nb) deallocate (stc%histogram)
         end if
         if (.not. allocated(stc%histogram)) allocate (stc%histogram(nlayers*nb))
         !$omp parallel do default(none) schedule(static) &
-        !$omp shared(stc, particles, nb, nlayers, layer_cells) private(b, p, k)
+        !$omp shared(stc, grid, particles, nb, nlayers, dim) private(b, p, k)
         do b = 1, nb
             stc%histogram((b - 1)*nlayers + 1:b*nlayers) = 0
             do p = block_start(particles%n, nb, b), block_start(particles%n, nb, b + 1) - 1
-                k = (b - 1)*nlayers + 1 + (stc%cell(p) - 1)/layer_cells
+                k = (b - 1)*nlayers + 1 + axis_cell(grid, particles%x(dim, p), dim)
                 stc%histogram(k) = stc%histogram(k) + 1
             end do
         end do
@@ -171,10 +180,10 @@ contains
             end do
         end do
         !$omp parallel do default(none) schedule(static) &
-        !$omp shared(stc, particles, nb, nlayers, layer_cells) private(b, p, k, q)
+        !$omp shared(stc, grid, particles, nb, nlayers, dim) private(b, p, k, q)
         do b = 1, nb
             do p = block_start(particles%n, nb, b), block_start(particles%n, nb, b + 1) - 1
-                k = (b - 1)*nlayers + 1 + (stc%cell(p) - 1)/layer_cells
+                k = (b - 1)*nlayers + 1 + axis_cell(grid, particles%x(dim, p), dim)
                 q = stc%histogram(k)
                 stc%order(q) = p
                 stc%histogram(k) = q + 1
@@ -183,6 +192,18 @@ contains
         !$omp end parallel do
         call cut_chunks(stc, grid)
     end subroutine compute_stencils
+
+    !> Cell index (0-based) along axis a of a coordinate, clamped to the grid (int truncates
+    !> towards zero: the same cell as floor after the clamp).
+    pure integer function axis_cell(grid, x, a)
+        type(grid_type), intent(in) :: grid
+            !! the grid
+        real(wp), intent(in) :: x
+            !! coordinate along axis a [m]
+        integer, intent(in) :: a
+            !! axis
+        axis_cell = min(max(int((x - grid%origin(a))/grid%dx), 0), grid%ncells(a) - 1)
+    end function axis_cell
 
     !> First particle of block b of nb blocks of n particles (block_start(n, nb, nb + 1) = n + 1).
     pure integer function block_start(n, nb, b)
@@ -211,14 +232,15 @@ contains
         stc%stride = [1, grid%nn(1), grid%nn(1)*grid%nn(2)]
         stc%slow = dim
         if (allocated(stc%first) .and. stc%n == n) then
-            if (size(stc%w, 1) == nps) return
+            if (size(stc%w, 1) == nps .and. (allocated(stc%cell) .eqv. stc%with_cells)) return
         end if
-        if (allocated(stc%first)) deallocate (stc%first, stc%w, stc%dw, stc%order, stc%cell, &
+        if (allocated(stc%first)) deallocate (stc%first, stc%w, stc%dw, stc%order, &
             stc%layer_chunks)
+        if (allocated(stc%cell)) deallocate (stc%cell)
         stc%n = n
-        allocate (stc%first(dim, n), stc%w(nps, dim, n), stc%dw(nps, dim, n), stc%order(n), &
-            stc%cell(n), &
+        allocate (stc%first(dim, n), stc%w(nps, dim, n), stc%dw(nps - 1, dim, n), stc%order(n), &
             stc%layer_chunks(2, 0:grid%nn(dim) - 1), stat=stat, errmsg=msg)
+        if (stat == 0 .and. stc%with_cells) allocate (stc%cell(n), stat=stat, errmsg=msg)
         if (stat /= 0) then
             call fatal_error(error, "cannot allocate the particle stencils: "//trim(msg), &
                 exit_other)
@@ -291,53 +313,81 @@ contains
             !! weight gradients [1/m] (first dim components)
 
         integer :: i, j, k, c, base, basej
-        real(wp) :: wjk, dwj, wj, wk, dwk
+        real(wp) :: wjk, wx(3), dwx(3), wy(3), dwy(3), wz(3), dwz(3)
 
+        call axis_factors(stc, 1, p, stc%nper(1), wx, dwx)
+        call axis_factors(stc, 2, p, stc%nper(2), wy, dwy)
         if (stc%dim == 2) then
             base = 1 + stc%first(1, p) + stc%stride(2)*stc%first(2, p)
             c = 0
             do j = 1, stc%nper(2)
-                wj = stc%w(j, 2, p)
-                dwj = stc%dw(j, 2, p)
                 basej = base + stc%stride(2)*(j - 1)
                 do i = 1, stc%nper(1)
                     c = c + 1
                     node(c) = basej + i - 1
-                    w(c) = stc%w(i, 1, p)*wj
-                    dw(1, c) = stc%dw(i, 1, p)*wj
-                    dw(2, c) = stc%w(i, 1, p)*dwj
+                    w(c) = wx(i)*wy(j)
+                    dw(1, c) = dwx(i)*wy(j)
+                    dw(2, c) = wx(i)*dwy(j)
                 end do
             end do
         else
+            call axis_factors(stc, 3, p, stc%nper(3), wz, dwz)
             base = 1 + stc%first(1, p) + stc%stride(2)*stc%first(2, p) &
                 + stc%stride(3)*stc%first(3, p)
             c = 0
             do k = 1, stc%nper(3)
-                wk = stc%w(k, 3, p)
-                dwk = stc%dw(k, 3, p)
                 do j = 1, stc%nper(2)
-                    wj = stc%w(j, 2, p)
-                    wjk = wj*wk
+                    wjk = wy(j)*wz(k)
                     basej = base + stc%stride(2)*(j - 1) + stc%stride(3)*(k - 1)
                     do i = 1, stc%nper(1)
                         c = c + 1
                         node(c) = basej + i - 1
-                        w(c) = stc%w(i, 1, p)*wjk
-                        dw(1, c) = stc%dw(i, 1, p)*wjk
-                        dw(2, c) = stc%w(i, 1, p)*stc%dw(j, 2, p)*wk
-                        dw(3, c) = stc%w(i, 1, p)*wj*dwk
+                        w(c) = wx(i)*wjk
+                        dw(1, c) = dwx(i)*wjk
+                        dw(2, c) = wx(i)*dwy(j)*wz(k)
+                        dw(3, c) = wx(i)*wy(j)*dwz(k)
                     end do
                 end do
             end do
         end if
     end subroutine particle_nodes
 
+    !> The 1D weights and derivatives of particle p along axis a, nodes 1 .. n (n = nper(a)):
+    !> the derivative of the last node is minus the sum of the others (zero when its weight is
+    !> zero).
+    pure subroutine axis_factors(stc, a, p, n, w, dw)
+        type(stencils_type), intent(in) :: stc
+            !! stencils of the step
+        integer, intent(in) :: a
+            !! axis
+        integer, intent(in) :: p
+            !! particle
+        integer, intent(in) :: n
+            !! nodes along the axis, stc%nper(a)
+        real(wp), intent(out) :: w(:)
+            !! weights (at least n) [-]
+        real(wp), intent(out) :: dw(:)
+            !! derivatives (at least n) [1/m]
+
+        integer :: k
+        real(wp) :: total
+
+        total = 0.0_wp
+        do k = 1, n - 1
+            w(k) = stc%w(k, a, p)
+            dw(k) = stc%dw(k, a, p)
+            total = total + dw(k)
+        end do
+        w(n) = stc%w(n, a, p)
+        dw(n) = merge(-total, 0.0_wp, w(n) > 0.0_wp)
+    end subroutine axis_factors
+
     !> Bytes per particle of the stencils, the order and the cell scratch.
     pure integer function stencil_bytes(stc)
         type(stencils_type), intent(in) :: stc
             !! stencils of the run
-        stencil_bytes = (storage_size(1.0_wp)/8)*2*stc%nps*stc%dim &
-            + (storage_size(1)/8)*(stc%dim + 2)
+        stencil_bytes = (storage_size(1.0_wp)/8)*(2*stc%nps - 1)*stc%dim &
+            + (storage_size(1)/8)*(stc%dim + 1 + merge(1, 0, stc%with_cells))
     end function stencil_bytes
 
 end module mpm_stencil

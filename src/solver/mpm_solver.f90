@@ -207,7 +207,8 @@ contains
 
         scheme = sim%case%scheme
         clock = wall_time()
-        call compute_stencils(sim%stencils, sim%grid, sim%particles, sim%shape, error)
+        call compute_stencils(sim%stencils, sim%grid, sim%particles, sim%shape, error, &
+            cells=sim%case%fbar)
         if (allocated(error)) return
         call lap(sim, phase_stencils, clock)
         associate (grid => sim%grid, particles => sim%particles, stc => sim%stencils, &
