@@ -21,6 +21,9 @@ module mpm_material
             !! stress update of one particle over one step
         procedure :: nstate => material_nstate
             !! number of state variables per particle (default 0)
+        procedure :: update_stress_block => material_update_stress_block
+            !! update_stress of a block of particles (default: one by one); a material whose
+            !! update is a few operations overrides it with a loop over the block
     end type material_type
 
     !> Holder so that materials of different types fit in one array.
@@ -50,6 +53,30 @@ module mpm_material
     end interface
 
 contains
+
+    !> Stress update of n particles of this material over one step: update_stress of each.
+    pure subroutine material_update_stress_block(self, n, stress, dstrain, omega, dt, state)
+        class(material_type), intent(in) :: self
+            !! the material
+        integer, intent(in) :: n
+            !! particles in the block
+        real(wp), intent(inout) :: stress(:, :)
+            !! Cauchy stresses (4 or 6, at least n), tension positive [Pa]
+        real(wp), intent(in) :: dstrain(:, :)
+            !! strain increments D dt (tensor components, as stress) [-]
+        real(wp), intent(in) :: omega(:, :)
+            !! spin increments W dt (xy, yz, zx; 3, at least n) [-]
+        real(wp), intent(in) :: dt
+            !! time step [s]
+        real(wp), intent(inout) :: state(:, :)
+            !! material states (at least nstate(), at least n)
+
+        integer :: j
+
+        do j = 1, n
+            call self%update_stress(stress(:, j), dstrain(:, j), omega(:, j), dt, state(:, j))
+        end do
+    end subroutine material_update_stress_block
 
     !> Default: no state variables.
     pure integer function material_nstate(self)

@@ -475,7 +475,8 @@ contains
             !! with materials: sum_p (V sigma)_mid : d_eps [J] (per metre in 2D)
 
         integer :: k, q, p, dim, shift, ng, qlo, qhi
-        real(wp) :: xp(3), vp(3), aff(3, 3), bf(3), vs(6), dx(3), gradv(3, 3), ldt(3, 3), work
+        real(wp) :: xp(3), vp(3), aff(3, 3), bf(3), vs(6), dx(3), gradv(3, 3), work, &
+            ldts(3, 3, gather_block)
         logical :: apic, stress
         real(wp), allocatable :: buf(:, :), partial(:)
         type(motion_type), allocatable :: moved(:)
@@ -496,7 +497,7 @@ contains
         !$omp parallel do default(none) schedule(dynamic, 1) &
         !$omp shared(grid, particles, stc, dt, flip, gravity, remap, buf, dim, apic, moved, ng, &
         !$omp materials, stress, partial) &
-        !$omp private(k, q, p, shift, xp, vp, aff, bf, vs, dx, qlo, qhi, mine, gradv, ldt, work)
+        !$omp private(k, q, p, shift, xp, vp, aff, bf, vs, dx, qlo, qhi, mine, gradv, work, ldts)
         do k = 1, ng
             ! records and sums in private variables, stored once per group: neighbouring
             ! groups run on other threads, and their array entries share cache lines
@@ -518,10 +519,7 @@ contains
                 call update_particle_velocity(grid, particles, stc, p, dt, flip, apic, stress, &
                     dx, gradv)
                 if (.not. remap) call move_particle(grid, particles, p, dx(1:dim), gravity, mine)
-                if (stress) then
-                    ldt = dt*gradv
-                    call stress_particle(particles, materials, p, ldt, dt, dim, work)
-                end if
+                if (stress) ldts(:, :, q - qlo + 1) = dt*gradv
                 if (remap) then
                     vp(1:dim) = particles%v(:, p)
                     if (apic) then
@@ -532,6 +530,7 @@ contains
                         apic, 0, 1, vs, 0, bf, 0, buf)
                 end if
             end do
+            if (stress) call stress_block(particles, materials, stc, qlo, qhi, ldts, dt, dim, work)
             moved(k) = mine
             partial(k) = work
         end do
@@ -712,7 +711,8 @@ contains
             !! velocities as the strain, and this records the moves
 
         integer :: p, q, k, dim, a
-        real(wp) :: gradv(3, 3), ldt(3, 3), dF(3, 3), jac, scale, v(3), a3(3)
+        real(wp) :: gradv(3, 3), ldt(3, 3), dF(3, 3), jac, scale, v(3), a3(3), &
+            ldts(3, 3, gather_block)
         integer :: ng, qlo, qhi
         real(wp), allocatable :: grads(:, :, :), vels(:, :), cell_old(:), cell_new(:), &
             partial(:)
@@ -748,7 +748,7 @@ contains
         !$omp parallel do default(none) schedule(dynamic, 1) &
         !$omp shared(grid, particles, stc, materials, dt, dim, fbar, grads, vels, gravity, &
         !$omp cell_old, cell_new, move, moved, partial, ng) &
-        !$omp private(k, q, p, gradv, v, ldt, dF, jac, a, scale, a3, qlo, qhi, work, mine)
+        !$omp private(k, q, p, gradv, v, ldt, dF, jac, a, scale, a3, qlo, qhi, work, mine, ldts)
         do k = 1, ng
             work = 0.0_wp
             mine = motion_type()
@@ -776,9 +776,10 @@ contains
                         end do
                     end if
                 end if
-                call stress_particle(particles, materials, p, ldt, dt, dim, work)
+                ldts(:, :, q - qlo + 1) = ldt
                 if (move) call move_particle(grid, particles, p, dt*v(1:dim), gravity, mine)
             end do
+            call stress_block(particles, materials, stc, qlo, qhi, ldts, dt, dim, work)
             ! stored once per group (neighbouring entries share cache lines across threads)
             partial(k) = work
             moved(k) = mine
@@ -791,19 +792,24 @@ contains
         end do
     end subroutine update_stress
 
-    !> The stress update of particle p for the increment ldt = dt L of its velocity gradient
-    !> (ldt(i, j) = dt d v_i / d x_j): strain increment D dt and spin W dt to the material,
-    !> F <- (I + ldt) F, V = det(F) V0, lp = lp0 F_aa; adds the work of the stresses over the
-    !> step to `work`.
-    pure subroutine stress_particle(particles, materials, p, ldt, dt, dim, work)
+    !> The stress update of the particles order(qlo : qhi) (a block of at most gather_block)
+    !> for the increments ldt(:, :, j) = dt L of their velocity gradients (ldt(i, k) =
+    !> dt d v_i / d x_k, particle order(qlo + j - 1)): strain increments D dt and spins W dt to
+    !> the materials, one call per run of particles of the same material (update_stress_block:
+    !> no call per particle for the simple ones), then F <- (I + ldt) F, V = det(F) V0,
+    !> lp = lp0 F_aa; adds the work of the stresses over the step to `work`, particle by
+    !> particle in order.
+    subroutine stress_block(particles, materials, stc, qlo, qhi, ldt, dt, dim, work)
         type(particles_type), intent(inout) :: particles
             !! particles
         type(material_holder_type), intent(in) :: materials(:)
             !! materials of the case
-        integer, intent(in) :: p
-            !! particle
-        real(wp), intent(in) :: ldt(3, 3)
-            !! dt times the velocity gradient (first dim rows and columns) [-]
+        type(stencils_type), intent(in) :: stc
+            !! stencils (the particle order)
+        integer, intent(in) :: qlo, qhi
+            !! the block: order(qlo : qhi)
+        real(wp), intent(in) :: ldt(3, 3, gather_block)
+            !! dt times the velocity gradients (first dim rows and columns) [-]
         real(wp), intent(in) :: dt
             !! time step [s]
         integer, intent(in) :: dim
@@ -811,52 +817,75 @@ contains
         real(wp), intent(inout) :: work
             !! sum of (V sigma)_mid : d_eps [J]
 
-        integer :: ns, a
-        real(wp) :: de(6), omega(3), sold(6), vold, jac
+        integer :: n, ns, j, j0, j1, p, a, mat
+        real(wp) :: s(6, gather_block), sold(6, gather_block), de(6, gather_block), &
+            om(3, gather_block), vold, jac
+        real(wp) :: st(particles%nstate, qhi - qlo + 1)
 
+        n = qhi - qlo + 1
         ns = particles%nstress
-        de(1) = ldt(1, 1)
-        de(2) = ldt(2, 2)
-        de(4) = 0.5_wp*(ldt(1, 2) + ldt(2, 1))
-        omega(1) = 0.5_wp*(ldt(1, 2) - ldt(2, 1))
-        if (dim == 3) then
-            de(3) = ldt(3, 3)
-            de(5) = 0.5_wp*(ldt(2, 3) + ldt(3, 2))
-            de(6) = 0.5_wp*(ldt(3, 1) + ldt(1, 3))
-            omega(2) = 0.5_wp*(ldt(2, 3) - ldt(3, 2))
-            omega(3) = 0.5_wp*(ldt(3, 1) - ldt(1, 3))
-        else
-            de(3) = 0.0_wp
-            de(5:6) = 0.0_wp
-            omega(2:3) = 0.0_wp
-        end if
-        sold(1:ns) = particles%stress(:, p)
-        vold = particles%volume(p)
-        call materials(particles%material(p))%m%update_stress(particles%stress(:, p), &
-            de(1:ns), omega, dt, particles%state(:, p))
-        if (allocated(particles%strain)) then
-            particles%strain(:, p) = particles%strain(:, p) + de(1:ns)
-        end if
-        ! deformation gradient F <- (I + ldt) F, volume and particle domain
-        if (dim == 2) then
-            call deform_2d(particles%f(:, :, p), ldt, jac)
-        else
-            call deform_3d(particles%f(:, :, p), ldt, jac)
-        end if
-        particles%volume(p) = jac*particles%volume0(p)
-        do a = 1, dim
-            particles%lp(a, p) = particles%lp0(a, p)*abs(particles%f(a, a, p))
+        do j = 1, n
+            p = stc%order(qlo + j - 1)
+            de(1, j) = ldt(1, 1, j)
+            de(2, j) = ldt(2, 2, j)
+            de(4, j) = 0.5_wp*(ldt(1, 2, j) + ldt(2, 1, j))
+            om(1, j) = 0.5_wp*(ldt(1, 2, j) - ldt(2, 1, j))
+            if (dim == 3) then
+                de(3, j) = ldt(3, 3, j)
+                de(5, j) = 0.5_wp*(ldt(2, 3, j) + ldt(3, 2, j))
+                de(6, j) = 0.5_wp*(ldt(3, 1, j) + ldt(1, 3, j))
+                om(2, j) = 0.5_wp*(ldt(2, 3, j) - ldt(3, 2, j))
+                om(3, j) = 0.5_wp*(ldt(3, 1, j) - ldt(1, 3, j))
+            else
+                de(3, j) = 0.0_wp
+                om(2:3, j) = 0.0_wp
+            end if
+            s(1:ns, j) = particles%stress(:, p)
+            sold(1:ns, j) = s(1:ns, j)
+            st(:, j) = particles%state(:, p)
         end do
-        ! trapezoidal rule on V sigma (volume and stress at both ends of the step):
-        ! second order in dt, also when the volume changes with the strain
-        ! (V sigma)_mid : de, shear components twice (tensor components)
-        do a = 1, 3
-            work = work + 0.5_wp*(vold*sold(a) + particles%volume(p)*particles%stress(a, p))*de(a)
+        ! runs of particles of one material
+        j0 = 1
+        do while (j0 <= n)
+            mat = particles%material(stc%order(qlo + j0 - 1))
+            j1 = j0
+            do while (j1 < n)
+                if (particles%material(stc%order(qlo + j1)) /= mat) exit
+                j1 = j1 + 1
+            end do
+            call materials(mat)%m%update_stress_block(j1 - j0 + 1, s(1:ns, j0:j1), &
+                de(1:ns, j0:j1), om(:, j0:j1), dt, st(:, j0:j1))
+            j0 = j1 + 1
         end do
-        do a = 4, ns
-            work = work + (vold*sold(a) + particles%volume(p)*particles%stress(a, p))*de(a)
+        do j = 1, n
+            p = stc%order(qlo + j - 1)
+            particles%stress(:, p) = s(1:ns, j)
+            particles%state(:, p) = st(:, j)
+            if (allocated(particles%strain)) then
+                particles%strain(:, p) = particles%strain(:, p) + de(1:ns, j)
+            end if
+            ! deformation gradient F <- (I + ldt) F, volume and particle domain
+            if (dim == 2) then
+                call deform_2d(particles%f(:, :, p), ldt(:, :, j), jac)
+            else
+                call deform_3d(particles%f(:, :, p), ldt(:, :, j), jac)
+            end if
+            vold = particles%volume(p)
+            particles%volume(p) = jac*particles%volume0(p)
+            do a = 1, dim
+                particles%lp(a, p) = particles%lp0(a, p)*abs(particles%f(a, a, p))
+            end do
+            ! trapezoidal rule on V sigma (volume and stress at both ends of the step):
+            ! second order in dt, also when the volume changes with the strain
+            ! (V sigma)_mid : de, shear components twice (tensor components)
+            do a = 1, 3
+                work = work + 0.5_wp*(vold*sold(a, j) + particles%volume(p)*s(a, j))*de(a, j)
+            end do
+            do a = 4, ns
+                work = work + (vold*sold(a, j) + particles%volume(p)*s(a, j))*de(a, j)
+            end do
         end do
-    end subroutine stress_particle
+    end subroutine stress_block
 
     !> F <- (I + ldt) F in 2D and its determinant.
     pure subroutine deform_2d(f, ldt, jac)
