@@ -2,7 +2,8 @@
 !> cell pressure and at constant mean stress, simple shear), the flow rule on a face and on the
 !> compression meridian, the exact return to every region of the surface (face, both edges,
 !> apex, cut-off face, its edges and corners; 2D and 3D), isotropic compression, objectivity,
-!> degenerate parameters and softening.
+!> degenerate parameters and softening; the closed-form 3D eigen-decomposition against the
+!> Jacobi one for nearly repeated principal stresses.
 !>
 !> Mixed stress/strain control (a confining stress held while an axial or shear strain is
 !> driven) is solved per step by the secant method on the free strain increment to a residual
@@ -42,6 +43,7 @@ program test_mpm_material_mohr_coulomb
     call check_face_dilatancy()
     call check_returns()
     call check_random_returns()
+    call check_close_eigenvalues()
     call check_rigid_rotation_2d()
     call check_rigid_rotation_3d()
     call check_degenerate()
@@ -580,6 +582,112 @@ contains
             call check(suite, nbad_2d == 0, trim(label)//": 2D and 3D agree")
         end do
     end subroutine check_random_returns
+
+    !> Nearly repeated principal trial stresses, 3D with random axes: two of them a gap
+    !> g |p|max apart (g = 0, 1e-12, 1e-8, 1e-4, 5e-4, 1.05e-3, 1.5e-3, 1e-2; the upper or the
+    !> lower pair), the third and the mean random. The default path (spectral projectors where
+    !> the gap exceeds 1e-3 of the largest stress component, Jacobi below) must give the
+    !> stress and state of the Jacobi path (`jacobi_only`) and a result inside the surface, on
+    !> it when plastic (and, above the threshold, differ in the last bits somewhere: the
+    !> projectors were used). Tol: both paths are exact to a few eps |sigma| for any gap (the
+    !> ill-conditioned directions of a close pair only multiply the difference of its
+    !> corrections, at most the gap), so 100 eps |sigma| for the stresses and f, that over G
+    !> for the state. It fails without the Jacobi fallback (errors up to 0.6 |sigma| at
+    !> g <= 1e-12) and, just above the threshold, without the refinement of the trigonometric
+    !> eigenvalues (their error eps |sigma| rho / g reaches 100 eps |sigma| there).
+    subroutine check_close_eigenvalues()
+        type(mohr_coulomb_material_type) :: mat, ref
+        real(wp) :: phi, coh, tcut, tension, p(3), r(3, 3), d(3, 3), trial(6), s(6), sr(6)
+        real(wp) :: st(2), str(2), m(3, 3), pr(3), scale, f, h, spread, diff, diff_max, f_max
+        integer :: imat, ig, n, i, nbad_same, nbad_inside, nbad_on, nbad_finite, nplastic
+        integer :: ndistinct
+        integer(i8) :: seed
+        real(wp), parameter :: gaps(8) = [0.0_wp, 1.0e-12_wp, 1.0e-8_wp, 1.0e-4_wp, &
+            5.0e-4_wp, 1.05e-3_wp, 1.5e-3_wp, 1.0e-2_wp]
+        real(wp), parameter :: phis(4) = [30.0_wp, 30.0_wp, 45.0_wp, 20.0_wp]
+        real(wp), parameter :: cohs(4) = [0.0_wp, 1.0e4_wp, 0.0_wp, 5.0e3_wp]
+        real(wp), parameter :: psis(4) = [0.0_wp, 10.0_wp, 15.0_wp, 20.0_wp]
+        real(wp), parameter :: tcuts(4) = [-1.0_wp, 5.0e3_wp, -1.0_wp, 2.0e3_wp]
+        character(len=100) :: label
+
+        seed = 2024
+        do imat = 1, size(phis)
+            call make_material(mat, phis(imat), cohs(imat), psis(imat), tcuts(imat))
+            ref = mat
+            ref%jacobi_only = .true.
+            phi = phis(imat)*deg
+            coh = cohs(imat)
+            tcut = tcuts(imat)
+            tension = huge(1.0_wp)
+            if (tcut >= 0.0_wp) tension = tcut
+            do ig = 1, size(gaps)
+                nbad_same = 0
+                nbad_inside = 0
+                nbad_on = 0
+                nbad_finite = 0
+                nplastic = 0
+                ndistinct = 0
+                diff_max = 0.0_wp
+                f_max = 0.0_wp
+                do n = 1, 1000
+                    ! mean in [-1e5, 5e4] Pa, extreme values 2e4 to 1e5 Pa about it
+                    h = 1.5e5_wp*uniform(seed) - 1.0e5_wp
+                    spread = 2.0e4_wp + 8.0e4_wp*uniform(seed)
+                    p = [h + spread, h + spread*(2*uniform(seed) - 1), h - spread]
+                    scale = maxval(abs(p))
+                    if (mod(n, 2) == 0) then
+                        p(2) = p(1) - gaps(ig)*scale
+                    else
+                        p(2) = p(3) + gaps(ig)*scale
+                    end if
+                    r = rotation(7*uniform(seed), 7*uniform(seed), 7*uniform(seed))
+                    d = 0.0_wp
+                    do i = 1, 3
+                        d(i, i) = p(i)
+                    end do
+                    trial = matrix_to_voigt(matmul(r, matmul(d, transpose(r))))
+                    s = trial
+                    sr = trial
+                    st = 0.0_wp
+                    str = 0.0_wp
+                    call mat%update_stress(s, [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, &
+                        0.0_wp], zero3, 1.0_wp, st)
+                    call ref%update_stress(sr, [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, &
+                        0.0_wp], zero3, 1.0_wp, str)
+                    if (.not. (all(ieee_is_finite(s)) .and. all(ieee_is_finite(st)))) then
+                        nbad_finite = nbad_finite + 1
+                        cycle
+                    end if
+                    if (any(s /= sr)) ndistinct = ndistinct + 1
+                    diff = max(maxval(abs(s - sr)), shear*maxval(abs(st - str)))
+                    diff_max = max(diff_max, diff/scale)
+                    if (diff > 100*eps*scale) nbad_same = nbad_same + 1
+                    ! principal values of the result in the frame of the trial (coaxial)
+                    m = matmul(transpose(r), matmul(voigt_to_matrix(s), r))
+                    pr = [m(1, 1), m(2, 2), m(3, 3)]
+                    f = max(yield_mc(pr, phi, coh), maxval(pr) - tension)
+                    if (f > 100*eps*scale) nbad_inside = nbad_inside + 1
+                    if (st(1) > 0.0_wp) then
+                        nplastic = nplastic + 1
+                        f_max = max(f_max, abs(f)/scale)
+                        if (abs(f) > 100*eps*scale) nbad_on = nbad_on + 1
+                    end if
+                end do
+                write (label, "(a,f4.1,a,es8.1,a,es8.1,a)") "close eigenvalues phi ", &
+                    phis(imat), " cut-off ", tcut, " gap ", gaps(ig), ":"
+                call check(suite, nbad_finite == 0, trim(label)//" finite")
+                call check(suite, nplastic >= 250, trim(label)//" mostly plastic")
+                call check(suite, nbad_same == 0, trim(label)//" closed form = Jacobi")
+                ! above the threshold the paths differ in the last bits: the projectors ran
+                if (gaps(ig) > 1.0e-3_wp) call check(suite, ndistinct > 0, &
+                    trim(label)//" closed form taken")
+                call check(suite, nbad_inside == 0, trim(label)//" inside the surface")
+                call check(suite, nbad_on == 0, trim(label)//" on the surface when plastic")
+                if (nbad_same + nbad_inside + nbad_on > 0) write (*, "(a,2es10.2)") &
+                    "    largest difference and |f| / scale:", diff_max, f_max
+            end do
+        end do
+    end subroutine check_close_eigenvalues
 
     !> Uniform number in (0, 1) from the Park-Miller minimal standard generator (64-bit
     !> integers, no overflow); reproducible on every platform.

@@ -14,10 +14,11 @@
 !> tensile limit).
 !>
 !> Return mapping (exact for the strength of the start of the step, since every surface is a
-!> plane in principal stress space and linear elasticity is isotropic): the trial stress is
-!> decomposed into principal values and directions (2D plane strain: the in-plane 2x2 in
-!> closed form plus s_zz; 3D: cyclic Jacobi rotations to round-off, robust for repeated
-!> eigenvalues), ordered, and returned in principal space as a multi-surface problem,
+!> plane in principal stress space and linear elasticity is isotropic): the principal values
+!> of the trial stress come in closed form (2D plane strain: the in-plane 2x2 plus s_zz; 3D:
+!> the trigonometric solution of the characteristic cubic of the deviator), computed once
+!> for a test that spares most elastic stresses the rest and for the return; they are
+!> ordered and returned in principal space as a multi-surface problem,
 !> sigma = sigma_trial - sum_i dlambda_i D b_i with dlambda_i >= 0 (D the elastic stiffness,
 !> b_i the flow direction of plane i). The planes of the ordered sextant and of its mirror
 !> images that can become active are
@@ -43,12 +44,25 @@
 !> c cot(phi) (1, 1, 1), as in de Souza Neto, Peric & Owen (Computational Methods for
 !> Plasticity, 2008, ch. 8): with psi < phi the flow directions of the planes do not span the
 !> apex region, so the apex is the return of what remains.
-!> The returned principal values rebuild the stress with the principal directions of the
-!> trial stress, as a correction sigma_trial - sum_k (s_k,trial - s_k) n_k n_k^T.
+!> The first candidate, the face A alone (the most frequent single plane), is solved in
+!> closed form; the planes and the factorised systems of the others depend only on the
+!> strength and are computed once by the constructor (without softening).
+!>
+!> The returned principal values rebuild the stress as a correction
+!> sigma_trial - sum_k (s_k,trial - s_k) P_k, P_k the eigenprojectors of the trial stress:
+!> in 2D from the direction of the in-plane pair; in 3D, where the principal values are more
+!> than 1e-3 of the largest stress component apart, from the spectral projectors
+!> P_k = prod_(i /= k) (sigma - s_i I) / (s_k - s_i), without eigenvectors, after one
+!> Rayleigh-quotient refinement of the trigonometric values of the closer pair
+!> (`well_separated` gives the error analysis: exact to a few eps |sigma|); where two of them
+!> are closer, from the eigenvectors n_k of cyclic Jacobi rotations (P_k = n_k n_k^T, to
+!> round-off, robust for repeated eigenvalues).
 !>
 !> Softening: phi, c and psi follow the accumulated plastic shear strain eps_q, taken at the
 !> start of the step (explicit in the hardening variable, so each step is a return to fixed
 !> planes: simple, exact for the step and stable for the small steps of explicit MPM).
+!> The planes of a step (sin(phi), cos(phi), sin(psi), 2 c cos(phi), sigma_t) are evaluated
+!> once: by the constructor for a constant strength, once per update with softening.
 !>
 !> State of a particle: state(1) = accumulated equivalent plastic shear strain
 !> eps_q = sum sqrt(2/3 de_p : de_p) (de_p the deviatoric plastic strain increment) [-],
@@ -61,7 +75,7 @@ module mpm_material_mohr_coulomb
     use mpm_separation, only: close_opening
     use mpm_material, only: material_type
     use mpm_stress, only: add_jaumann_rotation, voigt_matrix
-    use mpm_case, only: material_spec_type
+    use mpm_case, only: material_spec_type, softening_none
     implicit none
     private
     public :: mohr_coulomb_material_type, new_mohr_coulomb_material
@@ -88,6 +102,48 @@ module mpm_material_mohr_coulomb
     !> Relative round-off allowed in the yield check and in the tests of a candidate [-].
     real(wp), parameter :: tol_yield = 16.0_wp*epsilon(1.0_wp)
     real(wp), parameter :: tol_candidate = 64.0_wp*epsilon(1.0_wp)
+
+    !> The planes of one step: the strength with the trigonometric values the return uses.
+    type :: mohr_coulomb_surface_type
+        real(wp) :: sin_friction = 0.0_wp
+            !! sin(phi) [-]
+        real(wp) :: cos_friction = 1.0_wp
+            !! cos(phi) [-]
+        real(wp) :: sin_dilatancy = 0.0_wp
+            !! sin(psi) [-]
+        real(wp) :: k = 0.0_wp
+            !! 2 c cos(phi), the constant of the Mohr-Coulomb planes [Pa]
+        real(wp) :: tension = huge(1.0_wp)
+            !! tensile strength sigma_t (when `cutoff`; else the apex c cot(phi), or huge for
+            !! phi = 0) [Pa]
+        logical :: cutoff = .false.
+            !! whether the tension cut-off planes cut the pyramid below its apex
+        logical :: apex = .false.
+            !! whether the pyramid has a finite apex c cot(phi) (`has_apex`)
+    end type mohr_coulomb_surface_type
+
+    !> The planes of the return in principal space and the systems a_i . D b_j of the candidate
+    !> sets, factorised; constant for a constant strength (computed once by the constructor).
+    !> No default initialisation: a local one costs nothing until it is filled.
+    type :: return_planes_type
+        real(wp) :: a(3, 6)
+            !! outward normals a_i of the planes A, B, C, T1, T2, T3 [-]
+        real(wp) :: r(3, 6)
+            !! return directions r_i = D b_i = 2 G b_i + lambda tr(b_i) (1, 1, 1) [Pa]
+        real(wp) :: rhs(6)
+            !! plane constants, a_i . s = rhs_i on plane i [Pa]
+        real(wp) :: rmax(6)
+            !! largest absolute component of each r_i [Pa]
+        integer :: nactive(ncandidates)
+            !! planes of each candidate; 0: not available (cut-off planes without a cut-off)
+            !! or, when `factorised`, singular to working precision
+        logical :: factorised
+            !! whether `lu` and `pivot` hold the factorised systems (else built per candidate)
+        real(wp) :: lu(3, 3, ncandidates)
+            !! LU factors of a_i . r_j of each candidate, multipliers below the diagonal [Pa]
+        integer :: pivot(3, ncandidates)
+            !! row exchanged with row j at step j of each factorisation
+    end type return_planes_type
 
     !> Mohr-Coulomb with tension cut-off, non-associated flow and softening.
     type, extends(material_type) :: mohr_coulomb_material_type
@@ -120,6 +176,15 @@ module mpm_material_mohr_coulomb
             !! largest principal stress allowed [Pa]; negative: not given (the apex limits it)
         logical :: separation = .false.
             !! cohesionless separation (state(3) = opening strain)
+        type(mohr_coulomb_surface_type) :: peak
+            !! the planes of the peak strength, set by the constructor (all of the surface
+            !! without softening)
+        type(return_planes_type) :: peak_planes
+            !! the return planes and factorised candidate systems of the peak strength, set by
+            !! the constructor (used without softening); `peak` and `peak_planes` derive from
+            !! the components above, so a material is made by `new_mohr_coulomb_material`
+        logical :: jacobi_only = .false.
+            !! 3D: always the Jacobi eigen-decomposition (the reference of the tests; slower)
     contains
         procedure :: update_stress => mohr_coulomb_update_stress
             !! exact return mapping of one particle over one step
@@ -154,6 +219,9 @@ contains
         mat%softening_strain = spec%softening_strain
         mat%tension_cutoff = spec%tension_cutoff
         mat%separation = spec%separation
+        mat%peak = mohr_coulomb_surface(mat%friction, mat%cohesion, mat%dilatancy, &
+            mat%tension_cutoff)
+        call new_return_planes(mat%peak_planes, mat%peak, mat%shear, mat%lame, .true.)
     end subroutine new_mohr_coulomb_material
 
     !> Two state values per particle, eps_q and the plastic volumetric strain, and with
@@ -188,25 +256,70 @@ contains
         logical, intent(out) :: cutoff
             !! whether the tension cut-off planes cut the pyramid below its apex
 
-        real(wp) :: w, sphi, cphi
+        type(mohr_coulomb_surface_type) :: surface
+
+        call strength_angles(self, eps_q, friction, cohesion, dilatancy)
+        surface = mohr_coulomb_surface(friction, cohesion, dilatancy, self%tension_cutoff)
+        tension = surface%tension
+        cutoff = surface%cutoff
+    end subroutine mohr_coulomb_strength
+
+    !> Friction, cohesion and dilatancy after the plastic shear strain eps_q (see
+    !> `mohr_coulomb_strength`).
+    pure subroutine strength_angles(self, eps_q, friction, cohesion, dilatancy)
+        class(mohr_coulomb_material_type), intent(in) :: self
+            !! the material
+        real(wp), intent(in) :: eps_q
+            !! accumulated equivalent plastic shear strain [-]
+        real(wp), intent(out) :: friction
+            !! friction angle phi [rad]
+        real(wp), intent(out) :: cohesion
+            !! cohesion c [Pa]
+        real(wp), intent(out) :: dilatancy
+            !! dilatancy angle psi [rad]
+
+        real(wp) :: w
 
         w = softening_weight(self%softening, self%softening_strain, eps_q)
         friction = self%friction + w*(self%friction_residual - self%friction)
         cohesion = self%cohesion + w*(self%cohesion_residual - self%cohesion)
         dilatancy = self%dilatancy + w*(self%dilatancy_residual - self%dilatancy)
+    end subroutine strength_angles
+
+    !> The planes of a strength: sin(phi), cos(phi), sin(psi), k = 2 c cos(phi) and the tensile
+    !> strength min(tension_cutoff, c cot(phi)), each trigonometric function evaluated once.
+    pure function mohr_coulomb_surface(friction, cohesion, dilatancy, tension_cutoff) &
+            result(surface)
+        real(wp), intent(in) :: friction
+            !! friction angle phi [rad]
+        real(wp), intent(in) :: cohesion
+            !! cohesion c [Pa]
+        real(wp), intent(in) :: dilatancy
+            !! dilatancy angle psi [rad]
+        real(wp), intent(in) :: tension_cutoff
+            !! largest principal stress allowed [Pa]; negative: not given
+        type(mohr_coulomb_surface_type) :: surface
+            !! the planes
+
+        real(wp) :: sphi, cphi
 
         sphi = sin(friction)
         cphi = cos(friction)
+        surface%sin_friction = sphi
+        surface%cos_friction = cphi
+        surface%sin_dilatancy = sin(dilatancy)
+        surface%k = 2.0_wp*cohesion*cphi
+        surface%apex = has_apex(sphi, cohesion, cphi)
         ! sigma_t < c cot(phi) written without the division (phi may be 0)
-        cutoff = self%tension_cutoff >= 0.0_wp .and. self%tension_cutoff*sphi < cohesion*cphi
-        if (cutoff) then
-            tension = self%tension_cutoff
-        else if (has_apex(sphi, cohesion, cphi)) then
-            tension = cohesion*cphi/sphi
+        surface%cutoff = tension_cutoff >= 0.0_wp .and. tension_cutoff*sphi < cohesion*cphi
+        if (surface%cutoff) then
+            surface%tension = tension_cutoff
+        else if (surface%apex) then
+            surface%tension = cohesion*cphi/sphi
         else
-            tension = huge(1.0_wp)
+            surface%tension = huge(1.0_wp)
         end if
-    end subroutine mohr_coulomb_strength
+    end function mohr_coulomb_surface
 
     !> Whether the pyramid has an apex at a finite c cot(phi) worth computing: friction angles
     !> below machine epsilon are treated as Tresca (the apex would be beyond 1e15 c).
@@ -236,13 +349,20 @@ contains
             !! state(1) = eps_q [-], state(2) = plastic volumetric strain [-], with separation
             !! state(3) = opening strain [-]
 
-        real(wp) :: friction, cohesion, dilatancy, tension, dvol, de(6), dplastic
+        type(mohr_coulomb_surface_type) :: surface
+        real(wp) :: friction, cohesion, dilatancy, dvol, de(6)
         integer :: n
-        real(wp) :: p(3), ps(3), dp(3), vec(3, 3), cos2, sin2, dev(3)
+        real(wp) :: p(3), ps(3), dp(3), vec(3, 3), cos2, sin2, radius
+        real(wp) :: m, b(3), off(3), mu(3), s1, s3, magnitude
         integer :: order(3)
-        logical :: cutoff, plastic, open
+        logical :: plastic, open
 
-        call self%strength(state(1), friction, cohesion, dilatancy, tension, cutoff)
+        if (self%softening == softening_none) then
+            surface = self%peak
+        else
+            call strength_angles(self, state(1), friction, cohesion, dilatancy)
+            surface = mohr_coulomb_surface(friction, cohesion, dilatancy, self%tension_cutoff)
+        end if
 
         n = size(dstrain)
         de(1:n) = dstrain
@@ -258,23 +378,51 @@ contains
         stress = stress + 2.0_wp*self%shear*de(1:n)
         stress(1:3) = stress(1:3) + self%lame*dvol
 
-        ! stresses clearly inside the surface (closed-form principal values) need no
-        ! eigen-decomposition and no return
-        if (clearly_elastic(stress, friction, cohesion, tension, cutoff)) return
-        if (size(stress) == 4) then
-            call principal_plane(stress, p, cos2, sin2)
+        ! principal values in closed form, once, for the elastic test and the return (2D: the
+        ! circle in the plane and s_zz; 3D: the trigonometric solution of the characteristic
+        ! cubic of the deviator, mu sorted in descending order)
+        if (n == 4) then
+            call principal_plane(stress, p, radius)
+            s1 = max(p(1), p(3))
+            s3 = min(p(2), p(3))
         else
-            call symmetric_eigen(stress(1:6), p, vec)
+            m = (stress(1) + stress(2) + stress(3))/3.0_wp
+            b = stress(1:3) - m
+            off = stress(4:6)
+            call deviator_eigenvalues(b, off, mu)
+            s1 = m + mu(1)
+            s3 = m + mu(3)
         end if
+        magnitude = maxval(abs(stress))
+        ! stresses clearly inside the surface need no eigen-decomposition and no return
+        if (clearly_elastic(s1, s3, magnitude, surface)) return
+
+        if (n == 6 .and. .not. self%jacobi_only) then
+            if (well_separated(mu, magnitude)) then
+                ! 3D, distinct principal values: spectral projectors, no eigenvectors
+                call refine_pair(b, off, mu)
+                p = m + mu
+                ps = p
+                call return_to_surface(self, ps, surface, plastic)
+                if (.not. plastic) return
+                dp = p - ps
+                call spectral_correction(stress, b, off, mu, dp)
+                call add_plastic_strain(self, dp, ps, p, stress, state)
+                return
+            end if
+        end if
+
+        ! 2D, and 3D with two principal values close (or `jacobi_only`): principal directions
+        if (n == 6) call symmetric_eigen(stress(1:6), p, vec)
         order = descending_order(p)
         ps = p(order)
-        call principal_return(ps, friction, cohesion, dilatancy, tension, cutoff, self%shear, &
-            self%lame, plastic)
+        call return_to_surface(self, ps, surface, plastic)
         if (.not. plastic) return
 
         ! correction of each principal value, in the order of the eigen-decomposition
         dp(order) = p(order) - ps
-        if (size(stress) == 4) then
+        if (n == 4) then
+            call plane_direction(stress, radius, cos2, sin2)
             stress(1) = stress(1) - 0.5_wp*(dp(1) + dp(2)) - 0.5_wp*(dp(1) - dp(2))*cos2
             stress(2) = stress(2) - 0.5_wp*(dp(1) + dp(2)) + 0.5_wp*(dp(1) - dp(2))*cos2
             stress(3) = stress(3) - dp(3)
@@ -287,172 +435,428 @@ contains
             stress(5) = stress(5) - sum(dp*vec(2, :)*vec(3, :))
             stress(6) = stress(6) - sum(dp*vec(3, :)*vec(1, :))
         end if
+        call add_plastic_strain(self, dp, ps, p, stress, state)
+    end subroutine mohr_coulomb_update_stress
 
-        ! plastic strain D^-1 (sigma_trial - sigma), coaxial with the stress
+    !> State after a plastic step: the plastic strain D^-1 (sigma_trial - sigma), coaxial with
+    !> the stress, added to eps_q and to the plastic volumetric strain; with separation, a
+    !> return to the stress-free apex opens the material by its dilation.
+    pure subroutine add_plastic_strain(self, dp, ps, p, stress, state)
+        class(mohr_coulomb_material_type), intent(in) :: self
+            !! the material
+        real(wp), intent(in) :: dp(3)
+            !! principal values of sigma_trial - sigma, any order [Pa]
+        real(wp), intent(in) :: ps(3)
+            !! returned principal stresses [Pa]
+        real(wp), intent(in) :: p(3)
+            !! trial principal stresses [Pa]
+        real(wp), intent(inout) :: stress(:)
+            !! the returned stress, 4 or 6 components (zero on opening) [Pa]
+        real(wp), intent(inout) :: state(:)
+            !! state of the particle (see `mohr_coulomb_update_stress`)
+
+        real(wp) :: dev(3), dplastic
+
         dev = (dp - sum(dp)/3.0_wp)/(2.0_wp*self%shear)
         state(1) = state(1) + sqrt(2.0_wp/3.0_wp*sum(dev**2))
         dplastic = sum(dp)/(3.0_wp*self%lame + 2.0_wp*self%shear)
         state(2) = state(2) + dplastic
-        ! separation: a return to the stress-free apex opens the material by its dilation
         if (self%separation .and. dplastic > 0.0_wp .and. &
             all(abs(ps) <= tol_candidate*maxval(abs(p)))) then
             state(3) = state(3) + dplastic
             stress = 0.0_wp
         end if
-    end subroutine mohr_coulomb_update_stress
+    end subroutine add_plastic_strain
 
     !> Whether a stress is inside the Mohr-Coulomb surface (and the cut-off) by a margin.
     !>
-    !> The principal stresses come from the closed form of the eigenvalues of a symmetric 3x3
-    !> matrix (trigonometric solution of the characteristic cubic), accurate to about
-    !> sqrt(epsilon) of the deviatoric stress where two eigenvalues nearly coincide; the margin
-    !> (1e-6 of the stress scale) is far above that, so a stress this test calls elastic is
-    !> one the return leaves unchanged, and the eigen-decomposition is spared.
-    pure logical function clearly_elastic(stress, friction, cohesion, tension, cutoff)
-        real(wp), intent(in) :: stress(:)
-            !! trial stress, 4 or 6 components, tension positive [Pa]
-        real(wp), intent(in) :: friction, cohesion, tension
-            !! phi [rad], c [Pa], sigma_t [Pa]
-        logical, intent(in) :: cutoff
-            !! whether the cut-off planes are part of the surface
+    !> The extreme principal stresses come from closed forms (in 3D the trigonometric solution
+    !> of the characteristic cubic, `deviator_eigenvalues`), accurate to about sqrt(epsilon)
+    !> of the deviatoric stress where two eigenvalues nearly coincide; the margin (1e-6 of the
+    !> stress scale) is far above that, so a stress this test calls elastic is one the return
+    !> leaves unchanged, and the eigen-decomposition is spared.
+    pure logical function clearly_elastic(s1, s3, magnitude, surface)
+        real(wp), intent(in) :: s1
+            !! largest principal trial stress [Pa]
+        real(wp), intent(in) :: s3
+            !! smallest principal trial stress [Pa]
+        real(wp), intent(in) :: magnitude
+            !! largest absolute component of the trial stress [Pa]
+        type(mohr_coulomb_surface_type), intent(in) :: surface
+            !! the planes of the step
 
         real(wp), parameter :: margin_factor = 1.0e-6_wp
-        real(wp), parameter :: third_turn = 2.0_wp*acos(-1.0_wp)/3.0_wp
-        real(wp) :: m, j2, sxy, syz, szx, b(3), r, scale, s1, s3, angle, radius, half
-        real(wp) :: margin
+        real(wp) :: scale, margin
 
-        m = (stress(1) + stress(2) + stress(3))/3.0_wp
-        b = stress(1:3) - m
-        sxy = stress(4)
-        syz = 0.0_wp
-        szx = 0.0_wp
-        if (size(stress) == 6) then
-            syz = stress(5)
-            szx = stress(6)
-        end if
-        scale = max(maxval(abs(stress)), 2.0_wp*cohesion*cos(friction), sqrt(tiny(1.0_wp)))
-        if (cutoff) scale = max(scale, abs(tension))
+        scale = max(magnitude, surface%k, sqrt(tiny(1.0_wp)))
+        if (surface%cutoff) scale = max(scale, abs(surface%tension))
         margin = margin_factor*scale
-        if (size(stress) == 4) then
-            ! plane strain: the in-plane pair from the circle, the out-of-plane value apart
-            half = 0.5_wp*(stress(1) - stress(2))
-            radius = sqrt(half*half + sxy*sxy)
-            s1 = max(0.5_wp*(stress(1) + stress(2)) + radius, stress(3))
-            s3 = min(0.5_wp*(stress(1) + stress(2)) - radius, stress(3))
-        else
-            j2 = 0.5_wp*sum(b**2) + sxy**2 + syz**2 + szx**2
-            if (j2 <= 0.0_wp) then
-                s1 = m
-                s3 = m
-            else
-                radius = sqrt(j2/3.0_wp)
-                ! r = det(deviator / radius) / 2, in [-1, 1] up to round-off
-                r = (b(1)*(b(2)*b(3) - syz*syz) - sxy*(sxy*b(3) - syz*szx) &
-                    + szx*(sxy*syz - b(2)*szx))/(2.0_wp*radius**3)
-                angle = acos(max(-1.0_wp, min(1.0_wp, r)))/3.0_wp
-                s1 = m + 2.0_wp*radius*cos(angle)
-                s3 = m + 2.0_wp*radius*cos(angle + third_turn)
-            end if
-        end if
-        clearly_elastic = (s1 - s3) + (s1 + s3)*sin(friction) - 2.0_wp*cohesion*cos(friction) &
-            < -margin
-        if (cutoff) clearly_elastic = clearly_elastic .and. s1 - tension < -margin
+        clearly_elastic = (s1 - s3) + (s1 + s3)*surface%sin_friction - surface%k < -margin
+        if (surface%cutoff) clearly_elastic = clearly_elastic .and. s1 - surface%tension < -margin
     end function clearly_elastic
+
+    !> Eigenvalues of a symmetric traceless 3x3 matrix (the deviator of the stress) from the
+    !> trigonometric solution of its characteristic cubic, in descending order.
+    !>
+    !> With rho = sqrt(J2 / 3) and cos(3 theta) = det(B) / (2 rho^3), theta in [0, pi/3]:
+    !> mu_1 = 2 rho cos(theta), mu_3 = 2 rho cos(theta + 2 pi/3), mu_2 from the trace. The
+    !> diagonal of B carries the round-off of the mean, eps |sigma|, so cos(3 theta) is known
+    !> to eps |sigma| / rho; where two values are a gap g apart (3 theta near 0 or pi) that
+    !> error grows to about eps |sigma| rho / g in each of the pair (sqrt(eps |sigma| rho) at
+    !> g = 0), while the third value and the sum of the pair stay accurate to eps |sigma|.
+    pure subroutine deviator_eigenvalues(b, off, mu)
+        real(wp), intent(in) :: b(3)
+            !! diagonal of the deviator, xx yy zz [Pa]
+        real(wp), intent(in) :: off(3)
+            !! off-diagonal entries xy yz zx [Pa]
+        real(wp), intent(out) :: mu(3)
+            !! eigenvalues, mu(1) >= mu(3) and mu(2) = trace - mu(1) - mu(3) [Pa]
+
+        real(wp), parameter :: third_turn = 2.0_wp*acos(-1.0_wp)/3.0_wp
+        real(wp) :: j2, radius, r, angle
+
+        j2 = 0.5_wp*sum(b**2) + off(1)**2 + off(2)**2 + off(3)**2
+        if (j2 <= 0.0_wp) then
+            mu = 0.0_wp
+            return
+        end if
+        radius = sqrt(j2/3.0_wp)
+        ! r = det(deviator / radius) / 2, in [-1, 1] up to round-off
+        r = (b(1)*(b(2)*b(3) - off(2)*off(2)) - off(1)*(off(1)*b(3) - off(2)*off(3)) &
+            + off(3)*(off(1)*off(2) - b(2)*off(3)))/(2.0_wp*radius**3)
+        angle = acos(max(-1.0_wp, min(1.0_wp, r)))/3.0_wp
+        mu(1) = 2.0_wp*radius*cos(angle)
+        mu(3) = 2.0_wp*radius*cos(angle + third_turn)
+        mu(2) = (b(1) + b(2) + b(3)) - mu(1) - mu(3)
+    end subroutine deviator_eigenvalues
+
+    !> Whether the closed-form eigenvalues are far enough apart for the spectral projectors.
+    !>
+    !> Error analysis (eps the machine epsilon, |sigma| the largest stress component, rho the
+    !> deviatoric radius <= |sigma|, g the smallest gap): the trigonometric pair is off by
+    !> delta ~ eps |sigma| rho / g; one Rayleigh-quotient step (`refine_pair`) leaves
+    !> rho (delta / g)^2 + eps |sigma|, which is round-off for delta / g < sqrt(eps), that is,
+    !> for g > 1e-4 |sigma|; the projector of a value of the close pair carries round-off
+    !> eps |sigma| / g, but it multiplies the difference of the corrections of the pair
+    !> (`spectral_correction`), which lies in [0, g]: the returned pair keeps its order, and
+    !> the flow directions that would reverse it (B, C, T2, T3) are only active where the pair
+    !> ends equal. So the returned stress is exact to a few eps |sigma|, as with Jacobi's
+    !> eigenvectors (the test measures under 5 eps). The gap of 1e-3 |sigma| keeps a factor 10
+    !> on the refinement (delta / g < 1e6 eps). Outside [1e-50, 1e50] Pa the fourth powers of
+    !> the refinement could leave the normal numbers: those go to Jacobi too.
+    pure logical function well_separated(mu, magnitude)
+        real(wp), intent(in) :: mu(3)
+            !! deviatoric principal values, descending [Pa]
+        real(wp), intent(in) :: magnitude
+            !! largest absolute component of the stress [Pa]
+
+        real(wp), parameter :: gap_fraction = 1.0e-3_wp
+        real(wp), parameter :: smallest = 1.0e-50_wp, largest = 1.0e50_wp
+
+        well_separated = min(mu(1) - mu(2), mu(2) - mu(3)) > gap_fraction*magnitude .and. &
+            magnitude > smallest .and. magnitude < largest
+    end function well_separated
+
+    !> One Rayleigh-quotient step for the closer pair of the trigonometric eigenvalues.
+    !>
+    !> For the outer value mu_i of the closer pair (mu_j its partner, mu_k the third), a
+    !> column of (B - mu_j I)(B - mu_k I), the one of the largest diagonal entry (at least a
+    !> third of the trace), is its eigenvector to a relative error delta / g, so its Rayleigh
+    !> quotient is mu_i to rho (delta / g)^2 plus round-off; the middle value follows from the
+    !> trace, the third one is already accurate (see `deviator_eigenvalues`).
+    pure subroutine refine_pair(b, off, mu)
+        real(wp), intent(in) :: b(3)
+            !! diagonal of the deviator, xx yy zz [Pa]
+        real(wp), intent(in) :: off(3)
+            !! off-diagonal entries xy yz zx [Pa]
+        real(wp), intent(inout) :: mu(3)
+            !! eigenvalues, descending and apart (`well_separated`) [Pa]
+
+        ! Voigt index of the entries of each column of a symmetric matrix
+        integer, parameter :: column(3, 3) = reshape([1, 4, 6, 4, 2, 5, 6, 5, 3], [3, 3])
+        real(wp) :: x(6), y(6), nmat(6), v(3), w(3)
+        integer :: io, ia, ib, j
+
+        if (mu(1) - mu(2) <= mu(2) - mu(3)) then
+            io = 1
+            ia = 2
+            ib = 3
+        else
+            io = 3
+            ia = 1
+            ib = 2
+        end if
+        x(1:3) = b - mu(ia)
+        x(4:6) = off
+        y(1:3) = b - mu(ib)
+        y(4:6) = off
+        nmat = symmetric_product(x, y)
+        j = maxloc(nmat(1:3), dim=1)
+        v = nmat(column(:, j))
+        w(1) = b(1)*v(1) + off(1)*v(2) + off(3)*v(3)
+        w(2) = off(1)*v(1) + b(2)*v(2) + off(2)*v(3)
+        w(3) = off(3)*v(1) + off(2)*v(2) + b(3)*v(3)
+        mu(io) = dot_product(v, w)/dot_product(v, v)
+        mu(2) = (b(1) + b(2) + b(3)) - mu(1) - mu(3)
+    end subroutine refine_pair
+
+    !> Product X Y of two commuting symmetric 3x3 matrices (polynomials in the same matrix),
+    !> itself symmetric; all in Voigt order xx yy zz xy yz zx.
+    pure function symmetric_product(x, y) result(z)
+        real(wp), intent(in) :: x(6)
+            !! first factor [any unit]
+        real(wp), intent(in) :: y(6)
+            !! second factor [any unit]
+        real(wp) :: z(6)
+            !! X Y [product of the units]
+
+        z(1) = x(1)*y(1) + x(4)*y(4) + x(6)*y(6)
+        z(2) = x(4)*y(4) + x(2)*y(2) + x(5)*y(5)
+        z(3) = x(6)*y(6) + x(5)*y(5) + x(3)*y(3)
+        z(4) = x(1)*y(4) + x(4)*y(2) + x(6)*y(5)
+        z(5) = x(4)*y(6) + x(2)*y(5) + x(5)*y(3)
+        z(6) = x(6)*y(1) + x(5)*y(4) + x(3)*y(6)
+    end function symmetric_product
+
+    !> Subtract sum_k dp_k P_k from a 3D stress, P_k the spectral projectors of its distinct
+    !> principal values, without eigenvectors.
+    !>
+    !> With P_1 = (B - mu_2)(B - mu_3) / ((mu_1 - mu_2)(mu_1 - mu_3)), P_3 likewise and
+    !> P_2 = I - P_1 - P_3: sum_k dp_k P_k = dp_2 I + (dp_1 - dp_2) P_1 + (dp_3 - dp_2) P_3
+    !> = dp_2 I + (B - mu_2) (c_1 (B - mu_3) + c_3 (B - mu_1)), one matrix product. The
+    !> middle value belongs to the closer pair, so the ill-conditioned projector (round-off
+    !> eps |sigma| / gap) is only ever multiplied by the difference of the pair's corrections,
+    !> at most the gap (see `well_separated`).
+    pure subroutine spectral_correction(stress, b, off, mu, dp)
+        real(wp), intent(inout) :: stress(:)
+            !! trial stress xx yy zz xy yz zx, on exit the returned one [Pa]
+        real(wp), intent(in) :: b(3)
+            !! diagonal of the deviator of the trial stress [Pa]
+        real(wp), intent(in) :: off(3)
+            !! off-diagonal entries of the trial stress xy yz zx [Pa]
+        real(wp), intent(in) :: mu(3)
+            !! deviatoric principal values, descending and apart [Pa]
+        real(wp), intent(in) :: dp(3)
+            !! correction of each principal value, same order [Pa]
+
+        real(wp) :: c1, c3, x(6), y(6), k(6)
+
+        c1 = (dp(1) - dp(2))/((mu(1) - mu(2))*(mu(1) - mu(3)))
+        c3 = (dp(3) - dp(2))/((mu(3) - mu(1))*(mu(3) - mu(2)))
+        x(1:3) = b - mu(2)
+        x(4:6) = off
+        y(1:3) = c1*(b - mu(3)) + c3*(b - mu(1))
+        y(4:6) = (c1 + c3)*off
+        k = symmetric_product(x, y)
+        stress(1:3) = stress(1:3) - dp(2) - k(1:3)
+        stress(4:6) = stress(4:6) - k(4:6)
+    end subroutine spectral_correction
+
+    !> `principal_return` with the precomputed planes of the material for a constant strength.
+    pure subroutine return_to_surface(self, s, surface, plastic)
+        class(mohr_coulomb_material_type), intent(in) :: self
+            !! the material
+        real(wp), intent(inout) :: s(3)
+            !! trial principal stresses, ordered s1 >= s2 >= s3, on exit the returned ones [Pa]
+        type(mohr_coulomb_surface_type), intent(in) :: surface
+            !! the planes of the step
+        logical, intent(out) :: plastic
+            !! whether the stress was returned
+
+        if (self%softening == softening_none) then
+            call principal_return(s, surface, self%shear, self%lame, plastic, self%peak_planes)
+        else
+            call principal_return(s, surface, self%shear, self%lame, plastic)
+        end if
+    end subroutine return_to_surface
 
     !> Return of ordered principal stresses s1 >= s2 >= s3 to the pyramid and the cut-off.
     !>
     !> See the module documentation for the planes and the order of the candidates.
-    pure subroutine principal_return(s, friction, cohesion, dilatancy, tension, cutoff, shear, &
-            lame, plastic)
+    pure subroutine principal_return(s, surface, shear, lame, plastic, planes)
         real(wp), intent(inout) :: s(3)
             !! trial principal stresses, ordered s1 >= s2 >= s3, on exit the returned ones [Pa]
-        real(wp), intent(in) :: friction
-            !! friction angle phi [rad]
-        real(wp), intent(in) :: cohesion
-            !! cohesion c [Pa]
-        real(wp), intent(in) :: dilatancy
-            !! dilatancy angle psi [rad]
-        real(wp), intent(in) :: tension
-            !! tensile strength sigma_t (used when `cutoff`) [Pa]
-        logical, intent(in) :: cutoff
-            !! whether the cut-off planes are part of the surface
+        type(mohr_coulomb_surface_type), intent(in) :: surface
+            !! the planes of the step
         real(wp), intent(in) :: shear
             !! shear modulus G [Pa]
         real(wp), intent(in) :: lame
             !! first Lame parameter lambda [Pa]
         logical, intent(out) :: plastic
             !! whether the stress was returned
+        type(return_planes_type), intent(in), optional :: planes
+            !! the planes of `surface`, factorised (constant strength); built here when absent
 
-        real(wp) :: sphi, cphi, spsi, k, scale, yield
-        real(wp) :: a(3, 6), r(3, 6), rhs(6), trial(3), best(3), sc(3), dl(3), m(3, 3)
-        real(wp) :: violation, best_violation
-        integer :: ic, n, i, j, nplanes
-        integer :: act(3)
-        logical :: ok
+        type(return_planes_type) :: local
+        real(wp) :: sphi, spsi, k, scale, yield
+        real(wp) :: trial(3), best(3), sc(3), dl(3), rmax(3), aa(3), ra(3), maa, violation
+        real(wp) :: best_violation
+        logical :: accepted
 
-        sphi = sin(friction)
-        cphi = cos(friction)
-        spsi = sin(dilatancy)
-        k = 2.0_wp*cohesion*cphi
+        sphi = surface%sin_friction
+        spsi = surface%sin_dilatancy
+        k = surface%k
         ! the floor (1e-154 Pa) keeps the tolerances normal numbers for a zero stress
         scale = max(maxval(abs(s)), k, sqrt(tiny(1.0_wp)))
-        if (cutoff) scale = max(scale, abs(tension))
+        if (surface%cutoff) scale = max(scale, abs(surface%tension))
 
         yield = mohr_coulomb_yield(s, sphi, k)
         plastic = yield > tol_yield*scale
-        if (cutoff) plastic = plastic .or. s(1) - tension > tol_yield*scale
+        if (surface%cutoff) plastic = plastic .or. s(1) - surface%tension > tol_yield*scale
         if (.not. plastic) return
-
-        ! outward normals a_i, plane constants rhs_i (a_i . s = rhs_i on the plane) and the
-        ! return directions r_i = D b_i = 2 G b_i + lambda tr(b_i) (1, 1, 1)
-        a(:, plane_a) = [1.0_wp + sphi, 0.0_wp, -(1.0_wp - sphi)]
-        a(:, plane_b) = [1.0_wp + sphi, -(1.0_wp - sphi), 0.0_wp]
-        a(:, plane_c) = [0.0_wp, 1.0_wp + sphi, -(1.0_wp - sphi)]
-        r(:, plane_a) = [1.0_wp + spsi, 0.0_wp, -(1.0_wp - spsi)]
-        r(:, plane_b) = [1.0_wp + spsi, -(1.0_wp - spsi), 0.0_wp]
-        r(:, plane_c) = [0.0_wp, 1.0_wp + spsi, -(1.0_wp - spsi)]
-        a(:, plane_t1:plane_t3) = 0.0_wp
-        a(1, plane_t1) = 1.0_wp
-        a(2, plane_t2) = 1.0_wp
-        a(3, plane_t3) = 1.0_wp
-        r(:, plane_t1:plane_t3) = a(:, plane_t1:plane_t3)
-        do j = 1, 6
-            r(:, j) = 2.0_wp*shear*r(:, j) + lame*sum(r(:, j))
-        end do
-        rhs(plane_a:plane_c) = k
-        rhs(plane_t1:plane_t3) = tension
 
         trial = s
         best = s
         best_violation = huge(1.0_wp)
-        nplanes = merge(6, 3, cutoff)
+
+        ! the first candidate, the face A alone, in closed form: dl = (a_A . s - k) /
+        ! (a_A . r_A), the same operations as the general solve
+        aa = [1.0_wp + sphi, 0.0_wp, -(1.0_wp - sphi)]
+        ra = [1.0_wp + spsi, 0.0_wp, -(1.0_wp - spsi)]
+        ra = 2.0_wp*shear*ra + lame*sum(ra)
+        maa = dot_product(aa, ra)
+        if (maa /= 0.0_wp) then
+            dl(1) = (dot_product(aa, trial) - k)/maa
+            sc = trial - dl(1)*ra
+            rmax(1) = maxval(abs(ra))
+            violation = candidate_violation(sc, dl, rmax, 1, surface, scale)
+            if (violation <= tol_candidate) then
+                s = sc
+                return
+            end if
+            best_violation = violation
+            best = sc
+        end if
+
+        ! the other candidates, in order
+        if (present(planes)) then
+            call try_candidates(trial, planes, surface, scale, s, best, best_violation, accepted)
+        else
+            call new_return_planes(local, surface, shear, lame, .false.)
+            call try_candidates(trial, local, surface, scale, s, best, best_violation, accepted)
+        end if
+        if (accepted) return
+
+        if (.not. surface%cutoff .and. surface%apex) then
+            ! what no face or edge accepts returns to the apex (sigma_t is c cot(phi) there)
+            s = surface%tension
+        else
+            ! only reached at region boundaries through round-off: the least violating one
+            s = best
+        end if
+    end subroutine principal_return
+
+    !> The planes of the return for a strength: outward normals a_i, return directions
+    !> r_i = D b_i, plane constants, and (when asked) the factorised systems of the candidates.
+    pure subroutine new_return_planes(planes, surface, shear, lame, factorise)
+        type(return_planes_type), intent(out) :: planes
+            !! the planes
+        type(mohr_coulomb_surface_type), intent(in) :: surface
+            !! the strength
+        real(wp), intent(in) :: shear
+            !! shear modulus G [Pa]
+        real(wp), intent(in) :: lame
+            !! first Lame parameter lambda [Pa]
+        logical, intent(in) :: factorise
+            !! whether to factorise the systems a_i . r_j of all candidates now
+
+        real(wp) :: sphi, spsi, m(3, 3)
+        integer :: ic, n, i, j, nplanes, act(3)
+        logical :: ok
+
+        sphi = surface%sin_friction
+        spsi = surface%sin_dilatancy
+        planes%a(:, plane_a) = [1.0_wp + sphi, 0.0_wp, -(1.0_wp - sphi)]
+        planes%a(:, plane_b) = [1.0_wp + sphi, -(1.0_wp - sphi), 0.0_wp]
+        planes%a(:, plane_c) = [0.0_wp, 1.0_wp + sphi, -(1.0_wp - sphi)]
+        planes%r(:, plane_a) = [1.0_wp + spsi, 0.0_wp, -(1.0_wp - spsi)]
+        planes%r(:, plane_b) = [1.0_wp + spsi, -(1.0_wp - spsi), 0.0_wp]
+        planes%r(:, plane_c) = [0.0_wp, 1.0_wp + spsi, -(1.0_wp - spsi)]
+        planes%a(:, plane_t1:plane_t3) = 0.0_wp
+        planes%a(1, plane_t1) = 1.0_wp
+        planes%a(2, plane_t2) = 1.0_wp
+        planes%a(3, plane_t3) = 1.0_wp
+        planes%r(:, plane_t1:plane_t3) = planes%a(:, plane_t1:plane_t3)
+        do j = 1, 6
+            planes%r(:, j) = 2.0_wp*shear*planes%r(:, j) + lame*sum(planes%r(:, j))
+            planes%rmax(j) = maxval(abs(planes%r(:, j)))
+        end do
+        planes%rhs(plane_a:plane_c) = surface%k
+        planes%rhs(plane_t1:plane_t3) = surface%tension
+
+        nplanes = merge(6, 3, surface%cutoff)
+        planes%factorised = factorise
         do ic = 1, ncandidates
             act = candidates(:, ic)
             n = count(act > 0)
-            if (any(act(1:n) > nplanes)) cycle
+            if (any(act(1:n) > nplanes)) n = 0
+            planes%nactive(ic) = n
+            if (.not. factorise .or. n == 0) cycle
             do j = 1, n
                 do i = 1, n
-                    m(i, j) = dot_product(a(:, act(i)), r(:, act(j)))
+                    m(i, j) = dot_product(planes%a(:, act(i)), planes%r(:, act(j)))
                 end do
-                dl(j) = dot_product(a(:, act(j)), trial) - rhs(act(j))
             end do
-            call solve_small(m, dl, n, ok)
-            if (.not. ok) cycle
+            call factor_small(m, n, planes%pivot(:, ic), ok)
+            planes%lu(:, :, ic) = m
+            if (.not. ok) planes%nactive(ic) = 0
+        end do
+    end subroutine new_return_planes
+
+    !> The candidates after the face A, in order (see the module documentation): the first
+    !> one valid to round-off is the return; else the least violating one is kept.
+    pure subroutine try_candidates(trial, planes, surface, scale, s, best, best_violation, &
+            accepted)
+        real(wp), intent(in) :: trial(3)
+            !! trial principal stresses, ordered [Pa]
+        type(return_planes_type), intent(in) :: planes
+            !! the planes of the return
+        type(mohr_coulomb_surface_type), intent(in) :: surface
+            !! the strength
+        real(wp), intent(in) :: scale
+            !! stress scale of the tolerances [Pa]
+        real(wp), intent(inout) :: s(3)
+            !! on acceptance, the returned principal stresses [Pa]
+        real(wp), intent(inout) :: best(3)
+            !! least violating candidate so far [Pa]
+        real(wp), intent(inout) :: best_violation
+            !! its violation [-]
+        logical, intent(out) :: accepted
+            !! whether a candidate was valid
+
+        real(wp) :: m(3, 3), dl(3), sc(3), rmax(3), violation
+        integer :: ic, n, i, j, act(3), pivot(3)
+        logical :: ok
+
+        accepted = .false.
+        do ic = 2, ncandidates
+            n = planes%nactive(ic)
+            if (n == 0) cycle
+            act = candidates(:, ic)
+            do j = 1, n
+                dl(j) = dot_product(planes%a(:, act(j)), trial) - planes%rhs(act(j))
+            end do
+            if (planes%factorised) then
+                call solve_factored(planes%lu(:, :, ic), planes%pivot(:, ic), dl, n)
+            else
+                do j = 1, n
+                    do i = 1, n
+                        m(i, j) = dot_product(planes%a(:, act(i)), planes%r(:, act(j)))
+                    end do
+                end do
+                call factor_small(m, n, pivot, ok)
+                if (.not. ok) cycle
+                call solve_factored(m, pivot, dl, n)
+            end if
             sc = trial
             do j = 1, n
-                sc = sc - dl(j)*r(:, act(j))
+                sc = sc - dl(j)*planes%r(:, act(j))
+                rmax(j) = planes%rmax(act(j))
             end do
-            ! violation (relative to the stress scale): negative multipliers, lost order,
-            ! a violated Mohr-Coulomb plane (any ordering) or cut-off
-            violation = max(0.0_wp, sc(2) - sc(1), sc(3) - sc(2), &
-                mohr_coulomb_yield(sc, sphi, k))
-            do j = 1, n
-                violation = max(violation, -dl(j)*maxval(abs(r(:, act(j)))))
-            end do
-            if (cutoff) violation = max(violation, maxval(sc) - tension)
-            violation = violation/scale
+            violation = candidate_violation(sc, dl, rmax, n, surface, scale)
             if (violation <= tol_candidate) then
                 s = sc
+                accepted = .true.
                 return
             end if
             if (violation < best_violation) then
@@ -460,15 +864,35 @@ contains
                 best = sc
             end if
         end do
+    end subroutine try_candidates
 
-        if (.not. cutoff .and. has_apex(sphi, cohesion, cphi)) then
-            ! what no face or edge accepts returns to the apex
-            s = cohesion*cphi/sphi
-        else
-            ! only reached at region boundaries through round-off: the least violating one
-            s = best
-        end if
-    end subroutine principal_return
+    !> How far a candidate return is from valid, relative to the stress scale: negative
+    !> multipliers, lost order, a violated Mohr-Coulomb plane (any ordering) or cut-off [-].
+    pure real(wp) function candidate_violation(sc, dl, rmax, n, surface, scale)
+        real(wp), intent(in) :: sc(3)
+            !! returned principal stresses of the candidate [Pa]
+        real(wp), intent(in) :: dl(3)
+            !! its multipliers, in dl(1:n) [-]
+        real(wp), intent(in) :: rmax(3)
+            !! largest component of each return direction D b_i, in rmax(1:n) [Pa]
+        integer, intent(in) :: n
+            !! number of active planes
+        type(mohr_coulomb_surface_type), intent(in) :: surface
+            !! the planes of the step
+        real(wp), intent(in) :: scale
+            !! stress scale of the tolerances [Pa]
+
+        real(wp) :: violation
+        integer :: j
+
+        violation = max(0.0_wp, sc(2) - sc(1), sc(3) - sc(2), &
+            mohr_coulomb_yield(sc, surface%sin_friction, surface%k))
+        do j = 1, n
+            violation = max(violation, -dl(j)*rmax(j))
+        end do
+        if (surface%cutoff) violation = max(violation, maxval(sc) - surface%tension)
+        candidate_violation = violation/scale
+    end function candidate_violation
 
     !> Mohr-Coulomb yield function of three principal stresses in any order [Pa].
     pure real(wp) function mohr_coulomb_yield(s, sphi, k)
@@ -481,21 +905,24 @@ contains
         mohr_coulomb_yield = (maxval(s) - minval(s)) + (maxval(s) + minval(s))*sphi - k
     end function mohr_coulomb_yield
 
-    !> Solve m x = b in place for n <= 3 by Gaussian elimination with partial pivoting.
-    pure subroutine solve_small(m, b, n, ok)
+    !> LU factorisation in place of m(1:n, 1:n), n <= 3, by Gaussian elimination with partial
+    !> pivoting (the multipliers stored below the diagonal); with `solve_factored`, the same
+    !> operations as an elimination of the matrix and the right-hand side together.
+    pure subroutine factor_small(m, n, pivot, ok)
         real(wp), intent(inout) :: m(3, 3)
-            !! the n x n matrix in m(1:n, 1:n), destroyed
-        real(wp), intent(inout) :: b(3)
-            !! right-hand side in b(1:n), on exit the solution
+            !! the n x n matrix in m(1:n, 1:n), on exit its factors [any unit]
         integer, intent(in) :: n
             !! size of the system
+        integer, intent(out) :: pivot(3)
+            !! row exchanged with row j at step j, in pivot(1:n)
         logical, intent(out) :: ok
             !! false when the matrix is singular to working precision
 
         ! fixed-size arguments and scratch: no array temporaries (heap) per call
         integer :: i, j, piv
-        real(wp) :: factor, tmp(3), big, t
+        real(wp) :: factor, tmp(3), big
 
+        pivot = [1, 2, 3]
         big = maxval(abs(m(1:n, 1:n)))
         ok = big > 0.0_wp
         if (.not. ok) return
@@ -505,52 +932,87 @@ contains
                 ok = .false.
                 return
             end if
+            pivot(j) = piv
             if (piv /= j) then
-                tmp(1:n) = m(j, 1:n)
-                m(j, 1:n) = m(piv, 1:n)
-                m(piv, 1:n) = tmp(1:n)
-                t = b(j)
-                b(j) = b(piv)
-                b(piv) = t
+                tmp(j:n) = m(j, j:n)
+                m(j, j:n) = m(piv, j:n)
+                m(piv, j:n) = tmp(j:n)
             end if
             do i = j + 1, n
                 factor = m(i, j)/m(j, j)
-                m(i, j:n) = m(i, j:n) - factor*m(j, j:n)
-                b(i) = b(i) - factor*b(j)
+                m(i, j + 1:n) = m(i, j + 1:n) - factor*m(j, j + 1:n)
+                m(i, j) = factor
+            end do
+        end do
+    end subroutine factor_small
+
+    !> Solve m x = b in place for n <= 3 with the factors of `factor_small`.
+    pure subroutine solve_factored(lu, pivot, b, n)
+        real(wp), intent(in) :: lu(3, 3)
+            !! factors from `factor_small` [any unit]
+        integer, intent(in) :: pivot(3)
+            !! row exchanges from `factor_small`
+        real(wp), intent(inout) :: b(3)
+            !! right-hand side in b(1:n), on exit the solution
+        integer, intent(in) :: n
+            !! size of the system
+
+        integer :: i, j
+        real(wp) :: t
+
+        do j = 1, n
+            if (pivot(j) /= j) then
+                t = b(j)
+                b(j) = b(pivot(j))
+                b(pivot(j)) = t
+            end if
+            do i = j + 1, n
+                b(i) = b(i) - lu(i, j)*b(j)
             end do
         end do
         do j = n, 1, -1
-            b(j) = (b(j) - dot_product(m(j, j + 1:n), b(j + 1:n)))/m(j, j)
+            b(j) = (b(j) - dot_product(lu(j, j + 1:n), b(j + 1:n)))/lu(j, j)
         end do
-    end subroutine solve_small
+    end subroutine solve_factored
 
     !> Principal stresses of a plane-strain stress (xx yy zz xy): the in-plane major and minor
-    !> values, then s_zz, with the direction of the major one as cos and sin of twice its angle.
-    pure subroutine principal_plane(stress, p, cos2, sin2)
+    !> values, then s_zz, with the radius of the circle (see `plane_direction`).
+    pure subroutine principal_plane(stress, p, radius)
         real(wp), intent(in) :: stress(4)
             !! stress xx yy zz xy [Pa]
         real(wp), intent(out) :: p(3)
             !! in-plane major, in-plane minor, zz principal stress [Pa]
+        real(wp), intent(out) :: radius
+            !! radius of Mohr's circle in the plane [Pa]
+
+        real(wp) :: centre, half
+
+        centre = 0.5_wp*(stress(1) + stress(2))
+        half = 0.5_wp*(stress(1) - stress(2))
+        radius = sqrt(half*half + stress(4)*stress(4))
+        p = [centre + radius, centre - radius, stress(3)]
+    end subroutine principal_plane
+
+    !> Direction of the in-plane major principal stress, as cos and sin of twice its angle.
+    pure subroutine plane_direction(stress, radius, cos2, sin2)
+        real(wp), intent(in) :: stress(4)
+            !! stress xx yy zz xy [Pa]
+        real(wp), intent(in) :: radius
+            !! radius of Mohr's circle from `principal_plane` [Pa]
         real(wp), intent(out) :: cos2
             !! cos(2 theta), theta the angle of the major direction from x [-]
         real(wp), intent(out) :: sin2
             !! sin(2 theta) [-]
 
-        real(wp) :: centre, half, radius
-
-        centre = 0.5_wp*(stress(1) + stress(2))
-        half = 0.5_wp*(stress(1) - stress(2))
-        radius = sqrt(half*half + stress(4)*stress(4))
         if (radius > 0.0_wp) then
-            cos2 = half/radius
+            cos2 = 0.5_wp*(stress(1) - stress(2))/radius
             sin2 = stress(4)/radius
         else
             ! isotropic in the plane: any direction is principal
             cos2 = 1.0_wp
             sin2 = 0.0_wp
         end if
-        p = [centre + radius, centre - radius, stress(3)]
-    end subroutine principal_plane
+    end subroutine plane_direction
 
     !> Eigenvalues and orthonormal eigenvectors of a symmetric 3x3 stress (cyclic Jacobi).
     !>
