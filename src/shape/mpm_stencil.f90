@@ -27,7 +27,7 @@ module mpm_stencil
     implicit none
     private
     public :: stencils_type, compute_stencils, max_nodes, particle_nodes, stencil_bytes, &
-        axis_factors
+        axis_factors, axis_derivatives
 
     integer, parameter :: max_nodes = 27
         !! largest number of nodes one particle touches (3 per direction in 3D)
@@ -351,6 +351,32 @@ contains
             end do
         end if
     end subroutine particle_nodes
+
+    !> The 1D weight derivatives of particle p along axis a, nodes 1 .. n (n = nper(a)): the
+    !> derivative of the last node is minus the sum of the others (zero when its weight is
+    !> zero).
+    pure subroutine axis_derivatives(stc, a, p, n, dw)
+        type(stencils_type), intent(in) :: stc
+            !! stencils of the step
+        integer, intent(in) :: a
+            !! axis
+        integer, intent(in) :: p
+            !! particle
+        integer, intent(in) :: n
+            !! nodes along the axis, stc%nper(a)
+        real(wp), intent(out) :: dw(3)
+            !! derivatives (first n) [1/m]
+
+        integer :: k
+        real(wp) :: total
+
+        total = 0.0_wp
+        do k = 1, n - 1
+            dw(k) = stc%dw(k, a, p)
+            total = total + dw(k)
+        end do
+        dw(n) = merge(-total, 0.0_wp, stc%w(n, a, p) > 0.0_wp)
+    end subroutine axis_derivatives
 
     !> The 1D weights and derivatives of particle p along axis a, nodes 1 .. n (n = nper(a)):
     !> the derivative of the last node is minus the sum of the others (zero when its weight is

@@ -18,7 +18,7 @@ module mpm_transfer
     use mpm_error, only: error_type, fatal_error, exit_numerical
     use mpm_grid, only: grid_type, contact_index
     use mpm_particles, only: particles_type
-    use mpm_stencil, only: stencils_type, particle_nodes, max_nodes, axis_factors
+    use mpm_stencil, only: stencils_type, particle_nodes, max_nodes, axis_derivatives
     use mpm_material, only: material_holder_type
     use mpm_case, only: damping_local, bc_free
     implicit none
