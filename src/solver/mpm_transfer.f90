@@ -516,8 +516,8 @@ contains
             vs = 0.0_wp
             do q = qlo, qhi
                 p = stc%order(q)
-                call update_particle_velocity(grid, particles, stc, p, dt, flip, apic, stress, &
-                    dx, gradv)
+                call update_particle_velocity(grid, particles, stc, p, dt, flip, apic, &
+                    .not. remap, stress, dx, gradv)
                 if (.not. remap) call move_particle(grid, particles, p, dx(1:dim), gravity, mine)
                 if (stress) ldts(:, :, q - qlo + 1) = dt*gradv
                 if (remap) then
@@ -550,14 +550,16 @@ contains
 
     !> The G2P update of one particle: velocity (FLIP, PIC blend or APIC) and the position
     !> increment dt sum N_i v_i; the velocity gradient too with `with_gradient` (or APIC).
-    subroutine update_particle_velocity(grid, particles, stc, p, dt, flip, apic, with_gradient, &
-            dx, gradv)
+    subroutine update_particle_velocity(grid, particles, stc, p, dt, flip, apic, need_v, &
+            with_gradient, dx, gradv)
         type(grid_type), intent(in) :: grid
         type(particles_type), intent(inout) :: particles
         type(stencils_type), intent(in) :: stc
         integer, intent(in) :: p
         real(wp), intent(in) :: dt, flip
         logical, intent(in) :: apic, with_gradient
+        logical, intent(in) :: need_v
+            !! the increment dx is used (the particle moves in this pass)
         real(wp), intent(out) :: dx(3), gradv(3, 3)
 
         integer :: dim, c
@@ -565,8 +567,9 @@ contains
         real(wp) :: a(3), v(3), w(max_nodes), dw(3, max_nodes)
 
         dim = grid%dim
+        ! the MUSL remap (FLIP) needs the accelerations only: the particles move later
         call gather_particle(stc, p, grid%acceleration, grid%velocity, .not. apic, &
-            apic .or. with_gradient, a, v, gradv)
+            need_v .or. apic .or. flip < 1.0_wp, apic .or. with_gradient, a, v, gradv)
         if (apic) then
             ! APIC: the particle takes the nodal velocity field, its value and its gradient.
             ! A particle alone on its nodes would only get back the affine field it gave
@@ -729,7 +732,8 @@ contains
             !$omp parallel do default(none) schedule(static) &
             !$omp shared(grid, particles, stc, grads, vels) private(p, a3)
             do p = 1, particles%n
-                call gather_particle(stc, p, grid%velocity, grid%velocity, .false., .true., a3, &
+                call gather_particle(stc, p, grid%velocity, grid%velocity, .false., .true., .true., &
+                    a3, &
                     vels(:, p), grads(:, :, p))
             end do
             !$omp end parallel do
@@ -760,6 +764,7 @@ contains
                     v = vels(:, p)
                 else
                     call gather_particle(stc, p, grid%velocity, grid%velocity, .false., .true., &
+                        .true., &
                         a3, v, gradv)
                 end if
                 ! gradv(i, j) = d v_i / d x_j; ldt = dt gradv, dF = I + ldt
@@ -1024,60 +1029,61 @@ contains
 
     !> Gather at one particle from two nodal vector fields: sum N_i fa_i, sum N_i fv_i and,
     !> when `with_gradient`, sum fv_i (x) grad N_i (gradient(i, j) = d fv_i / d x_j).
-    pure subroutine gather_particle(stc, p, fa, fv, with_a, with_gradient, a, v, gradient)
+    pure subroutine gather_particle(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
         type(stencils_type), intent(in) :: stc
             !! stencils of the step
         integer, intent(in) :: p
             !! particle
         real(wp), intent(in), contiguous :: fa(:, :), fv(:, :)
             !! nodal fields (dim, nodes): acceleration and velocity
-        logical, intent(in) :: with_a, with_gradient
-            !! gather fa; gather the gradient of fv
+        logical, intent(in) :: with_a, with_v, with_gradient
+            !! gather fa; gather fv; gather the gradient of fv
         real(wp), intent(out) :: a(3), v(3), gradient(3, 3)
-            !! results (first dim components)
+            !! results (first dim components; v is zero without with_v and with_gradient)
 
         select case (stencil_kind(stc))
         case (full_gimp_3d)
-            call gather_g3(stc, p, fa, fv, with_a, with_gradient, a, v, gradient)
+            call gather_g3(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
         case (full_gimp_2d)
-            call gather_g2(stc, p, fa, fv, with_a, with_gradient, a, v, gradient)
+            call gather_g2(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
         case (full_linear_3d)
-            call gather_l3(stc, p, fa, fv, with_a, with_gradient, a, v, gradient)
+            call gather_l3(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
         case (full_linear_2d)
-            call gather_l2(stc, p, fa, fv, with_a, with_gradient, a, v, gradient)
+            call gather_l2(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
         case default
-            call gather_any(stc, p, fa, fv, with_a, with_gradient, a, v, gradient, &
+            call gather_any(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient, &
                 stc%nper(1), stc%nper(2), stc%nper(3))
         end select
     end subroutine gather_particle
 
     !> gather_particle for full stencils, cpGIMP in 3D.
-    pure subroutine gather_g3(stc, p, fa, fv, with_a, with_gradient, a, v, gradient)
+    pure subroutine gather_g3(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
         integer, parameter :: n1 = 3, n2 = 3, n3 = 3
         include "mpm_transfer_gather.inc"
     end subroutine gather_g3
 
     !> gather_particle for full stencils, cpGIMP in 2D.
-    pure subroutine gather_g2(stc, p, fa, fv, with_a, with_gradient, a, v, gradient)
+    pure subroutine gather_g2(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
         integer, parameter :: n1 = 3, n2 = 3, n3 = 1
         include "mpm_transfer_gather.inc"
     end subroutine gather_g2
 
     !> gather_particle for full stencils, linear in 3D.
-    pure subroutine gather_l3(stc, p, fa, fv, with_a, with_gradient, a, v, gradient)
+    pure subroutine gather_l3(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
         integer, parameter :: n1 = 2, n2 = 2, n3 = 2
         include "mpm_transfer_gather.inc"
     end subroutine gather_l3
 
     !> gather_particle for full stencils, linear in 2D.
-    pure subroutine gather_l2(stc, p, fa, fv, with_a, with_gradient, a, v, gradient)
+    pure subroutine gather_l2(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
         integer, parameter :: n1 = 2, n2 = 2, n3 = 1
         include "mpm_transfer_gather.inc"
     end subroutine gather_l2
 
     !> gather_particle for any stencil (an axis of the grid with fewer nodes than the shape
     !> function touches).
-    pure subroutine gather_any(stc, p, fa, fv, with_a, with_gradient, a, v, gradient, n1, n2, n3)
+    pure subroutine gather_any(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient, &
+            n1, n2, n3)
         integer, intent(in) :: n1, n2, n3
         include "mpm_transfer_gather.inc"
     end subroutine gather_any
