@@ -38,6 +38,9 @@ module mpm_grid
             !! nodal velocity after the update (dim, nnodes) [m/s]
         real(wp), allocatable :: acceleration(:, :)
             !! nodal acceleration of the step (dim, nnodes) [m/s2]
+        real(wp), allocatable :: scratch(:)
+            !! buffers of the scatter passes (mpm_transfer), kept from step to step: a fresh
+            !! allocation per pass costs page faults and the zeroing of new pages
         logical, allocatable :: constrained(:, :)
             !! velocity component held at zero by a boundary condition (dim, nnodes)
         integer :: ncontacts = 0

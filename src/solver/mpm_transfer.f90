@@ -71,7 +71,7 @@ contains
     !> Gravity is not scattered: the nodal update adds m_i g. Only the extra body force of
     !> drivers that prescribe one (particles%body_force) goes to grid%fext.
     subroutine p2g(grid, particles, stc, with_mass, with_fint, fbar)
-        type(grid_type), intent(inout) :: grid
+        type(grid_type), intent(inout), target :: grid
             !! grid receiving the nodal sums
         type(particles_type), intent(in) :: particles
             !! particles
@@ -88,7 +88,8 @@ contains
         integer :: p, q, k, c, dim, ns, shift, fint_row, body_row, rows, mass_row
         real(wp) :: s(6), vs(6), xp(3), vp(3), aff(3, 3), bf(3)
         logical :: apic, body
-        real(wp), allocatable :: cell_pv(:), cell_v(:), buf(:, :)
+        real(wp), allocatable :: cell_pv(:), cell_v(:)
+        real(wp), pointer, contiguous :: buf(:, :)
 
         dim = grid%dim
         ns = particles%nstress
@@ -121,7 +122,7 @@ contains
         body_row = 0
         if (body) body_row = rows + 1
         if (body) rows = rows + dim
-        allocate (buf(rows, stc%chunk_offset(stc%nchunks + 1)))
+        call scatter_buffer(grid, rows, stc%chunk_offset(stc%nchunks + 1), buf)
 
         !$omp parallel do default(none) schedule(dynamic, 1) &
         !$omp shared(grid, particles, stc, buf, with_mass, with_fint, fbar, apic, body, &
@@ -164,6 +165,23 @@ contains
             end do
         end if
     end subroutine p2g
+
+    !> A rows x n view of the grid's scatter scratch, which grows when it is too small and is
+    !> kept from pass to pass.
+    subroutine scatter_buffer(grid, rows, n, buf)
+        type(grid_type), intent(inout), target :: grid
+            !! grid owning the scratch
+        integer, intent(in) :: rows, n
+            !! shape of the buffer
+        real(wp), pointer, contiguous, intent(out) :: buf(:, :)
+            !! the buffer (contents undefined)
+
+        if (allocated(grid%scratch)) then
+            if (size(grid%scratch) < rows*n) deallocate (grid%scratch)
+        end if
+        if (.not. allocated(grid%scratch)) allocate (grid%scratch(max(1, rows*n)))
+        buf(1:rows, 1:n) => grid%scratch(1:rows*n)
+    end subroutine scatter_buffer
 
     !> Nodal sums from the chunk buffers, added chunk by chunk in a fixed order, for every
     !> node of the grid (nodes no chunk touches get zero): mass and momentum (rows 1 : 1 + dim)
@@ -452,7 +470,7 @@ contains
     !> instead of two; the blocks and the order of the work sums are those of update_stress.
     subroutine g2p(grid, particles, stc, dt, flip, gravity, remap, motion, materials, &
             strain_work)
-        type(grid_type), intent(inout) :: grid
+        type(grid_type), intent(inout), target :: grid
             !! grid after the nodal update (momentum and velocity replaced with `remap`)
         type(particles_type), intent(inout) :: particles
             !! particles whose velocities are updated
@@ -478,7 +496,8 @@ contains
         real(wp) :: xp(3), vp(3), aff(3, 3), bf(3), vs(6), dx(3), gradv(3, 3), work, &
             ldts(3, 3, gather_block)
         logical :: apic, stress
-        real(wp), allocatable :: buf(:, :), partial(:)
+        real(wp), allocatable :: partial(:)
+        real(wp), pointer, contiguous :: buf(:, :)
         type(motion_type), allocatable :: moved(:)
         type(motion_type) :: mine
 
@@ -490,9 +509,9 @@ contains
         allocate (moved(ng), partial(ng))
         if (remap) then
             ! the momentum only: the nodal masses do not change
-            allocate (buf(dim, stc%chunk_offset(stc%nchunks + 1)))
+            call scatter_buffer(grid, dim, stc%chunk_offset(stc%nchunks + 1), buf)
         else
-            allocate (buf(1, 1))
+            call scatter_buffer(grid, 1, 1, buf)
         end if
         !$omp parallel do default(none) schedule(dynamic, 1) &
         !$omp shared(grid, particles, stc, dt, flip, gravity, remap, buf, dim, apic, moved, ng, &
