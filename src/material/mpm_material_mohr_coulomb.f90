@@ -71,7 +71,7 @@
 !> With `separation` (see `mpm_separation`), state(3) = opening strain [-].
 module mpm_material_mohr_coulomb
     use mpm_kinds, only: wp
-    use mpm_softening, only: softening_weight
+    use mpm_softening, only: softened_strength
     use mpm_separation, only: close_opening
     use mpm_material, only: material_type
     use mpm_stress, only: add_jaumann_rotation, voigt_matrix
@@ -278,12 +278,10 @@ contains
         real(wp), intent(out) :: dilatancy
             !! dilatancy angle psi [rad]
 
-        real(wp) :: w
-
-        w = softening_weight(self%softening, self%softening_strain, eps_q)
-        friction = self%friction + w*(self%friction_residual - self%friction)
-        cohesion = self%cohesion + w*(self%cohesion_residual - self%cohesion)
-        dilatancy = self%dilatancy + w*(self%dilatancy_residual - self%dilatancy)
+        call softened_strength(self%softening, self%softening_strain, eps_q, &
+            [self%friction, self%cohesion, self%dilatancy], &
+            [self%friction_residual, self%cohesion_residual, self%dilatancy_residual], &
+            friction, cohesion, dilatancy)
     end subroutine strength_angles
 
     !> The planes of a strength: sin(phi), cos(phi), sin(psi), k = 2 c cos(phi) and the tensile

@@ -5,7 +5,7 @@ module mpm_softening
     use mpm_case, only: softening_linear, softening_exponential
     implicit none
     private
-    public :: softening_weight
+    public :: softening_weight, softened_strength
 
 contains
 
@@ -40,5 +40,34 @@ contains
             w = 0.0_wp
         end select
     end function softening_weight
+
+    !> Friction, cohesion and dilatancy after the plastic shear strain eps_q: each
+    !> x = x_peak + w (x_residual - x_peak), w = softening_weight(law, softening_strain, eps_q).
+    pure subroutine softened_strength(law, softening_strain, eps_q, peak, residual, friction, &
+            cohesion, dilatancy)
+        integer, intent(in) :: law
+            !! softening_none, softening_linear or softening_exponential (mpm_case)
+        real(wp), intent(in) :: softening_strain
+            !! eps_s [-]
+        real(wp), intent(in) :: eps_q
+            !! accumulated equivalent plastic shear strain [-]
+        real(wp), intent(in) :: peak(3)
+            !! peak friction angle [rad], cohesion [Pa], dilatancy angle [rad]
+        real(wp), intent(in) :: residual(3)
+            !! residual values, same order
+        real(wp), intent(out) :: friction
+            !! friction angle phi [rad]
+        real(wp), intent(out) :: cohesion
+            !! cohesion c [Pa]
+        real(wp), intent(out) :: dilatancy
+            !! dilatancy angle psi [rad]
+
+        real(wp) :: w
+
+        w = softening_weight(law, softening_strain, eps_q)
+        friction = peak(1) + w*(residual(1) - peak(1))
+        cohesion = peak(2) + w*(residual(2) - peak(2))
+        dilatancy = peak(3) + w*(residual(3) - peak(3))
+    end subroutine softened_strength
 
 end module mpm_softening

@@ -378,9 +378,8 @@ contains
         dw(n) = merge(-total, 0.0_wp, stc%w(n, a, p) > 0.0_wp)
     end subroutine axis_derivatives
 
-    !> The 1D weights and derivatives of particle p along axis a, nodes 1 .. n (n = nper(a)):
-    !> the derivative of the last node is minus the sum of the others (zero when its weight is
-    !> zero).
+    !> The 1D weights and derivatives of particle p along axis a, nodes 1 .. n (n = nper(a)),
+    !> the derivatives from axis_derivatives.
     pure subroutine axis_factors(stc, a, p, n, w, dw)
         type(stencils_type), intent(in) :: stc
             !! stencils of the step
@@ -390,22 +389,13 @@ contains
             !! particle
         integer, intent(in) :: n
             !! nodes along the axis, stc%nper(a)
-        real(wp), intent(out) :: w(:)
-            !! weights (at least n) [-]
-        real(wp), intent(out) :: dw(:)
-            !! derivatives (at least n) [1/m]
+        real(wp), intent(out) :: w(3)
+            !! weights (first n) [-]
+        real(wp), intent(out) :: dw(3)
+            !! derivatives (first n) [1/m]
 
-        integer :: k
-        real(wp) :: total
-
-        total = 0.0_wp
-        do k = 1, n - 1
-            w(k) = stc%w(k, a, p)
-            dw(k) = stc%dw(k, a, p)
-            total = total + dw(k)
-        end do
-        w(n) = stc%w(n, a, p)
-        dw(n) = merge(-total, 0.0_wp, w(n) > 0.0_wp)
+        w(1:n) = stc%w(1:n, a, p)
+        call axis_derivatives(stc, a, p, n, dw)
     end subroutine axis_factors
 
     !> Bytes per particle of the stencils, the order and the cell scratch.
