@@ -74,7 +74,7 @@ contains
         real(wp), intent(inout) :: state(:, :)
 
         integer :: j
-        real(wp) :: g2, lame, dvol, s1, s2, s3, s4, s5, s6, w1, w2, w3
+        real(wp) :: g2, lame, dvol, s1, s2, s4, w1
 
         g2 = 2.0_wp*self%shear
         lame = self%lame

@@ -62,13 +62,10 @@ module mpm_grid
             !! nodes lighter than this get no force (their velocity is the mapped one) [kg]
         real(wp) :: contact_time = 0.0_wp
             !! time constant of the running mean of the normal contact impulse [s]; 0: a fixed
-        integer :: active_layers(2) = [0, huge(1)/2]
-            !! node layers along the slowest axis that the last P2G wrote (0-based; every
-            !! other node is zero), the whole grid until the first one
-        integer :: first_node = 1
-            !! first node of the nodal loops of the step (the layers P2G touched)
-        integer :: last_node = 0
-            !! last node of the nodal loops of the step
+        integer :: active_lo(3) = 0, active_hi(3) = huge(1)/2
+            !! the box of nodes (0-based, per axis) that the last P2G wrote (every other node
+            !! is zero), the whole grid until the first one; the nodal loops of the step
+            !! cover it
             !! weight per step
             !! index before the first pair of each face (side, axis); -1: face not frictional
     end type grid_type

@@ -76,6 +76,15 @@ module mpm_stencil
             !! is the buffer size
         integer :: layer_lo = 0, layer_hi = -1
             !! node layers (slowest axis) that some chunk touches
+        integer :: box_lo(3) = 0, box_hi(3) = -1
+            !! the box of nodes (0-based, per axis; 0 : 0 on axis 3 in 2D) that some particle
+            !! touches: the grid work of the step (scatter buffers, fold, nodal update)
+        integer :: bstride(3) = 0
+            !! index step of the scatter buffers along each axis: 1, the box's width along x,
+            !! its width along x times its width along y (3D); 0 on axis 3 in 2D
+        integer, allocatable :: chunk_base(:)
+            !! node (x, y, z) of chunk k's layers is entry chunk_base(k) + 1 + x
+            !! + bstride(2) y + bstride(3) z of the scatter buffer
         integer, allocatable :: layer_chunks(:, :)
             !! first and last chunk touching each node layer (2, 0:nn(slow) - 1); first > last
             !! when none does
@@ -254,18 +263,44 @@ contains
         type(stencils_type), intent(inout) :: stc
         type(grid_type), intent(in) :: grid
 
-        integer :: k, nc, q, p, lo, hi, s, layer, nlayers, cross
+        integer :: k, nc, q, p, lo, hi, s, layer, nlayers, cross, a, origin(3)
 
         s = stc%slow
         nc = max(1, min(max_chunks, stc%n/particles_per_chunk))
         if (stc%n == 0) nc = 0
         if (.not. allocated(stc%chunk_start)) then
             allocate (stc%chunk_start(max_chunks + 1), stc%chunk_lo(max_chunks), &
-                stc%chunk_hi(max_chunks), stc%chunk_offset(max_chunks + 1))
+                stc%chunk_hi(max_chunks), stc%chunk_offset(max_chunks + 1), &
+                stc%chunk_base(max_chunks))
         end if
         stc%nchunks = nc
         nlayers = grid%nn(s)
-        cross = stc%stride(s)
+        ! the box of the nodes the particles touch (its extent along the slowest axis is that
+        ! of the chunks, below)
+        stc%box_lo = 0
+        stc%box_hi = 0
+        if (nc > 0) then
+            stc%box_lo(1:stc%dim) = huge(1)
+            stc%box_hi(1:stc%dim) = -huge(1)
+        else
+            stc%box_hi(1:stc%dim) = -1
+        end if
+        do p = 1, stc%n
+            do a = 1, stc%dim
+                stc%box_lo(a) = min(stc%box_lo(a), stc%first(a, p))
+                stc%box_hi(a) = max(stc%box_hi(a), stc%first(a, p))
+            end do
+        end do
+        if (nc > 0) then
+            do a = 1, stc%dim
+                stc%box_hi(a) = min(stc%box_hi(a) + stc%nper(a) - 1, grid%nn(a) - 1)
+            end do
+        end if
+        stc%bstride = 0
+        stc%bstride(1) = 1
+        stc%bstride(2) = stc%box_hi(1) - stc%box_lo(1) + 1
+        if (stc%dim == 3) stc%bstride(3) = stc%bstride(2)*(stc%box_hi(2) - stc%box_lo(2) + 1)
+        cross = stc%bstride(s)
         stc%layer_chunks(1, :) = huge(1)
         stc%layer_chunks(2, :) = -huge(1)
         stc%chunk_offset(1) = 0
@@ -285,6 +320,10 @@ contains
             stc%chunk_lo(k) = lo
             stc%chunk_hi(k) = hi
             stc%chunk_offset(k + 1) = stc%chunk_offset(k) + (hi - lo + 1)*cross
+            origin = stc%box_lo
+            origin(s) = lo
+            stc%chunk_base(k) = stc%chunk_offset(k) - origin(1) - stc%bstride(2)*origin(2) &
+                - stc%bstride(3)*origin(3)
             do layer = lo, hi
                 stc%layer_chunks(1, layer) = min(stc%layer_chunks(1, layer), k)
                 stc%layer_chunks(2, layer) = max(stc%layer_chunks(2, layer), k)
@@ -295,6 +334,8 @@ contains
         if (nc > 0) then
             stc%layer_lo = minval(stc%chunk_lo(1:nc))
             stc%layer_hi = maxval(stc%chunk_hi(1:nc))
+            stc%box_lo(s) = stc%layer_lo
+            stc%box_hi(s) = stc%layer_hi
         end if
     end subroutine cut_chunks
 

@@ -37,8 +37,6 @@ module mpm_transfer
     integer, parameter :: gather_block = 256
         !! particles per block of the passes that only gather (load balance; the partial sums
         !! of a block are added in block order)
-    integer, parameter :: sum_block = 4096
-        !! nodes per partial sum of the dissipated energy (fixed order with any thread count)
 
     !> Buffers of one scatter pass: per chunk, the node layers it touches (mpm_stencil).
     type :: scatter_type
@@ -129,7 +127,7 @@ contains
         !$omp dim, ns, cell_pv, fint_row, body_row, mass_row) &
         !$omp private(k, q, p, shift, s, vs, xp, vp, aff, bf)
         do k = 1, stc%nchunks
-            shift = stc%chunk_offset(k) - stc%chunk_lo(k)*stc%stride(stc%slow)
+            shift = stc%chunk_base(k)
             buf(:, stc%chunk_offset(k) + 1:stc%chunk_offset(k + 1)) = 0.0_wp
             xp = 0.0_wp
             vp = 0.0_wp
@@ -183,9 +181,10 @@ contains
         buf(1:rows, 1:n) => grid%scratch(1:rows*n)
     end subroutine scatter_buffer
 
-    !> Nodal sums from the chunk buffers, added chunk by chunk in a fixed order, for every
-    !> node of the grid (nodes no chunk touches get zero): mass and momentum (rows 1 : 1 + dim)
-    !> when `mass_rows`, the internal force from fint_row, the extra body force from body_row.
+    !> Nodal sums from the chunk buffers, added chunk by chunk in a fixed order, for the nodes
+    !> of the step's box (nodes no chunk touches get zero): mass and momentum (rows
+    !> 1 : 1 + dim) when `mass_rows`, the internal force from fint_row, the extra body force
+    !> from body_row.
     subroutine fold(grid, stc, buf, mass_rows, fint_row, body_row, only_momentum)
         type(grid_type), intent(inout) :: grid
         type(stencils_type), intent(in) :: stc
@@ -195,58 +194,102 @@ contains
         logical, intent(in), optional :: only_momentum
             !! set the momentum only, from rows 1 : dim (the MUSL remap)
 
-        integer :: layer, id, k, cross, b, rows, dim, lo, hi
+        integer :: layer, id, k, b, rows, dim, lo(3), hi(3), j, x, y, z, first, last
         real(wp) :: total(10)
-        logical :: momentum
+        logical :: momentum, row_inside, inside
 
         momentum = .false.
         if (present(only_momentum)) momentum = only_momentum
-        cross = stc%stride(stc%slow)
         rows = size(buf, 1)
         dim = grid%dim
         if (mass_rows .and. .not. momentum) then
-            ! grid work only where the material is: this pass writes the layers it touches
-            ! and zeroes every field of those that earlier passes wrote and it does not touch;
-            ! the nodal loops then cover the layers it touches
-            lo = max(0, min(stc%layer_lo, grid%active_layers(1)))
-            hi = min(grid%nn(stc%slow) - 1, max(stc%layer_hi, grid%active_layers(2)))
-            grid%active_layers = [stc%layer_lo, stc%layer_hi]
-            grid%first_node = max(0, stc%layer_lo)*cross + 1
-            grid%last_node = (stc%layer_hi + 1)*cross
+            ! grid work only where the material is: this pass writes the box of nodes it
+            ! touches and zeroes every field of the nodes of the last box that it does not
+            ! touch; the nodal loops then cover its box
+            lo = max(0, min(stc%box_lo, grid%active_lo))
+            hi = min(grid%nn - 1, max(stc%box_hi, grid%active_hi))
+            grid%active_lo = stc%box_lo
+            grid%active_hi = stc%box_hi
         else
-            lo = (grid%first_node - 1)/cross
-            hi = grid%last_node/cross - 1
+            lo = grid%active_lo
+            hi = grid%active_hi
         end if
         !$omp parallel do default(none) schedule(static) &
-        !$omp shared(grid, stc, buf, mass_rows, fint_row, body_row, cross, rows, dim, momentum, &
-        !$omp lo, hi) private(layer, id, k, b, total)
-        do layer = lo, hi
-            do id = layer*cross + 1, (layer + 1)*cross
-                total(1:rows) = 0.0_wp
-                do k = stc%layer_chunks(1, layer), stc%layer_chunks(2, layer)
-                    b = id + stc%chunk_offset(k) - stc%chunk_lo(k)*cross
-                    total(1:rows) = total(1:rows) + buf(:, b)
+        !$omp shared(grid, stc, buf, mass_rows, fint_row, body_row, rows, dim, momentum, lo, hi) &
+        !$omp private(layer, j, id, k, b, total, x, y, z, first, last, row_inside, inside)
+        do layer = lo(dim), hi(dim)
+            do j = box_middle(lo, dim), box_middle(hi, dim)
+                call box_row(grid, lo, hi, layer, j, first, last, y, z)
+                row_inside = stc%layer_chunks(1, layer) <= stc%layer_chunks(2, layer)
+                if (dim == 3) row_inside = row_inside .and. y >= stc%box_lo(2) &
+                    .and. y <= stc%box_hi(2)
+                do id = first, last
+                    x = lo(1) + (id - first)
+                    inside = row_inside .and. x >= stc%box_lo(1) .and. x <= stc%box_hi(1)
+                    total(1:rows) = 0.0_wp
+                    if (inside) then
+                        do k = stc%layer_chunks(1, layer), stc%layer_chunks(2, layer)
+                            b = stc%chunk_base(k) + 1 + x + stc%bstride(2)*y + stc%bstride(3)*z
+                            total(1:rows) = total(1:rows) + buf(:, b)
+                        end do
+                    end if
+                    if (momentum) then
+                        grid%momentum(:, id) = total(1:dim)
+                    else if (mass_rows) then
+                        grid%mass(id) = total(1)
+                        grid%momentum(:, id) = total(2:1 + dim)
+                        if (.not. inside) then
+                            grid%velocity(:, id) = 0.0_wp
+                            grid%acceleration(:, id) = 0.0_wp
+                        end if
+                        if (body_row > 0) then
+                            grid%fext(:, id) = total(body_row:body_row + dim - 1)
+                        else
+                            grid%fext(:, id) = 0.0_wp
+                        end if
+                    end if
+                    if (fint_row > 0) grid%fint(:, id) = total(fint_row:fint_row + dim - 1)
                 end do
-                if (momentum) then
-                    grid%momentum(:, id) = total(1:dim)
-                else if (mass_rows) then
-                    grid%mass(id) = total(1)
-                    grid%momentum(:, id) = total(2:1 + dim)
-                    if (stc%layer_chunks(1, layer) > stc%layer_chunks(2, layer)) then
-                        grid%velocity(:, id) = 0.0_wp
-                        grid%acceleration(:, id) = 0.0_wp
-                    end if
-                    if (body_row > 0) then
-                        grid%fext(:, id) = total(body_row:body_row + dim - 1)
-                    else
-                        grid%fext(:, id) = 0.0_wp
-                    end if
-                end if
-                if (fint_row > 0) grid%fint(:, id) = total(fint_row:fint_row + dim - 1)
             end do
         end do
         !$omp end parallel do
     end subroutine fold
+
+    !> Middle index bound of a box for box_row: the y bound in 3D, 0 in 2D (the slowest axis,
+    !> the outer loop, is y there).
+    pure integer function box_middle(bound, dim)
+        integer, intent(in) :: bound(3)
+            !! lower or upper corner of the box (0-based node indices)
+        integer, intent(in) :: dim
+            !! space dimensions
+        box_middle = 0
+        if (dim == 3) box_middle = bound(2)
+    end function box_middle
+
+    !> The run of nodes x = lo(1) .. hi(1) of a box at index `layer` along the slowest axis and
+    !> middle index j (y in 3D, unused in 2D): node indices first .. last and its y and z.
+    pure subroutine box_row(grid, lo, hi, layer, j, first, last, y, z)
+        type(grid_type), intent(in) :: grid
+            !! the grid
+        integer, intent(in) :: lo(3), hi(3)
+            !! corners of the box (0-based node indices)
+        integer, intent(in) :: layer, j
+            !! index along the slowest axis; middle index (box_middle)
+        integer, intent(out) :: first, last
+            !! node indices of the run (1-based)
+        integer, intent(out) :: y, z
+            !! node coordinates of the run (0-based)
+
+        if (grid%dim == 2) then
+            y = layer
+            z = 0
+        else
+            y = j
+            z = layer
+        end if
+        first = 1 + lo(1) + grid%nn(1)*(y + grid%nn(2)*z)
+        last = first + hi(1) - lo(1)
+    end subroutine box_row
 
     !> Record, for the frictional-face nodes particle p maps to, the gap between the
     !> particle's domain and the face (negative when it reaches past it).
@@ -291,18 +334,24 @@ contains
         type(grid_type), intent(inout) :: grid
             !! grid with mass and momentum set
 
-        integer :: i
+        integer :: i, layer, j, first, last, y, z
         real(wp) :: work
 
         call apply_contacts(grid, 0.0_wp, work)
-        !$omp parallel do default(none) schedule(static) shared(grid) private(i)
-        do i = grid%first_node, grid%last_node
-            if (grid%mass(i) > 0.0_wp) then
-                where (grid%constrained(:, i)) grid%momentum(:, i) = 0.0_wp
-                grid%velocity(:, i) = grid%momentum(:, i)/grid%mass(i)
-            else
-                grid%velocity(:, i) = 0.0_wp
-            end if
+        !$omp parallel do default(none) schedule(static) shared(grid) &
+        !$omp private(i, layer, j, first, last, y, z)
+        do layer = grid%active_lo(grid%dim), grid%active_hi(grid%dim)
+            do j = box_middle(grid%active_lo, grid%dim), box_middle(grid%active_hi, grid%dim)
+                call box_row(grid, grid%active_lo, grid%active_hi, layer, j, first, last, y, z)
+                do i = first, last
+                    if (grid%mass(i) > 0.0_wp) then
+                        where (grid%constrained(:, i)) grid%momentum(:, i) = 0.0_wp
+                        grid%velocity(:, i) = grid%momentum(:, i)/grid%mass(i)
+                    else
+                        grid%velocity(:, i) = 0.0_wp
+                    end if
+                end do
+            end do
         end do
         !$omp end parallel do
     end subroutine nodal_velocity
@@ -328,57 +377,63 @@ contains
         real(wp), intent(out) :: dissipated
             !! energy removed by local damping and boundary friction in this step [J]
 
-        integer :: i, dim, nb, b
-        real(wp) :: f(3), v0(3), fd(3), contact_work
+        integer :: i, dim, layer, j, first, last, y, z, lo, hi
+        real(wp) :: f(3), v0(3), fd(3), contact_work, acc
         real(wp), allocatable :: partial(:)
 
         dim = grid%dim
-        ! blocks of sum_block nodes counted from node 1, so the partial sums do not depend
-        ! on where the loop starts
-        nb = (grid%last_node + sum_block - 1)/sum_block
-        allocate (partial(nb))
+        ! one partial sum per layer of the box (slowest axis), added in layer order: the same
+        ! sums with any number of threads
+        lo = grid%active_lo(dim)
+        hi = grid%active_hi(dim)
+        allocate (partial(lo:max(lo, hi)))
         partial = 0.0_wp
         !$omp parallel do default(none) schedule(static) &
-        !$omp shared(grid, dt, gravity, damping, alpha, dim, nb, partial) private(b, i, f, v0, fd)
-        do b = (grid%first_node - 1)/sum_block + 1, nb
-            do i = max(grid%first_node, (b - 1)*sum_block + 1), min(b*sum_block, grid%last_node)
-                if (grid%mass(i) <= 0.0_wp) then
-                    grid%momentum(:, i) = 0.0_wp
-                    grid%acceleration(:, i) = 0.0_wp
-                    grid%velocity(:, i) = 0.0_wp
-                    cycle
-                end if
-                f(1:dim) = grid%fint(:, i) + grid%fext(:, i) + grid%mass(i)*gravity(1:dim)
-                v0(1:dim) = grid%momentum(:, i)/grid%mass(i)
-                ! Held components are zero in the nodal velocity of the start of the step as
-                ! well as of its end, so their acceleration is zero and the FLIP update leaves
-                ! the particle velocities beside a fixed or sliding face to the forces (as
-                ! Uintah does). Putting the removed mapped velocity into the acceleration
-                ! instead makes the manufactured solution less accurate (cpGIMP MUSL, 64
-                ! cells: 9.4e-5 m against 3.5e-5 m).
-                where (grid%constrained(:, i))
-                    grid%momentum(:, i) = 0.0_wp
-                    v0(1:dim) = 0.0_wp
-                end where
-                if (damping == damping_local) then
-                    fd(1:dim) = -alpha*abs(f(1:dim))*sign(1.0_wp, v0(1:dim))
-                    where (v0(1:dim) == 0.0_wp) fd(1:dim) = 0.0_wp
-                    where (grid%constrained(:, i)) fd(1:dim) = 0.0_wp
-                    f(1:dim) = f(1:dim) + fd(1:dim)
-                    partial(b) = partial(b) - dt*sum(fd(1:dim)*(v0(1:dim) &
-                        + 0.5_wp*dt*f(1:dim)/grid%mass(i)))
-                end if
-                where (grid%constrained(:, i)) f(1:dim) = 0.0_wp
-                if (grid%mass(i) < grid%small_mass) f(1:dim) = 0.0_wp
-                grid%acceleration(:, i) = f(1:dim)/grid%mass(i)
-                grid%momentum(:, i) = grid%momentum(:, i) + dt*f(1:dim)
-                grid%velocity(:, i) = grid%momentum(:, i)/grid%mass(i)
+        !$omp shared(grid, dt, gravity, damping, alpha, dim, partial, lo, hi) &
+        !$omp private(layer, j, first, last, y, z, i, f, v0, fd, acc)
+        do layer = lo, hi
+            acc = 0.0_wp
+            do j = box_middle(grid%active_lo, dim), box_middle(grid%active_hi, dim)
+                call box_row(grid, grid%active_lo, grid%active_hi, layer, j, first, last, y, z)
+                do i = first, last
+                    if (grid%mass(i) <= 0.0_wp) then
+                        grid%momentum(:, i) = 0.0_wp
+                        grid%acceleration(:, i) = 0.0_wp
+                        grid%velocity(:, i) = 0.0_wp
+                        cycle
+                    end if
+                    f(1:dim) = grid%fint(:, i) + grid%fext(:, i) + grid%mass(i)*gravity(1:dim)
+                    v0(1:dim) = grid%momentum(:, i)/grid%mass(i)
+                    ! Held components are zero in the nodal velocity of the start of the step as
+                    ! well as of its end, so their acceleration is zero and the FLIP update leaves
+                    ! the particle velocities beside a fixed or sliding face to the forces (as
+                    ! Uintah does). Putting the removed mapped velocity into the acceleration
+                    ! instead makes the manufactured solution less accurate (cpGIMP MUSL, 64
+                    ! cells: 9.4e-5 m against 3.5e-5 m).
+                    where (grid%constrained(:, i))
+                        grid%momentum(:, i) = 0.0_wp
+                        v0(1:dim) = 0.0_wp
+                    end where
+                    if (damping == damping_local) then
+                        fd(1:dim) = -alpha*abs(f(1:dim))*sign(1.0_wp, v0(1:dim))
+                        where (v0(1:dim) == 0.0_wp) fd(1:dim) = 0.0_wp
+                        where (grid%constrained(:, i)) fd(1:dim) = 0.0_wp
+                        f(1:dim) = f(1:dim) + fd(1:dim)
+                        acc = acc - dt*sum(fd(1:dim)*(v0(1:dim) + 0.5_wp*dt*f(1:dim)/grid%mass(i)))
+                    end if
+                    where (grid%constrained(:, i)) f(1:dim) = 0.0_wp
+                    if (grid%mass(i) < grid%small_mass) f(1:dim) = 0.0_wp
+                    grid%acceleration(:, i) = f(1:dim)/grid%mass(i)
+                    grid%momentum(:, i) = grid%momentum(:, i) + dt*f(1:dim)
+                    grid%velocity(:, i) = grid%momentum(:, i)/grid%mass(i)
+                end do
             end do
+            partial(layer) = acc
         end do
         !$omp end parallel do
         dissipated = 0.0_wp
-        do b = 1, nb
-            dissipated = dissipated + partial(b)
+        do layer = lo, hi
+            dissipated = dissipated + partial(layer)
         end do
         if (grid%ncontacts > 0) then
             call apply_contacts(grid, dt, contact_work)
@@ -525,7 +580,7 @@ contains
             call group_range(stc, remap, k, qlo, qhi)
             shift = 0
             if (remap) then
-                shift = stc%chunk_offset(k) - stc%chunk_lo(k)*stc%stride(stc%slow)
+                shift = stc%chunk_base(k)
                 buf(:, stc%chunk_offset(k) + 1:stc%chunk_offset(k + 1)) = 0.0_wp
             end if
             xp = 0.0_wp
