@@ -4,8 +4,10 @@
 !> integrates the momentum with damping and boundary conditions; grid-to-particle (G2P)
 !> gathers accelerations and velocities back; the stress update uses the nodal velocities
 !> chosen by the scheme. Each pass is one procedure; the scheme (USF/USL/MUSL) only orders
-!> them (see mpm_solver). Every pass reads the stencils of the step (mpm_stencil): the shape
-!> functions are evaluated once per step.
+!> them (see mpm_solver), except that USL without F-bar updates the stresses inside G2P (the
+!> same nodal velocities, one gather instead of two). Every pass reads the stencils of the
+!> step (mpm_stencil): the shape functions are evaluated once per step, and the grid work
+!> covers the box of nodes the particles touch.
 !>
 !> Threads: the gathers (G2P, stress update) are parallel over particles; the scatters (P2G,
 !> remap) sum each chunk of cell-sorted particles into its own buffer and fold the buffers
