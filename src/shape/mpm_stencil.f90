@@ -263,7 +263,7 @@ contains
         type(stencils_type), intent(inout) :: stc
         type(grid_type), intent(in) :: grid
 
-        integer :: k, nc, q, p, lo, hi, s, layer, nlayers, cross, a, origin(3)
+        integer :: k, nc, q, p, lo, hi, s, layer, nlayers, cross, a, origin(3), lo3(3), hi3(3)
 
         s = stc%slow
         nc = max(1, min(max_chunks, stc%n/particles_per_chunk))
@@ -285,12 +285,20 @@ contains
         else
             stc%box_hi(1:stc%dim) = -1
         end if
+        lo3 = stc%box_lo
+        hi3 = stc%box_hi
+        ! minima and maxima are exact: the same box with any number of threads
+        !$omp parallel do default(none) schedule(static) shared(stc) private(p, a) &
+        !$omp reduction(min: lo3) reduction(max: hi3)
         do p = 1, stc%n
             do a = 1, stc%dim
-                stc%box_lo(a) = min(stc%box_lo(a), stc%first(a, p))
-                stc%box_hi(a) = max(stc%box_hi(a), stc%first(a, p))
+                lo3(a) = min(lo3(a), stc%first(a, p))
+                hi3(a) = max(hi3(a), stc%first(a, p))
             end do
         end do
+        !$omp end parallel do
+        stc%box_lo = lo3
+        stc%box_hi = hi3
         if (nc > 0) then
             do a = 1, stc%dim
                 stc%box_hi(a) = min(stc%box_hi(a) + stc%nper(a) - 1, grid%nn(a) - 1)
