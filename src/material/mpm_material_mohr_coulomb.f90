@@ -32,8 +32,10 @@
 !> the compression edge A+C; the line A+T1 where the pyramid meets the cut-off; the line T1+T2
 !> (s1 = s2 = sigma_t); the corner A+B+T1 (sigma_t, s, s); the corner (sigma_t, sigma_t, s)
 !> where four planes A, C, T1, T2 meet (tested as its four sets of three planes); the corner
-!> (sigma_t, sigma_t, sigma_t). A candidate is accepted when all its multipliers are
-!> non-negative, its stress stays ordered and it violates no other plane (to round-off).
+!> (sigma_t, sigma_t, sigma_t); the two edges swap places when the return to the face A
+!> leaves s2 > s1 (the compression side, where most returns of a granular flow end). A
+!> candidate is accepted when all its multipliers are non-negative, its stress stays ordered
+!> and it violates no other plane (to round-off).
 !> The matrices a_i . D b_j of the pairs have positive determinants, for example
 !> 2 G (1 - sin(phi))(1 - sin(psi)) (a_A . D b_A + a_A . D b_B) for A+B and
 !> 4 G (G + lambda)(1 - sin(phi))(1 - sin(psi)) for A+T1, so the edge returns are unique;
@@ -99,6 +101,8 @@ module mpm_material_mohr_coulomb
         plane_a, plane_t1, plane_t2, &
         plane_c, plane_t1, plane_t2, &
         plane_t1, plane_t2, plane_t3], [3, ncandidates])
+    !> The extension and compression edges in `candidates`.
+    integer, parameter :: edge_ab = 3, edge_ac = 4
     !> Relative round-off allowed in the yield check and in the tests of a candidate [-].
     real(wp), parameter :: tol_yield = 16.0_wp*epsilon(1.0_wp)
     real(wp), parameter :: tol_candidate = 64.0_wp*epsilon(1.0_wp)
@@ -689,7 +693,7 @@ contains
         real(wp) :: sphi, spsi, k, scale, yield
         real(wp) :: trial(3), best(3), sc(3), dl(3), rmax(3), aa(3), ra(3), maa, violation
         real(wp) :: best_violation
-        logical :: accepted
+        logical :: accepted, compression
 
         sphi = surface%sin_friction
         spsi = surface%sin_dilatancy
@@ -706,6 +710,7 @@ contains
         trial = s
         best = s
         best_violation = huge(1.0_wp)
+        compression = .false.
 
         ! the first candidate, the face A alone, in closed form: dl = (a_A . s - k) /
         ! (a_A . r_A), the same operations as the general solve
@@ -724,14 +729,18 @@ contains
             end if
             best_violation = violation
             best = sc
+            ! the face return swapped s1 and s2: the compression edge A+C is the likely one
+            compression = sc(2) > sc(1)
         end if
 
         ! the other candidates, in order
         if (present(planes)) then
-            call try_candidates(trial, planes, surface, scale, s, best, best_violation, accepted)
+            call try_candidates(trial, planes, surface, scale, compression, s, best, &
+                best_violation, accepted)
         else
             call new_return_planes(local, surface, shear, lame, .false.)
-            call try_candidates(trial, local, surface, scale, s, best, best_violation, accepted)
+            call try_candidates(trial, local, surface, scale, compression, s, best, &
+                best_violation, accepted)
         end if
         if (accepted) return
 
@@ -803,8 +812,8 @@ contains
 
     !> The candidates after the face A, in order (see the module documentation): the first
     !> one valid to round-off is the return; else the least violating one is kept.
-    pure subroutine try_candidates(trial, planes, surface, scale, s, best, best_violation, &
-            accepted)
+    pure subroutine try_candidates(trial, planes, surface, scale, compression, s, best, &
+            best_violation, accepted)
         real(wp), intent(in) :: trial(3)
             !! trial principal stresses, ordered [Pa]
         type(return_planes_type), intent(in) :: planes
@@ -813,6 +822,9 @@ contains
             !! the strength
         real(wp), intent(in) :: scale
             !! stress scale of the tolerances [Pa]
+        logical, intent(in) :: compression
+            !! try the compression edge A+C before the extension edge A+B (the face return
+            !! ended with s2 > s1; most plastic returns of a granular flow end there)
         real(wp), intent(inout) :: s(3)
             !! on acceptance, the returned principal stresses [Pa]
         real(wp), intent(inout) :: best(3)
@@ -823,11 +835,14 @@ contains
             !! whether a candidate was valid
 
         real(wp) :: m(3, 3), dl(3), sc(3), rmax(3), violation
-        integer :: ic, n, i, j, act(3), pivot(3)
+        integer :: ic, k, n, i, j, act(3), pivot(3)
         logical :: ok
 
         accepted = .false.
-        do ic = 2, ncandidates
+        do k = 2, ncandidates
+            ic = k
+            if (compression .and. k == edge_ab) ic = edge_ac
+            if (compression .and. k == edge_ac) ic = edge_ab
             n = planes%nactive(ic)
             if (n == 0) cycle
             act = candidates(:, ic)
