@@ -525,7 +525,7 @@ contains
     !> With `materials` (USL without F-bar, whose stress update uses the same nodal velocities
     !> as the moves), the same pass also updates the stresses: one gather per particle and step
     !> instead of two; the blocks and the order of the work sums are those of update_stress.
-    subroutine g2p(grid, particles, stc, dt, flip, gravity, remap, motion, materials, &
+    subroutine g2p(grid, particles, stc, dt, flip, gravity, remap, motion, kinetic, materials, &
             strain_work)
         type(grid_type), intent(inout), target :: grid
             !! grid after the nodal update (momentum and velocity replaced with `remap`)
@@ -544,16 +544,19 @@ contains
             !! particles then move in the stress update, with the remapped velocities
         type(motion_type), intent(out) :: motion
             !! largest move and lost particle when the particles move here (not remap)
+        real(wp), intent(out) :: kinetic
+            !! kinetic energy of the particles with their new velocities, sum_p m |v|^2 / 2 [J]
+            !! (per metre in 2D)
         type(material_holder_type), intent(in), optional :: materials(:)
             !! materials of the case: update the stresses in this pass (not with remap)
         real(wp), intent(out), optional :: strain_work
             !! with materials: sum_p (V sigma)_mid : d_eps [J] (per metre in 2D)
 
         integer :: k, q, p, dim, shift, ng, qlo, qhi
-        real(wp) :: xp(3), vp(3), aff(3, 3), bf(3), vs(6), dx(3), gradv(3, 3), work, &
+        real(wp) :: xp(3), vp(3), aff(3, 3), bf(3), vs(6), dx(3), gradv(3, 3), work, ke, &
             ldts(3, 3, gather_block)
         logical :: apic, stress
-        real(wp), allocatable :: partial(:)
+        real(wp), allocatable :: partial(:), partial_ke(:)
         real(wp), pointer, contiguous :: buf(:, :)
         type(motion_type), allocatable :: moved(:)
         type(motion_type) :: mine
@@ -563,7 +566,7 @@ contains
         stress = present(materials) .and. .not. remap
         ! the remap scatters: chunks; otherwise only gathers: small blocks balance the threads
         ng = group_count(stc, remap)
-        allocate (moved(ng), partial(ng))
+        allocate (moved(ng), partial(ng), partial_ke(ng))
         if (remap) then
             ! the momentum only: the nodal masses do not change
             call scatter_buffer(grid, dim, stc%chunk_offset(stc%nchunks + 1), buf)
@@ -572,13 +575,15 @@ contains
         end if
         !$omp parallel do default(none) schedule(dynamic, 1) &
         !$omp shared(grid, particles, stc, dt, flip, gravity, remap, buf, dim, apic, moved, ng, &
-        !$omp materials, stress, partial) &
-        !$omp private(k, q, p, shift, xp, vp, aff, bf, vs, dx, qlo, qhi, mine, gradv, work, ldts)
+        !$omp materials, stress, partial, partial_ke) &
+        !$omp private(k, q, p, shift, xp, vp, aff, bf, vs, dx, qlo, qhi, mine, gradv, work, ldts, &
+        !$omp ke)
         do k = 1, ng
             ! records and sums in private variables, stored once per group: neighbouring
             ! groups run on other threads, and their array entries share cache lines
             mine = motion_type()
             work = 0.0_wp
+            ke = 0.0_wp
             call group_range(stc, remap, k, qlo, qhi)
             shift = 0
             if (remap) then
@@ -594,6 +599,7 @@ contains
                 p = stc%order(q)
                 call update_particle_velocity(grid, particles, stc, p, dt, flip, apic, &
                     .not. remap, stress, dx, gradv)
+                ke = ke + 0.5_wp*particles%mass(p)*sum(particles%v(:, p)**2)
                 if (.not. remap) call move_particle(grid, particles, p, dx(1:dim), gravity, mine)
                 if (stress) ldts(:, :, q - qlo + 1) = dt*gradv
                 if (remap) then
@@ -609,9 +615,14 @@ contains
             if (stress) call stress_block(particles, materials, stc, qlo, qhi, ldts, dt, dim, work)
             moved(k) = mine
             partial(k) = work
+            partial_ke(k) = ke
         end do
         !$omp end parallel do
         call merge_motion(moved, motion)
+        kinetic = 0.0_wp
+        do k = 1, ng
+            kinetic = kinetic + partial_ke(k)
+        end do
         if (present(strain_work)) then
             strain_work = 0.0_wp
             do k = 1, ng
