@@ -262,19 +262,20 @@ contains
 
         type(mohr_coulomb_surface_type) :: surface
 
-        call strength_angles(self, eps_q, friction, cohesion, dilatancy)
-        surface = mohr_coulomb_surface(friction, cohesion, dilatancy, self%tension_cutoff)
+        call softened_surface(self, eps_q, surface, friction, cohesion, dilatancy)
         tension = surface%tension
         cutoff = surface%cutoff
     end subroutine mohr_coulomb_strength
 
-    !> Friction, cohesion and dilatancy after the plastic shear strain eps_q (see
-    !> `mohr_coulomb_strength`).
-    pure subroutine strength_angles(self, eps_q, friction, cohesion, dilatancy)
+    !> The planes of the strength after the plastic shear strain eps_q, with its friction,
+    !> cohesion and dilatancy (see `mohr_coulomb_strength`).
+    pure subroutine softened_surface(self, eps_q, surface, friction, cohesion, dilatancy)
         class(mohr_coulomb_material_type), intent(in) :: self
             !! the material
         real(wp), intent(in) :: eps_q
             !! accumulated equivalent plastic shear strain [-]
+        type(mohr_coulomb_surface_type), intent(out) :: surface
+            !! the planes
         real(wp), intent(out) :: friction
             !! friction angle phi [rad]
         real(wp), intent(out) :: cohesion
@@ -286,7 +287,8 @@ contains
             [self%friction, self%cohesion, self%dilatancy], &
             [self%friction_residual, self%cohesion_residual, self%dilatancy_residual], &
             friction, cohesion, dilatancy)
-    end subroutine strength_angles
+        surface = mohr_coulomb_surface(friction, cohesion, dilatancy, self%tension_cutoff)
+    end subroutine softened_surface
 
     !> The planes of a strength: sin(phi), cos(phi), sin(psi), k = 2 c cos(phi) and the tensile
     !> strength min(tension_cutoff, c cot(phi)), each trigonometric function evaluated once.
@@ -362,8 +364,7 @@ contains
         if (self%softening == softening_none) then
             surface = self%peak
         else
-            call strength_angles(self, state(1), friction, cohesion, dilatancy)
-            surface = mohr_coulomb_surface(friction, cohesion, dilatancy, self%tension_cutoff)
+            call softened_surface(self, state(1), surface, friction, cohesion, dilatancy)
         end if
 
         n = size(dstrain)

@@ -27,7 +27,7 @@ module mpm_stencil
     implicit none
     private
     public :: stencils_type, compute_stencils, max_nodes, particle_nodes, stencil_bytes, &
-        axis_factors, axis_derivatives
+        axis_derivatives
 
     integer, parameter :: max_nodes = 27
         !! largest number of nodes one particle touches (3 per direction in 3D)
