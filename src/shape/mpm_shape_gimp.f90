@@ -93,7 +93,7 @@ contains
         real(wp), intent(out) :: dw(3)
             !! derivatives [1/m]
 
-        integer :: cell, k
+        integer :: k
         real(wp) :: l, half_inv_l, inv_dx
 
         ! The particle domain is kept inside the grid (truncated at the domain faces) so the
@@ -102,14 +102,10 @@ contains
         l = min(lp*inv_dx, 0.5_wp, xi, real(ncells, wp) - xi)
         l = max(l, 1.0e-6_wp)
         half_inv_l = 0.5_wp/l
-        cell = floor(xi)
         ! In the left half of a cell the node two cells to the right is out of reach
-        ! (distance >= 1.5 dx >= dx + lp), and symmetrically on the right half.
-        if (xi - real(cell, wp) < 0.5_wp) then
-            first = cell - 1
-        else
-            first = cell
-        end if
+        ! (distance >= 1.5 dx >= dx + lp), and symmetrically on the right half: the first
+        ! node is the cell's left node minus one in the left half, without a branch
+        first = floor(xi - 0.5_wp)
         do k = 1, 3
             call gimp_weight_cells(xi - real(first + k - 1, wp), l, half_inv_l, inv_dx, w(k), &
                 dw(k))

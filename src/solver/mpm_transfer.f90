@@ -135,11 +135,13 @@ contains
             vp = 0.0_wp
             aff = 0.0_wp
             bf = 0.0_wp
+            s = 0.0_wp
             vs = 0.0_wp
             do q = stc%chunk_start(k), stc%chunk_start(k + 1) - 1
                 p = stc%order(q)
                 if (with_mass) then
-                    vp(1:dim) = particles%v(:, p)
+                    vp(1:2) = particles%v(1:2, p)
+                    if (dim == 3) vp(3) = particles%v(3, p)
                     if (apic) then
                         xp(1:dim) = particles%x(:, p)
                         aff(1:dim, 1:dim) = particles%affine(:, :, p)
@@ -147,9 +149,14 @@ contains
                     if (body) bf(1:dim) = particles%body_force(:, p)
                 end if
                 if (with_fint) then
-                    s(1:ns) = particles%stress(:, p)
+                    ! copies of a size known here (a runtime-sized one calls memcpy)
+                    if (ns == 4) then
+                        s(1:4) = particles%stress(1:4, p)
+                    else
+                        s(1:6) = particles%stress(1:6, p)
+                    end if
                     if (fbar) s(1:3) = s(1:3) + cell_pv(stc%cell(p)) - sum(s(1:3))/3.0_wp
-                    vs(1:ns) = -particles%volume(p)*s(1:ns)
+                    vs = -particles%volume(p)*s
                 end if
                 call scatter_particle(stc, grid, p, shift, particles%mass(p), xp, vp, aff, apic, &
                     mass_row, mass_row + 1, vs, fint_row, bf, body_row, buf)
@@ -932,9 +939,14 @@ contains
                 de(3, j) = 0.0_wp
                 om(2:3, j) = 0.0_wp
             end if
-            s(1:ns, j) = particles%stress(:, p)
-            sold(1:ns, j) = s(1:ns, j)
-            st(:, j) = particles%state(:, p)
+            ! copies of a size known here: a runtime-sized copy is a memcpy call per particle
+            if (ns == 4) then
+                s(1:4, j) = particles%stress(1:4, p)
+            else
+                s(1:6, j) = particles%stress(1:6, p)
+            end if
+            sold(:, j) = s(:, j)
+            if (particles%nstate > 0) st(:, j) = particles%state(:, p)
         end do
         ! runs of particles of one material
         j0 = 1
@@ -951,8 +963,12 @@ contains
         end do
         do j = 1, n
             p = stc%order(qlo + j - 1)
-            particles%stress(:, p) = s(1:ns, j)
-            particles%state(:, p) = st(:, j)
+            if (ns == 4) then
+                particles%stress(1:4, p) = s(1:4, j)
+            else
+                particles%stress(1:6, p) = s(1:6, j)
+            end if
+            if (particles%nstate > 0) particles%state(:, p) = st(:, j)
             if (allocated(particles%strain)) then
                 particles%strain(:, p) = particles%strain(:, p) + de(1:ns, j)
             end if
