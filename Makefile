@@ -6,6 +6,7 @@ SHELL := /bin/sh
 
 BUILD_DIR       := build
 DEBUG_DIR       := build-debug
+CAF_DIR         := build-caf
 VENV            := .venv
 PYTHON          := $(VENV)/bin/python
 CASE            := inputs/base_case.json
@@ -15,8 +16,8 @@ CTEST_JOBS      := 2
 PYTEST_DIRS      = $(wildcard postproc/tests tests/python)
 LINT_DIRS        = $(wildcard src app)
 
-.PHONY: help deps deps-paraview build run test test-fortran test-python check lint \
-        debug test-debug bench study validate clean
+.PHONY: help deps deps-paraview deps-test build run test test-fortran test-python check lint \
+        debug test-debug coarray caf-build test-coarray bench study validate clean
 
 help:
 	@echo "mpm-geo make targets:"
@@ -27,17 +28,25 @@ help:
 	@echo "  make build       configure $(BUILD_DIR)/ (Release) if needed and build"
 	@echo "  make debug       configure $(DEBUG_DIR)/ (Debug: runtime checks, FPE traps) and build"
 	@echo "  make test-debug  run the CTest suite of the debug build"
+	@echo "  make coarray     install OpenCoarrays if missing, build $(CAF_DIR)/ (-DMPM_COARRAY=ON):"
+	@echo "                   cafrun -np N $(CAF_DIR)/mpm_geo case.json (docs/hpc.md)"
+	@echo "  make test-coarray  parallel suites of the coarray build on 2 images (skipped with a"
+	@echo "                   message when OpenCoarrays is not available)"
 	@echo "  make check       Fortran linter (fortitude) on src/ and app/; 'make lint' is the same"
 	@echo "  make bench       run the benchmarks (bench/run_bench.sh)"
 	@echo "  make study       accuracy against cost (bench/run_study.sh -> docs/accuracy-vs-cost.md)"
 	@echo "  make validate    run the validation cases (validation/run_all.sh)"
-	@echo "  make clean       remove $(BUILD_DIR)/ and $(DEBUG_DIR)/ (outputs/ and $(VENV)/ are kept)"
+	@echo "  make clean       remove $(BUILD_DIR)/, $(DEBUG_DIR)/, $(CAF_DIR)/ (outputs/ and $(VENV)/ are kept)"
 
 deps:
 	@bash scripts/install_deps.sh
 
 deps-paraview:
 	@bash scripts/install_deps.sh --with-paraview
+
+# what make test needs: ParaView (XDMF check) and OpenCoarrays (parallel suites)
+deps-test:
+	@bash scripts/install_deps.sh --with-paraview --with-coarray
 
 # Configure only once: later builds keep the user's cache (options set with cmake -D...).
 # A failed first configure leaves a cache behind; remove it so the next make tries again.
@@ -57,9 +66,10 @@ run: deps
 # The suites run one after the other; --keep-going runs all of them even when one fails
 # (make still exits non-zero), so one CI run reports every failure. The Fortran suite runs in
 # the Release build and again in the Debug build (bounds checks, floating-point traps).
-test: deps-paraview
+test: deps-test
 	@$(MAKE) --no-print-directory build
-	@$(MAKE) --no-print-directory --keep-going -j1 test-fortran test-debug test-python lint
+	@$(MAKE) --no-print-directory --keep-going -j1 test-fortran test-debug test-coarray \
+	    test-python lint
 
 test-fortran:
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(CTEST_JOBS)
@@ -87,6 +97,30 @@ debug: $(DEBUG_DIR)/CMakeCache.txt
 test-debug: debug
 	ctest --test-dir $(DEBUG_DIR) --output-on-failure -j $(CTEST_JOBS)
 
+# The coarray build: its own folder, so the serial builds stay MPI-free.
+$(CAF_DIR)/CMakeCache.txt:
+	cmake -S . -B $(CAF_DIR) -DCMAKE_BUILD_TYPE=Release -DMPM_COARRAY=ON \
+	    -DMPM_SERIAL_EXE=$(CURDIR)/$(BUILD_DIR)/mpm_geo || { rm -f $@; exit 1; }
+
+coarray:
+	@bash scripts/install_deps.sh --with-coarray
+	@$(MAKE) --no-print-directory caf-build
+
+caf-build: $(CAF_DIR)/CMakeCache.txt
+	@[ -f $(CAF_DIR)/Makefile ] || [ -f $(CAF_DIR)/build.ninja ] || cmake -S . -B $(CAF_DIR)
+	cmake --build $(CAF_DIR) -j $(JOBS)
+
+# The parallel suites compare with the serial build: build both. Without OpenCoarrays (not
+# installed, e.g. MPM_SKIP_SYSTEM_DEPS=1 on another distribution) they are skipped, loudly.
+test-coarray:
+	@if ! command -v cafrun > /dev/null 2>&1; then \
+	    echo "test-coarray: SKIPPED: cafrun not found (OpenCoarrays is not installed;" \
+	         "scripts/install_deps.sh --with-coarray installs it)"; \
+	else \
+	    $(MAKE) --no-print-directory build caf-build && \
+	    ctest --test-dir $(CAF_DIR) --output-on-failure -j 1; \
+	fi
+
 bench: deps
 	@$(MAKE) --no-print-directory build
 	@if [ -f bench/run_bench.sh ]; then \
@@ -109,4 +143,4 @@ validate: deps
 	fi
 
 clean:
-	rm -rf $(BUILD_DIR) $(DEBUG_DIR)
+	rm -rf $(BUILD_DIR) $(DEBUG_DIR) $(CAF_DIR)

@@ -8,6 +8,7 @@ program mpm_geo_main
     use mpm_case, only: case_type, read_case_file, case_summary
     use mpm_run, only: run_options_type, run_summary_type, run_case
     use mpm_solver, only: simulation_type
+    use mpm_parallel, only: image_id, stop_images
     implicit none
 
     type(error_type), allocatable :: error
@@ -17,6 +18,8 @@ program mpm_geo_main
     type(simulation_type) :: sim
     character(len=:), allocatable :: case_path, output_dir
     logical :: check_only, overwrite, done
+    logical :: before_run = .true.
+        !! errors so far are the same on every image (arguments, case file)
 
     call parse_arguments(case_path, output_dir, check_only, overwrite, options, done, error)
     if (allocated(error)) call fail(error)
@@ -33,18 +36,24 @@ program mpm_geo_main
         stop
     end if
 
+    before_run = .false.
     call run_case(case, options, sim, summary, error)
     if (allocated(error)) call fail(error)
+    call stop_images(0)
 
 contains
 
-    !> Print an error and exit with its code.
+    !> Print an error and exit with its code. On several images every image calls it; the
+    !> failures of the run are agreed on, and only the image that reports one has a message
+    !> (errors before the run, the same on every image, are printed by image 1).
     subroutine fail(err)
         type(error_type), intent(in) :: err
 
-        write (error_unit, "(a)") "mpm_geo: error: "//err%message
-        flush (error_unit)
-        stop err%code, quiet=.true.
+        if (len(err%message) > 0 .and. (image_id() == 1 .or. .not. before_run)) then
+            write (error_unit, "(a)") "mpm_geo: error: "//err%message
+            flush (error_unit)
+        end if
+        call stop_images(err%code)
     end subroutine fail
 
     subroutine parse_arguments(case_path, output_dir, check_only, overwrite, options, done, error)

@@ -3,6 +3,7 @@
 #
 #   scripts/install_deps.sh                  compilers, libraries, Python venv
 #   scripts/install_deps.sh --with-paraview  also ParaView's pvbatch (used by the tests)
+#   scripts/install_deps.sh --with-coarray   also OpenCoarrays and Open MPI (make coarray)
 #
 # System packages come from apt (Debian/Ubuntu); only missing ones are installed, through sudo
 # when not root. Python packages go into .venv/ from postproc/requirements.txt and are only
@@ -11,13 +12,15 @@
 set -euo pipefail
 
 usage() {
-    sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'
+    sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'
 }
 
 with_paraview=0
+with_coarray=0
 for arg in "$@"; do
     case "$arg" in
         --with-paraview) with_paraview=1 ;;
+        --with-coarray) with_coarray=1 ;;
         -h | --help) usage; exit 0 ;;
         *) echo "install_deps.sh: unknown option '$arg' (try --help)" >&2; exit 2 ;;
     esac
@@ -31,6 +34,10 @@ if [ "$with_paraview" = 1 ]; then
     # pvbatch is in 'paraview'; its Python modules (paraview.simple) are only recommended, and
     # so is the MPI launcher that pvbatch's MPI_Init needs (orted, from mpi-default-bin).
     packages+=(paraview python3-paraview mpi-default-bin)
+fi
+if [ "$with_coarray" = 1 ]; then
+    # caf, cafrun and libcaf_openmpi over Open MPI (the coarray build, tests/parallel)
+    packages+=(libcoarrays-openmpi-dev libopenmpi-dev openmpi-bin)
 fi
 
 # ---------------------------------------------------------------------------------------------

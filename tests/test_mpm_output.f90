@@ -10,13 +10,14 @@ program test_mpm_output
         h5sget_simple_extent_dims_f, h5sclose_f, h5aopen_by_name_f, h5aclose_f, h5aread_f, &
         h5aget_space_f, h5tcopy_f, h5tset_size_f, h5tset_strpad_f, h5tclose_f, &
         h5t_fortran_s1, h5t_str_nullpad_f, h5lexists_f, h5kind_to_type, h5_real_kind, &
-        h5_integer_kind, h5fget_obj_count_f, h5f_obj_all_f
+        h5_integer_kind, h5fget_obj_count_f, h5f_obj_all_f, h5aexists_f
     use mpm_kinds, only: wp, i8
     use mpm_error, only: error_type, exit_input
+    use mpm_strings, only: int_text
     use mpm_case, only: case_type, field_displacement, field_strain
     use mpm_particles, only: particles_type, new_particles
     use mpm_grid, only: grid_type, new_grid
-    use mpm_output, only: output_writer_type, new_output_writer, write_output
+    use mpm_output, only: output_writer_type, new_output_writer, write_output, remove_outputs
     use mpm_state, only: save_state, load_state
     use mpm_filesystem, only: make_directory, directory_exists, file_exists, rename_file, &
         remove_file, parent_directory, c_string
@@ -58,6 +59,7 @@ program test_mpm_output
     call test_filesystem(suite, root)
     call test_output_2d(suite, root//"/out2d")
     call test_output_3d(suite, root//"/out3d")
+    call test_output_parts(suite, root//"/parts")
     call test_state_round_trip(suite, root)
     call test_state_refusals(suite, root)
 
@@ -318,6 +320,7 @@ contains
         integer(hid_t) :: file
         integer, parameter :: n = 4
         integer :: hdferr
+        logical :: exists
         real(wp), allocatable :: values(:, :)
         character(len=:), allocatable :: xdmf
 
@@ -351,6 +354,9 @@ contains
         call check(suite, .not. has_link(file, "particles/strain"), "strain off")
         call check(suite, .not. has_link(file, "particles/displacement"), "displacement off")
         call check(suite, .not. has_link(file, "grid"), "no grid group")
+        call check(suite, .not. has_link(file, "particles/id"), "no id without particles%id")
+        call h5aexists_f(file, "image", exists, hdferr)
+        call check(suite, hdferr == 0 .and. .not. exists, "no image attribute with one image")
         call h5fclose_f(file, hdferr)
 
         xdmf = read_text(dir//"/cube.xdmf")
@@ -361,6 +367,7 @@ contains
         call check(suite, index(xdmf, "strain") == 0, "xdmf: no strain")
         call check(suite, index(xdmf, "displacement") == 0, "xdmf: no displacement")
         call check(suite, index(xdmf, 'Name="grid"') == 0, "xdmf: no grid")
+        call check(suite, index(xdmf, 'Name="id"') == 0, "xdmf: no id without particles%id")
         call check_contains(suite, xdmf, '<Grid Name="particles" GridType="Collection" '// &
             'CollectionType="Temporal">', "xdmf: particles-only temporal collection")
 
@@ -389,6 +396,236 @@ contains
             ">0.0000000000000000E+000 -1.0000000000000000E+000 1.0000000000000000E+000<", &
             "3D grid origin z y x")
     end subroutine test_output_3d
+
+    !> n particles of one image, whose ids in the whole run are first, first + 1, ...
+    subroutine image_particles(case, n, first, particles)
+        type(case_type), intent(in) :: case
+        integer, intent(in) :: n, first
+        type(particles_type), intent(out) :: particles
+
+        integer :: p
+
+        call fill_particles(case, n, particles)
+        particles%id = [(first + p - 1, p = 1, n)]
+    end subroutine image_particles
+
+    !> Two images in one process: two writers (image 1 and 2 of 2) on one folder, each with
+    !> its own particles and grid slab, as the images of a decomposed run write them.
+    subroutine test_output_parts(suite, dir)
+        type(test_suite_type), intent(inout) :: suite
+        character(len=*), intent(in) :: dir
+
+        type(case_type) :: case, slab(2)
+        type(particles_type) :: particles(2)
+        type(grid_type) :: grid(2)
+        type(output_writer_type) :: writer(2), single
+        type(error_type), allocatable :: error
+        integer(i8) :: counts(2)
+        real(wp) :: origins(3, 2)
+        integer :: nns(3, 2), k, hdferr, unit, output, part
+        integer(hid_t) :: file
+        integer, allocatable :: ints(:)
+        real(wp), allocatable :: values(:, :)
+        character(len=:), allocatable :: xdmf, time0, time1, time2, name
+
+        ! the grid slabs of the images, cells 0-2 and 2-3 in x (each with its ghost cell); of
+        ! different sizes, so the index must take each part's grid from its own column
+        call tiny_case(case)
+        slab = case
+        slab(1)%ncells = [3, 3, 1]
+        slab(2)%ncells = [2, 3, 1]
+        slab(2)%origin(1) = 2.0_wp
+        do k = 1, 2
+            call new_grid(grid(k), slab(k), error)
+            call check(suite, .not. allocated(error), "new_grid of a slab")
+            grid(k)%mass = real(k, wp)
+            grid(k)%velocity = 0.0_wp
+            origins(:, k) = grid(k)%origin
+            nns(:, k) = grid(k)%nn
+        end do
+        call image_particles(case, 3, 1, particles(1))
+        call image_particles(case, 2, 4, particles(2))
+        counts = [3_i8, 2_i8]
+        call make_directory(dir, error)
+
+        ! refusals: nothing is written and the output index does not move
+        call new_output_writer(writer(1), case, dir, error, image=3, images=2)
+        call check(suite, allocated(error), "image 3 of 2 refused")
+        if (allocated(error)) call check_contains(suite, error%message, "image 3", &
+            "image out of range message")
+        do k = 1, 2
+            call new_output_writer(writer(k), case, dir, error, image=k, images=2)
+            call check(suite, .not. allocated(error), "new_output_writer of an image")
+        end do
+        call write_output(writer(1), 0, 0.0_wp, particles(1), grid(1), error)
+        call check(suite, allocated(error), "2 images without counts refused")
+        if (allocated(error)) call check_contains(suite, error%message, "particle counts", &
+            "missing counts message")
+        call write_output(writer(1), 0, 0.0_wp, particles(1), grid(1), error, &
+            counts=[2_i8, 3_i8], grid_origins=origins, grid_nns=nns)
+        call check(suite, allocated(error), "a count that is not the image's n refused")
+        call write_output(writer(1), 0, 0.0_wp, particles(1), grid(1), error, counts=counts)
+        call check(suite, allocated(error), "grid output without the grids of the images refused")
+        if (allocated(error)) call check_contains(suite, error%message, "grid origins", &
+            "missing grids message")
+        call write_output(writer(1), 0, 0.0_wp, particles(1), grid(1), error, counts=counts, &
+            grid_origins=origins(:, [2, 1]), grid_nns=nns(:, [2, 1]))
+        call check(suite, allocated(error), "grid columns of the wrong images refused")
+        particles(1)%id = [1, 2]
+        call write_output(writer(1), 0, 0.0_wp, particles(1), grid(1), error, counts=counts, &
+            grid_origins=origins, grid_nns=nns)
+        call check(suite, allocated(error), "ids not one per particle refused")
+        particles(1)%id = [1, 2, 3]
+        call check(suite, .not. file_exists(dir//"/particles_000000_p00001.h5") .and. &
+            .not. file_exists(dir//"/tiny.xdmf"), "nothing written by a refused call")
+
+        ! output 0: 3 + 2 particles; image 2 first, and it writes no index
+        call write_output(writer(2), 0, 0.0_wp, particles(2), grid(2), error, counts=counts, &
+            grid_origins=origins, grid_nns=nns)
+        call check(suite, .not. allocated(error), "image 2 writes output 0")
+        if (allocated(error)) write (*, "(a)") error%message
+        call check(suite, file_exists(dir//"/particles_000000_p00002.h5"), "part 2 of output 0")
+        call check(suite, .not. file_exists(dir//"/tiny.xdmf") .and. &
+            .not. file_exists(dir//"/tiny.xdmf.tmp"), "image 2 writes no XDMF index")
+        call write_output(writer(1), 0, 0.0_wp, particles(1), grid(1), error, counts=counts, &
+            grid_origins=origins, grid_nns=nns)
+        call check(suite, .not. allocated(error), "image 1 writes output 0")
+        if (allocated(error)) write (*, "(a)") error%message
+        call check(suite, file_exists(dir//"/particles_000000_p00001.h5"), "part 1 of output 0")
+        call check(suite, file_exists(dir//"/tiny.xdmf"), "image 1 writes the XDMF index")
+
+        ! output 1: every particle on image 1, none on image 2 (its part has empty datasets)
+        call image_particles(case, 5, 1, particles(1))
+        call image_particles(case, 0, 6, particles(2))
+        counts = [5_i8, 0_i8]
+        do k = 1, 2
+            call write_output(writer(k), 7, 0.25_wp, particles(k), grid(k), error, &
+                counts=counts, grid_origins=origins, grid_nns=nns)
+            call check(suite, .not. allocated(error), "output 1 of image "//int_text(k))
+            if (allocated(error)) write (*, "(a)") error%message
+        end do
+        ! output 2: no particle anywhere
+        call image_particles(case, 0, 1, particles(1))
+        counts = 0
+        do k = 2, 1, -1
+            call write_output(writer(k), 9, 0.5_wp, particles(k), grid(k), error, &
+                counts=counts, grid_origins=origins, grid_nns=nns)
+            call check(suite, .not. allocated(error), "output 2 of image "//int_text(k))
+        end do
+        call check(suite, .not. file_exists(dir//"/particles_000000.h5"), &
+            "no single-image file name with 2 images")
+        call check(suite, .not. file_exists(dir//"/particles_000001_p00002.h5.tmp"), &
+            "no part .tmp left")
+        call check(suite, open_hdf5_objects() == 0, "parts leave no HDF5 object open")
+
+        ! the parts, read back
+        call h5fopen_f(dir//"/particles_000000_p00001.h5", h5f_acc_rdonly_f, file, hdferr)
+        call check(suite, hdferr == 0, "open part 1 of output 0")
+        call check(suite, has_dims(file, "particles/position", [3, 3]), "part 1: 3 particles")
+        ints = read_ints(file, "particles/id", 3)
+        call check(suite, all(ints == [1, 2, 3]), "part 1: ids")
+        call check(suite, attribute_text(file, "particles/id", "units") == "-", "id units")
+        call check(suite, attribute_int(file, ".", "image") == 1 .and. &
+            attribute_int(file, ".", "images") == 2, "part 1: image 1 of 2")
+        call check(suite, has_dims(file, "grid/position", [3, 16]), "part 1: its own grid")
+        call h5fclose_f(file, hdferr)
+        call h5fopen_f(dir//"/particles_000000_p00002.h5", h5f_acc_rdonly_f, file, hdferr)
+        call check(suite, hdferr == 0, "open part 2 of output 0")
+        call check(suite, has_dims(file, "particles/position", [3, 2]), "part 2: 2 particles")
+        ints = read_ints(file, "particles/id", 2)
+        call check(suite, all(ints == [4, 5]), "part 2: ids")
+        call check(suite, attribute_int(file, ".", "image") == 2, "part 2: image 2")
+        values = read_reals(file, "grid/position", [3, 12])
+        call check(suite, all(values(:, 1) == [2.0_wp, -1.0_wp, 0.0_wp]), &
+            "part 2: first node of its slab")
+        call h5fclose_f(file, hdferr)
+        call h5fopen_f(dir//"/particles_000001_p00002.h5", h5f_acc_rdonly_f, file, hdferr)
+        call check(suite, hdferr == 0, "open the part without particles")
+        call check(suite, has_dims(file, "particles/position", [3, 0]) .and. &
+            has_dims(file, "particles/stress", [4, 0]) .and. &
+            has_dims(file, "particles/id", [0]), "part without particles: empty datasets")
+        call check(suite, has_dims(file, "grid/mass", [12]), "part without particles: grid")
+        call h5fclose_f(file, hdferr)
+
+        ! the index: one spatial collection of the parts per time
+        xdmf = read_text(dir//"/tiny.xdmf")
+        call check(suite, count_of(xdmf, 'CollectionType="Temporal"') == 1 .and. &
+            count_of(xdmf, 'CollectionType="Spatial"') == 3, "one series, 3 times")
+        time0 = between(xdmf, 'Name="output_0"', 'Name="output_1"')
+        time1 = between(xdmf, 'Name="output_1"', 'Name="output_2"')
+        time2 = between(xdmf, 'Name="output_2"', "</Domain>")
+        call check(suite, count_of(time0, '<Grid Name="particles" GridType="Uniform">') == 2 &
+            .and. count_of(time0, '<Grid Name="grid" GridType="Uniform">') == 2, &
+            "time 0: particles and grid of both parts")
+        call check_contains(suite, time0, '<Time Value="0.0000000000000000E+000"/>', "time 0")
+        call check_contains(suite, time0, 'NumberOfElements="3"', "time 0: 3 in part 1")
+        call check_contains(suite, time0, 'NumberOfElements="2"', "time 0: 2 in part 2")
+        call check_contains(suite, time0, '"3 3" NumberType="Float" Precision="8" Format="HDF"'// &
+            ">particles_000000_p00001.h5:/particles/position<", "time 0: part 1 positions")
+        call check_contains(suite, time0, '"2 3" NumberType="Float" Precision="8" Format="HDF"'// &
+            ">particles_000000_p00002.h5:/particles/position<", "time 0: part 2 positions")
+        call check_contains(suite, time0, ">particles_000000_p00002.h5:/particles/stress|0 3:1 "// &
+            "1:2 1:2 4<", "time 0: stress_xy of part 2")
+        call check_contains(suite, time0, '<Attribute Name="id" AttributeType="Scalar"', &
+            "id attribute")
+        call check_contains(suite, time0, '"2" NumberType="Int" Precision="'// &
+            int_text(storage_size(0)/8)//'" Format="HDF">particles_000000_p00002.h5:'// &
+            "/particles/id<", "id of part 2 is an integer dataset")
+        call check_contains(suite, time0, 'TopologyType="3DCoRectMesh" Dimensions="1 4 4"', &
+            "grid of part 1")
+        call check_contains(suite, time0, 'TopologyType="3DCoRectMesh" Dimensions="1 4 3"', &
+            "grid of part 2")
+        call check_contains(suite, time0, &
+            ">0.0000000000000000E+000 -1.0000000000000000E+000 2.0000000000000000E+000<", &
+            "origin of the grid of part 2 (z y x)")
+        call check_contains(suite, time1, '<Time Value="2.5000000000000000E-001"/>', "time 1")
+        call check(suite, count_of(time1, '<Grid Name="particles" GridType="Uniform">') == 1 &
+            .and. count_of(time1, '<Grid Name="grid" GridType="Uniform">') == 2, &
+            "time 1: the part without particles lists its grid only")
+        call check_contains(suite, time1, 'NumberOfElements="5"', "time 1: 5 in part 1")
+        call check(suite, index(time1, "particles_000001_p00002.h5:/particles/") == 0, &
+            "time 1: no particles of the empty part")
+        call check_contains(suite, time1, ">particles_000001_p00002.h5:/grid/mass<", &
+            "time 1: grid of the empty part")
+        call check(suite, count_of(time2, '<Grid Name="particles" GridType="Uniform">') == 1 &
+            .and. index(time2, "particles_000002_p00001.h5:/particles/position") > 0 .and. &
+            index(time2, 'NumberOfElements="0"') > 0 .and. &
+            index(time2, "particles_000002_p00002.h5:/particles/") == 0, &
+            "time 2, no particle anywhere: part 1 listed with 0 particles")
+        call check(suite, index(xdmf, dir) == 0, "parts: xdmf has no absolute path")
+
+        ! remove_outputs: the parts of every index and image, also of an image that got
+        ! further (index 3 of image 2), a .tmp of a killed write, and a single-image run
+        call write_output(writer(2), 11, 0.75_wp, particles(2), grid(2), error, &
+            counts=counts, grid_origins=origins, grid_nns=nns)
+        call check(suite, file_exists(dir//"/particles_000003_p00002.h5"), "part 2 of output 3")
+        open (newunit=unit, file=dir//"/particles_000004_p00001.h5.tmp", status="replace", &
+            action="write")
+        write (unit, "(a)") "killed"
+        close (unit)
+        open (newunit=unit, file=dir//"/notes.txt", status="replace", action="write")
+        write (unit, "(a)") "not an output"
+        close (unit)
+        call new_output_writer(single, case, dir, error)
+        call image_particles(case, 2, 1, particles(1))
+        call write_output(single, 0, 0.0_wp, particles(1), grid(1), error)
+        call check(suite, .not. allocated(error) .and. &
+            file_exists(dir//"/particles_000000.h5"), "a single-image output in the folder")
+        call remove_outputs(dir, "tiny", error)
+        call check(suite, .not. allocated(error), "remove_outputs")
+        if (allocated(error)) write (*, "(a)") error%message
+        call check(suite, .not. file_exists(dir//"/tiny.xdmf"), "remove_outputs: index")
+        do output = 0, 4
+            do part = 0, 2
+                name = dir//"/particles_00000"//int_text(output)
+                if (part > 0) name = name//"_p0000"//int_text(part)
+                name = name//".h5"
+                call check(suite, .not. (file_exists(name) .or. file_exists(name//".tmp")), &
+                    "remove_outputs: "//name)
+            end do
+        end do
+        call check(suite, file_exists(dir//"/notes.txt"), "remove_outputs: other files stay")
+    end subroutine test_output_parts
 
     subroutine test_state_round_trip(suite, root)
         type(test_suite_type), intent(inout) :: suite
@@ -728,6 +965,30 @@ contains
         if (hdferr /= 0) count = -1
     end function open_hdf5_objects
 
+    !> Whether a dataset has the Fortran shape `expected` (HDF5 lists it reversed).
+    logical function has_dims(file, name, expected)
+        integer(hid_t), intent(in) :: file
+        character(len=*), intent(in) :: name
+        integer, intent(in) :: expected(:)
+
+        integer(hid_t) :: dataset, space
+        integer(hsize_t) :: dims(7), max_dims(7)
+        integer :: hdferr, rank
+
+        has_dims = .false.
+        call h5dopen_f(file, name, dataset, hdferr)
+        call check(suite, hdferr == 0, "open dataset "//name)
+        if (hdferr /= 0) return
+        call h5dget_space_f(dataset, space, hdferr)
+        call h5sget_simple_extent_ndims_f(space, rank, hdferr)
+        if (rank == size(expected)) then
+            call h5sget_simple_extent_dims_f(space, dims(1:rank), max_dims(1:rank), hdferr)
+            has_dims = all(int(dims(1:rank)) == expected)
+        end if
+        call h5sclose_f(space, hdferr)
+        call h5dclose_f(dataset, hdferr)
+    end function has_dims
+
     logical function has_link(file, path)
         integer(hid_t), intent(in) :: file
         character(len=*), intent(in) :: path
@@ -792,6 +1053,22 @@ contains
         close (unit)
     end function read_text
 
+    !> The part of `text` from `first` up to `last` (to the end when `last` is missing).
+    function between(text, first, last) result(part)
+        character(len=*), intent(in) :: text, first, last
+        character(len=:), allocatable :: part
+
+        integer :: start, length
+
+        part = ""
+        start = index(text, first)
+        call check(suite, start > 0, "found '"//first//"'")
+        if (start == 0) return
+        length = index(text(start:), last) - 1
+        if (length < 0) length = len(text) - start + 1
+        part = text(start:start + length - 1)
+    end function between
+
     integer function count_of(text, part)
         character(len=*), intent(in) :: text, part
 
@@ -838,12 +1115,13 @@ contains
         character(len=*), parameter :: files(*) = [character(len=32) :: &
             "out2d/particles_000000.h5", "out2d/particles_000001.h5", "out2d/tiny.xdmf", &
             "out3d/particles_000000.h5", "out3d/cube.xdmf", "out3d_grid/particles_000000.h5", &
-            "out3d_grid/cube.xdmf", "states/d2/state.h5", &
+            "out3d_grid/cube.xdmf", "parts/notes.txt", "states/d2/state.h5", &
             "states/d3/state.h5", "states/empty.h5", "states/remap.h5", "states/refuse.h5", &
             "states/text.h5", &
             "states/v2.h5", "states/outside.h5"]
         character(len=*), parameter :: folders(*) = [character(len=16) :: "a b/c/d", "a b/c", &
-            "a b", "out2d", "out3d", "out3d_grid", "states/d2", "states/d3", "states", ""]
+            "a b", "out2d", "out3d", "out3d_grid", "parts", "states/d2", "states/d3", "states", &
+            ""]
         integer :: i
         character(len=:), allocatable :: path
 

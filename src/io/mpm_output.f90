@@ -4,9 +4,13 @@
 !> 0, 1, 2, ... zero padded to 6 digits) and then rewrites `<dir>/<case name>.xdmf`, the
 !> XDMF 3 time series that ParaView opens. Both are written to a `.tmp` file first and
 !> renamed, so a run killed at any moment leaves an index that lists only complete files.
-!> The layout of the files is described in docs/output.md.
+!>
+!> A run on several images (domain decomposition) writes one part per image and output,
+!> `particles_<NNNNNN>_p<KKKKK>.h5` (KKKKK = image, 5 digits), with that image's particles
+!> and grid slab; image 1 alone writes the index, in which each output time is a spatial
+!> collection of the parts. The layout of the files is described in docs/output.md.
 module mpm_output
-    use mpm_kinds, only: wp
+    use mpm_kinds, only: wp, i8
     use mpm_strings, only: int_text
     use mpm_error, only: error_type, fatal_error, exit_other
     use mpm_case, only: case_type, nfields, field_displacement, field_velocity, field_stress, &
@@ -19,18 +23,21 @@ module mpm_output
     use mpm_version, only: mpm_version_string
     implicit none
     private
-    public :: output_writer_type, new_output_writer, write_output, remove_outputs
+    public :: output_writer_type, new_output_writer, write_output, write_index, remove_outputs
 
-    !> One output file already written.
+    integer, parameter :: max_images = 99999
+        !! most images a part file name can number (5 digits)
+
+    !> One output time already written (one file, or one part per image).
     type :: output_record_type
         real(wp) :: time = 0.0_wp
             !! simulated time of the output [s]
         integer :: step = 0
             !! time step number of the output
-        integer :: n = 0
-            !! number of particles in the file
-        character(len=:), allocatable :: file
-            !! file name, relative to the output folder
+        integer(i8), allocatable :: counts(:)
+            !! number of particles in the file of each image (images)
+        logical :: id = .false.
+            !! the files hold /particles/id
     end type output_record_type
 
     !> Writer of the output files of one run; create it with new_output_writer.
@@ -48,14 +55,20 @@ module mpm_output
             !! also write the grid nodes
         type(text_type), allocatable :: materials(:)
             !! material names in case order (material index i is materials(i))
+        integer :: image = 1
+            !! this image, 1 .. images
+        integer :: images = 1
+            !! number of images; above 1 each image writes its own part files
         integer :: count = 0
-            !! number of output files written
+            !! number of output times written
         type(output_record_type), allocatable :: records(:)
-            !! files written so far (1:count)
-        integer :: grid_nn(3) = 1
-            !! nodes per direction of the grid (it does not change during a run)
-        real(wp) :: grid_origin(3) = 0.0_wp
-            !! position of the first grid node, z = 0 in 2D [m]
+            !! output times written so far (1:count); kept by image 1 only, which writes the
+            !! index
+        integer, allocatable :: grid_nn(:, :)
+            !! nodes per direction of the grid of each image (3, images); the grids do not
+            !! change during a run
+        real(wp), allocatable :: grid_origin(:, :)
+            !! position of the first node of the grid of each image (3, images), z = 0 in 2D [m]
         real(wp) :: grid_dx = 0.0_wp
             !! grid spacing [m]
     end type output_writer_type
@@ -68,7 +81,7 @@ module mpm_output
 contains
 
     !> Record the output settings of a case; no file is written yet.
-    subroutine new_output_writer(writer, case, dir, error)
+    subroutine new_output_writer(writer, case, dir, error, image, images)
         type(output_writer_type), intent(out) :: writer
             !! writer to create
         type(case_type), intent(in) :: case
@@ -76,7 +89,11 @@ contains
         character(len=*), intent(in) :: dir
             !! existing output folder (created by the caller)
         type(error_type), allocatable, intent(out) :: error
-            !! set when the folder does not exist or HDF5 cannot start
+            !! set when the folder does not exist, HDF5 cannot start or the images are wrong
+        integer, intent(in), optional :: image
+            !! this image, 1 .. images (default 1)
+        integer, intent(in), optional :: images
+            !! number of images of the run (default 1: one file per output, no parts)
 
         integer :: i, last, m
         logical :: plastic
@@ -84,6 +101,20 @@ contains
         if (case%dim /= 2 .and. case%dim /= 3) then
             call fatal_error(error, "output: the case has dimension "//int_text(case%dim)// &
                 ", expected 2 or 3", exit_other)
+            return
+        end if
+        writer%image = 1
+        if (present(image)) writer%image = image
+        writer%images = 1
+        if (present(images)) writer%images = images
+        if (writer%images < 1 .or. writer%images > max_images) then
+            call fatal_error(error, "output: "//int_text(writer%images)//" images, expected "// &
+                "1 to "//int_text(max_images), exit_other)
+            return
+        end if
+        if (writer%image < 1 .or. writer%image > writer%images) then
+            call fatal_error(error, "output: image "//int_text(writer%image)// &
+                " is not one of the images 1 to "//int_text(writer%images), exit_other)
             return
         end if
         if (.not. directory_exists(dir)) then
@@ -126,12 +157,20 @@ contains
         else
             allocate (writer%materials(0))
         end if
-        allocate (writer%records(16))
+        allocate (writer%grid_nn(3, writer%images), writer%grid_origin(3, writer%images))
+        writer%grid_nn = 1
+        writer%grid_origin = 0.0_wp
+        allocate (writer%records(merge(16, 0, writer%image == 1)))
         writer%count = 0
     end subroutine new_output_writer
 
     !> Write the particles (and the grid if the case asks) at one time, then the XDMF index.
-    subroutine write_output(writer, step, time, particles, grid, error)
+    !>
+    !> With several images every image calls it at every output time with its own particles
+    !> and grid slab; it writes this image's part, and image 1 also rewrites the index, which
+    !> lists the parts of all images (from `counts`, `grid_origins` and `grid_nns`).
+    subroutine write_output(writer, step, time, particles, grid, error, counts, grid_origins, &
+            grid_nns, defer_index)
         type(output_writer_type), intent(inout) :: writer
             !! writer made by new_output_writer
         integer, intent(in) :: step
@@ -139,14 +178,28 @@ contains
         real(wp), intent(in) :: time
             !! simulated time [s]
         type(particles_type), intent(in) :: particles
-            !! particles to write
+            !! particles to write (this image's)
         type(grid_type), intent(in) :: grid
-            !! grid; written only when the case sets output_grid
+            !! grid (this image's slab); written only when the case sets output_grid
         type(error_type), allocatable, intent(out) :: error
-            !! set when a file cannot be written (the message names it)
+            !! set when a file cannot be written (the message names it) or an argument is
+            !! missing or inconsistent
+        integer(i8), intent(in), optional :: counts(:)
+            !! number of particles of every image at this output (images); required when
+            !! images > 1, ignored otherwise
+        real(wp), intent(in), optional :: grid_origins(:, :)
+            !! position of the first node of the grid of every image (3, images) [m];
+            !! required when images > 1 and the case writes the grid, ignored otherwise
+        integer, intent(in), optional :: grid_nns(:, :)
+            !! nodes per direction of the grid of every image (3, images); required when
+            !! images > 1 and the case writes the grid, ignored otherwise
+        logical, intent(in), optional :: defer_index
+            !! do not rewrite the index: the caller calls write_index once every image has
+            !! written its part (so the index never names a part that is not complete)
 
         character(len=:), allocatable :: name, path
         type(output_record_type), allocatable :: grown(:)
+        type(output_record_type) :: record
         type(error_type), allocatable :: ignored
 
         if (.not. allocated(writer%dir)) then
@@ -158,6 +211,13 @@ contains
                 int_text(particles%dim)//" but the case has "//int_text(writer%dim), exit_other)
             return
         end if
+        if (allocated(particles%id)) then
+            if (size(particles%id) /= particles%n) then
+                call fatal_error(error, "output: "//int_text(size(particles%id))// &
+                    " particle ids for "//int_text(particles%n)//" particles", exit_other)
+                return
+            end if
+        end if
         if (writer%grid) then
             if (.not. (allocated(grid%mass) .and. allocated(grid%velocity))) then
                 call fatal_error(error, "output: grid output is on but the grid has no "// &
@@ -165,8 +225,12 @@ contains
                 return
             end if
         end if
+        if (writer%images > 1) then
+            call check_parts(writer, particles, grid, error, counts, grid_origins, grid_nns)
+            if (allocated(error)) return
+        end if
 
-        name = particle_file_name(writer%count)
+        name = part_file_name(writer%count, writer%image, writer%images)
         path = writer%dir//"/"//name
         call write_hdf5_file(writer, path//".tmp", step, time, particles, grid, error)
         if (allocated(error)) then
@@ -177,22 +241,113 @@ contains
         if (allocated(error)) return
 
         if (writer%grid) then
-            writer%grid_nn = grid%nn
             writer%grid_dx = grid%dx
             writer%grid_origin = 0.0_wp
-            writer%grid_origin(1:writer%dim) = grid%origin(1:writer%dim)
-        end if
-        if (writer%count == size(writer%records)) then
-            allocate (grown(2*size(writer%records)))
-            grown(1:writer%count) = writer%records(1:writer%count)
-            call move_alloc(grown, writer%records)
+            if (writer%images == 1) then
+                writer%grid_nn(:, 1) = grid%nn
+                writer%grid_origin(1:writer%dim, 1) = grid%origin(1:writer%dim)
+            else
+                writer%grid_nn = grid_nns
+                writer%grid_origin(1:writer%dim, :) = grid_origins(1:writer%dim, :)
+            end if
         end if
         writer%count = writer%count + 1
-        writer%records(writer%count) = output_record_type(time=time, step=step, &
-            n=particles%n, file=name)
+        ! only image 1 writes the index, so only it needs the records
+        if (writer%image /= 1) return
 
+        record%time = time
+        record%step = step
+        if (writer%images == 1) then
+            record%counts = [int(particles%n, i8)]
+        else
+            record%counts = counts
+        end if
+        record%id = allocated(particles%id)
+        if (writer%count > size(writer%records)) then
+            allocate (grown(2*size(writer%records)))
+            grown(1:writer%count - 1) = writer%records(1:writer%count - 1)
+            call move_alloc(grown, writer%records)
+        end if
+        writer%records(writer%count) = record
+
+        if (present(defer_index)) then
+            if (defer_index) return
+        end if
         call write_xdmf(writer, error)
     end subroutine write_output
+
+    !> Rewrite the index after write_output(..., defer_index=.true.) (image 1; nothing on the
+    !> other images).
+    subroutine write_index(writer, error)
+        type(output_writer_type), intent(in) :: writer
+            !! the writer
+        type(error_type), allocatable, intent(out) :: error
+            !! set when the index cannot be written
+
+        if (writer%image == 1) call write_xdmf(writer, error)
+    end subroutine write_index
+
+    !> The arguments a run on several images must give write_output, checked against this
+    !> image's particles and grid.
+    subroutine check_parts(writer, particles, grid, error, counts, grid_origins, grid_nns)
+        type(output_writer_type), intent(in) :: writer
+            !! writer with images > 1
+        type(particles_type), intent(in) :: particles
+            !! this image's particles
+        type(grid_type), intent(in) :: grid
+            !! this image's grid
+        type(error_type), allocatable, intent(out) :: error
+            !! set when an argument is missing or does not fit
+        integer(i8), intent(in), optional :: counts(:)
+            !! number of particles of every image (images)
+        real(wp), intent(in), optional :: grid_origins(:, :)
+            !! first node of the grid of every image (3, images) [m]
+        integer, intent(in), optional :: grid_nns(:, :)
+            !! nodes per direction of the grid of every image (3, images)
+
+        character(len=:), allocatable :: images
+
+        images = int_text(writer%images)
+        if (.not. present(counts)) then
+            call fatal_error(error, "output: a run on "//images//" images needs the "// &
+                "particle counts of every image", exit_other)
+            return
+        end if
+        if (size(counts) /= writer%images) then
+            call fatal_error(error, "output: "//int_text(size(counts))//" particle counts "// &
+                "for "//images//" images", exit_other)
+            return
+        end if
+        if (any(counts < 0)) then
+            call fatal_error(error, "output: a negative particle count", exit_other)
+            return
+        end if
+        if (counts(writer%image) /= particles%n) then
+            call fatal_error(error, "output: the count of image "//int_text(writer%image)// &
+                " is not its number of particles, "//int_text(particles%n), exit_other)
+            return
+        end if
+        if (.not. writer%grid) return
+        if (.not. (present(grid_origins) .and. present(grid_nns))) then
+            call fatal_error(error, "output: a run on "//images//" images that writes the "// &
+                "grid needs the grid origins and node counts of every image", exit_other)
+            return
+        end if
+        if (any(shape(grid_origins) /= [3, writer%images]) .or. &
+            any(shape(grid_nns) /= [3, writer%images])) then
+            call fatal_error(error, "output: grid origins and node counts must have the "// &
+                "shape (3, "//images//")", exit_other)
+            return
+        end if
+        ! another image's grid starts at least one cell away: half a cell tells them apart
+        if (any(grid_nns(:, writer%image) /= grid%nn) .or. &
+            any(abs(grid_origins(1:writer%dim, writer%image) - grid%origin(1:writer%dim)) > &
+            0.5_wp*grid%dx)) then
+            call fatal_error(error, "output: the grid origin or node counts given for image "// &
+                int_text(writer%image)//" are not those of its grid", exit_other)
+            return
+        end if
+    end subroutine check_parts
 
     !> One HDF5 output file: root attributes, /particles and optionally /grid.
     subroutine write_hdf5_file(writer, path, step, time, particles, grid, error)
@@ -223,6 +378,12 @@ contains
             if (allocated(error)) exit steps
             call hdf5_write_attribute(file, "material_names", writer%materials, error)
             if (allocated(error)) exit steps
+            if (writer%images > 1) then
+                call hdf5_write_attribute(file, "image", writer%image, error)
+                if (allocated(error)) exit steps
+                call hdf5_write_attribute(file, "images", writer%images, error)
+                if (allocated(error)) exit steps
+            end if
             call write_particles_group(writer, file, particles, error)
             if (allocated(error)) exit steps
             if (writer%grid) call write_grid_group(file, grid, error)
@@ -289,6 +450,10 @@ contains
                 plastic_strain = particles%state(1, :)
                 call hdf5_write_dataset(group, "plastic_strain", plastic_strain, error, &
                     units="-")
+                if (allocated(error)) exit steps
+            end if
+            if (allocated(particles%id)) then
+                call hdf5_write_dataset(group, "id", particles%id, error, units="-")
                 if (allocated(error)) exit steps
             end if
         end block steps
@@ -365,13 +530,19 @@ contains
     ! ----------------------------------------------------------------------------------------
 
     !> Rewrite <dir>/<case>.xdmf listing every file written so far (via a .tmp and rename).
+    !>
+    !> With several images each time is a spatial collection of the parts; a part without
+    !> particles is left out (a Polyvertex of 0 elements upsets some readers), its grid is
+    !> not, and when no part has particles the first one is listed so every time has one.
     subroutine write_xdmf(writer, error)
         type(output_writer_type), intent(in) :: writer
+            !! writer of image 1, with the records of every output time
         type(error_type), allocatable, intent(out) :: error
+            !! set when the index cannot be written
 
         character(len=:), allocatable :: path
         character(len=256) :: message
-        integer :: unit, stat, first_stat, i
+        integer :: unit, stat, first_stat, i, part
         character(len=:), allocatable :: indent
         type(error_type), allocatable :: ignored
 
@@ -390,25 +561,35 @@ contains
         call put('<Xdmf Version="3.0" xmlns:xi="http://www.w3.org/2001/XInclude">')
         call put("  <Domain>")
         indent = ""
-        if (writer%grid) then
-            ! one spatial collection (particles + grid) per time: with the Xdmf3ReaderT reader
-            ! ParaView names the two blocks "particles" and "grid"
-            call put('    <Grid Name="particles_and_grid" GridType="Collection" '// &
-                'CollectionType="Temporal">')
+        if (writer%grid .or. writer%images > 1) then
+            ! one spatial collection per time, of the particles and the grid (with the
+            ! Xdmf3ReaderT reader ParaView names the two blocks "particles" and "grid") of
+            ! each part: ParaView shows the parts of a time together
+            if (writer%grid) then
+                call put('    <Grid Name="particles_and_grid" GridType="Collection" '// &
+                    'CollectionType="Temporal">')
+            else
+                call put('    <Grid Name="particles" GridType="Collection" '// &
+                    'CollectionType="Temporal">')
+            end if
             do i = 1, writer%count
                 call put('      <Grid Name="output_'//int_text(i - 1)// &
                     '" GridType="Collection" CollectionType="Spatial">')
                 call put('        <Time Value="'//real_text(writer%records(i)%time)//'"/>')
                 indent = "  "
-                call put_particles(writer%records(i))
-                call put_grid(writer%records(i))
+                do part = 1, writer%images
+                    if (listed(writer%records(i)%counts, part)) then
+                        call put_particles(writer%records(i), i - 1, part)
+                    end if
+                    if (writer%grid) call put_grid(writer%records(i), i - 1, part)
+                end do
                 indent = ""
                 call put("      </Grid>")
             end do
         else
             call put('    <Grid Name="particles" GridType="Collection" CollectionType="Temporal">')
             do i = 1, writer%count
-                call put_particles(writer%records(i))
+                call put_particles(writer%records(i), i - 1, 1)
             end do
         end if
         call put("    </Grid>")
@@ -428,6 +609,7 @@ contains
 
         subroutine put(line)
             character(len=*), intent(in) :: line
+                !! line without its indentation
 
             integer :: stat
 
@@ -436,16 +618,21 @@ contains
             if (stat /= 0) first_stat = stat
         end subroutine put
 
-        subroutine put_particles(record)
+        subroutine put_particles(record, index, part)
             type(output_record_type), intent(in) :: record
+                !! output time
+            integer, intent(in) :: index
+                !! output index (0-based)
+            integer, intent(in) :: part
+                !! image whose file is listed
 
             character(len=*), parameter :: components(6) = &
                 [character(len=2) :: "xx", "yy", "zz", "xy", "yz", "zx"]
             character(len=:), allocatable :: n, source
             integer :: c, nstress
 
-            n = int_text(record%n)
-            source = record%file//":/particles/"
+            n = count_text(record%counts(part))
+            source = part_file_name(index, part, writer%images)//":/particles/"
             ! Voigt order: the first 4 components in 2D, all 6 in 3D
             nstress = merge(4, 6, writer%dim == 2)
             call put('      <Grid Name="particles" GridType="Uniform">')
@@ -489,28 +676,36 @@ contains
                 call put_attribute("plastic_strain", "Scalar", n, "Float", &
                     source//"plastic_strain")
             end if
+            if (record%id) call put_attribute("id", "Scalar", n, "Int", source//"id")
             call put("      </Grid>")
         end subroutine put_particles
 
         !> The grid as a regular (co-rectilinear) mesh, so ParaView shows it as a surface.
-        subroutine put_grid(record)
+        subroutine put_grid(record, index, part)
             type(output_record_type), intent(in) :: record
+                !! output time
+            integer, intent(in) :: index
+                !! output index (0-based)
+            integer, intent(in) :: part
+                !! image whose grid is listed
 
             character(len=:), allocatable :: nnodes, source
+            integer :: nn(3)
+            real(wp) :: origin(3)
 
-            nnodes = int_text(product(writer%grid_nn))
-            source = record%file//":/grid/"
+            nn = writer%grid_nn(:, part)
+            origin = writer%grid_origin(:, part)
+            nnodes = int_text(product(nn))
+            source = part_file_name(index, part, writer%images)//":/grid/"
             call put('      <Grid Name="grid" GridType="Uniform">')
             call put('        <Time Value="'//real_text(record%time)//'"/>')
             ! XDMF lists the slowest direction first: z y x
             call put('        <Topology TopologyType="3DCoRectMesh" Dimensions="'// &
-                int_text(writer%grid_nn(3))//" "//int_text(writer%grid_nn(2))//" "// &
-                int_text(writer%grid_nn(1))//'"/>')
+                int_text(nn(3))//" "//int_text(nn(2))//" "//int_text(nn(1))//'"/>')
             call put('        <Geometry GeometryType="ORIGIN_DXDYDZ">')
             call put('          <DataItem Dimensions="3" NumberType="Float" Precision="8" '// &
-                'Format="XML">'//real_text(writer%grid_origin(3))//" "// &
-                real_text(writer%grid_origin(2))//" "//real_text(writer%grid_origin(1))// &
-                "</DataItem>")
+                'Format="XML">'//real_text(origin(3))//" "//real_text(origin(2))//" "// &
+                real_text(origin(1))//"</DataItem>")
             call put('          <DataItem Dimensions="3" NumberType="Float" Precision="8" '// &
                 'Format="XML">'//real_text(writer%grid_dx)//" "//real_text(writer%grid_dx)// &
                 " "//real_text(writer%grid_dx)//"</DataItem>")
@@ -602,6 +797,30 @@ contains
         text = trim(adjustl(buffer))
     end function real_text
 
+    !> Whether the index lists the particles of a part: parts without particles are left
+    !> out, except the first one when no part has any (every time then has its particles).
+    pure logical function listed(counts, part)
+        integer(i8), intent(in) :: counts(:)
+            !! number of particles of every part at one output time
+        integer, intent(in) :: part
+            !! part (image)
+
+        listed = counts(part) > 0 .or. (part == 1 .and. all(counts == 0))
+    end function listed
+
+    !> A particle count as text.
+    pure function count_text(value) result(text)
+        integer(i8), intent(in) :: value
+            !! the count
+        character(len=:), allocatable :: text
+            !! its digits
+
+        character(len=24) :: buffer
+
+        write (buffer, "(i0)") value
+        text = trim(buffer)
+    end function count_text
+
     !> Name of the particle file of output number `index` (0-based).
     pure function particle_file_name(index) result(name)
         integer, intent(in) :: index
@@ -615,8 +834,38 @@ contains
         name = "particles_"//index_text//".h5"
     end function particle_file_name
 
-    !> Delete the particle files and the XDMF index an earlier run of a case left in `dir`,
-    !> so an overwritten folder holds no stale outputs of a longer earlier run.
+    !> Name of the file of one image at output number `index` (0-based): the particle file
+    !> itself for a single image, a part file for several.
+    pure function part_file_name(index, image, images) result(name)
+        integer, intent(in) :: index
+            !! output index
+        integer, intent(in) :: image
+            !! image, 1 .. images
+        integer, intent(in) :: images
+            !! number of images
+        character(len=:), allocatable :: name
+            !! "particles_NNNNNN.h5" (one image) or "particles_NNNNNN_pKKKKK.h5"
+
+        character(len=6) :: index_text
+        character(len=5) :: image_text
+
+        if (images == 1) then
+            name = particle_file_name(index)
+            return
+        end if
+        write (index_text, "(i6.6)") index
+        write (image_text, "(i5.5)") image
+        name = "particles_"//index_text//"_p"//image_text//".h5"
+    end function part_file_name
+
+    !> Delete the particle files, part files and the XDMF index an earlier run of a case left
+    !> in `dir` (and the `.tmp` files of one that was killed while writing), so an
+    !> overwritten folder holds no stale outputs of a longer earlier run or one on more
+    !> images. No other file is touched.
+    !>
+    !> Fortran cannot list a folder, so the names are probed: output indices 0, 1, ... until
+    !> one has no file, and at each index the parts of the images 1 .. K, K being the number
+    !> of consecutive images with a part (or its .tmp) at index 0.
     subroutine remove_outputs(dir, case_name, error)
         character(len=*), intent(in) :: dir
             !! output folder
@@ -625,16 +874,52 @@ contains
         type(error_type), allocatable, intent(out) :: error
             !! set when a file cannot be deleted
 
-        integer :: index
+        integer :: index, parts, part
+        logical :: found
 
         call remove_file(dir//"/"//case_name//".xdmf", error)
         if (allocated(error)) return
+        call remove_file(dir//"/"//case_name//".xdmf.tmp", error)
+        if (allocated(error)) return
+        parts = 0
+        do
+            if (.not. (file_exists(dir//"/"//part_file_name(0, parts + 1, 2)) .or. &
+                file_exists(dir//"/"//part_file_name(0, parts + 1, 2)//".tmp"))) exit
+            parts = parts + 1
+        end do
         index = 0
-        do while (file_exists(dir//"/"//particle_file_name(index)))
-            call remove_file(dir//"/"//particle_file_name(index), error)
+        do
+            found = .false.
+            call remove_output(particle_file_name(index), found, error)
             if (allocated(error)) return
+            do part = 1, parts
+                call remove_output(part_file_name(index, part, 2), found, error)
+                if (allocated(error)) return
+            end do
+            if (.not. found) exit
             index = index + 1
         end do
+
+    contains
+
+        !> Delete one file and its .tmp, noting whether either existed.
+        subroutine remove_output(name, found, error)
+            character(len=*), intent(in) :: name
+                !! file name in the folder
+            logical, intent(inout) :: found
+                !! set when the file or its .tmp existed
+            type(error_type), allocatable, intent(out) :: error
+                !! set when a file cannot be deleted
+
+            character(len=:), allocatable :: path
+
+            path = dir//"/"//name
+            found = found .or. file_exists(path) .or. file_exists(path//".tmp")
+            call remove_file(path, error)
+            if (allocated(error)) return
+            call remove_file(path//".tmp", error)
+        end subroutine remove_output
+
     end subroutine remove_outputs
 
 end module mpm_output

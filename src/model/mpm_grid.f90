@@ -8,7 +8,8 @@ module mpm_grid
     use mpm_case, only: case_type, bc_sliding, bc_fixed, bc_frictional
     implicit none
     private
-    public :: grid_type, new_grid, node_index, node_position, contact_index, grid_bytes
+    public :: grid_type, new_grid, node_index, node_position, contact_index, grid_bytes, node_owned, &
+        node_layer
 
     !> Geometry of the grid and the nodal fields of one step.
     type :: grid_type
@@ -68,9 +69,51 @@ module mpm_grid
             !! cover it
             !! weight per step
             !! index before the first pair of each face (side, axis); -1: face not frictional
+        integer :: halo_axis = 0
+            !! axis across which the grid is cut among images (mpm_decomposition); 0: whole
+        integer :: halo_left = 0, halo_right = 0
+            !! neighbouring images on the low and high side of halo_axis, 0 for none; the
+            !! three node layers at each end with a neighbour are shared with it
+        integer :: owned_lo = 0, owned_hi = huge(1)/2
+            !! node layers along halo_axis (0-based) whose energies this image counts (every
+            !! node is counted by one image)
     end type grid_type
 
 contains
+
+    !> Index (0-based) along axis a of node id.
+    pure integer function node_layer(grid, id, a)
+        type(grid_type), intent(in) :: grid
+            !! the grid
+        integer, intent(in) :: id
+            !! node index
+        integer, intent(in) :: a
+            !! axis
+
+        select case (a)
+        case (1)
+            node_layer = mod(id - 1, grid%nn(1))
+        case (2)
+            node_layer = mod((id - 1)/grid%nn(1), grid%nn(2))
+        case default
+            node_layer = (id - 1)/(grid%nn(1)*grid%nn(2))
+        end select
+    end function node_layer
+
+    !> Whether this image counts node id in the energy sums (always, when the grid is whole).
+    pure logical function node_owned(grid, id)
+        type(grid_type), intent(in) :: grid
+            !! the grid
+        integer, intent(in) :: id
+            !! node index
+
+        integer :: layer
+
+        node_owned = .true.
+        if (grid%halo_axis == 0) return
+        layer = node_layer(grid, id, grid%halo_axis)
+        node_owned = layer >= grid%owned_lo .and. layer <= grid%owned_hi
+    end function node_owned
 
     !> Build the grid of a case, with its boundary constraints.
     subroutine new_grid(grid, case, error)

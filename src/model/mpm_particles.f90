@@ -10,7 +10,8 @@ module mpm_particles
     use mpm_error, only: error_type, fatal_error, exit_other
     implicit none
     private
-    public :: particles_type, new_particles, nstress_of, particle_bytes
+    public :: particles_type, new_particles, nstress_of, particle_bytes, record_length, &
+        pack_particles, rebuild_particles
 
     !> All particles of a run.
     type :: particles_type
@@ -56,6 +57,9 @@ module mpm_particles
         real(wp), allocatable :: affine(:, :, :)
             !! APIC affine velocity C_p = sum_i v_i grad(N_i)^T (dim, dim, n) [1/s], allocated
             !! only with solver.transfer = "apic"
+        integer, allocatable :: id(:)
+            !! index of each particle in the whole run (n), allocated only when the particles
+            !! are spread over images (mpm_parallel); otherwise the index is the id
     end type particles_type
 
 contains
@@ -143,6 +147,212 @@ contains
         if (allocated(particles%u)) particle_bytes = particle_bytes + real_bytes*d
         if (allocated(particles%strain)) particle_bytes = particle_bytes + real_bytes*ns
         if (allocated(particles%affine)) particle_bytes = particle_bytes + real_bytes*d*d
+        if (allocated(particles%id)) particle_bytes = particle_bytes + int_bytes
     end function particle_bytes
+
+    !> Values in the record of one particle (pack_particles): every array the particles keep.
+    pure integer function record_length(particles)
+        type(particles_type), intent(in) :: particles
+            !! the particles
+        integer :: d, ns
+
+        d = particles%dim
+        ns = particles%nstress
+        ! x, v, lp0, lp; mass, volume, volume0, material; stress; F; state
+        record_length = 4*d + 4 + ns + d*d + particles%nstate
+        if (allocated(particles%u)) record_length = record_length + d
+        if (allocated(particles%strain)) record_length = record_length + ns
+        if (allocated(particles%body_force)) record_length = record_length + d
+        if (allocated(particles%affine)) record_length = record_length + d*d
+        if (allocated(particles%id)) record_length = record_length + 1
+    end function record_length
+
+    !> The records of the particles where `mask` is true, in index order, one after the
+    !> other (integers as reals: exact below 2^53).
+    subroutine pack_particles(particles, mask, buf)
+        type(particles_type), intent(in) :: particles
+            !! the particles
+        logical, intent(in) :: mask(:)
+            !! particles to pack (n)
+        real(wp), allocatable, intent(out) :: buf(:)
+            !! records (record_length x count(mask))
+
+        integer :: p, k, r, d, ns
+
+        d = particles%dim
+        ns = particles%nstress
+        r = record_length(particles)
+        allocate (buf(r*count(mask)))
+        k = 0
+        do p = 1, particles%n
+            if (.not. mask(p)) cycle
+            call put(particles%x(:, p))
+            call put(particles%v(:, p))
+            call put(particles%lp0(:, p))
+            call put(particles%lp(:, p))
+            call put([particles%mass(p), particles%volume(p), particles%volume0(p), &
+                real(particles%material(p), wp)])
+            call put(particles%stress(:, p))
+            call put(reshape(particles%f(:, :, p), [d*d]))
+            call put(particles%state(:, p))
+            if (allocated(particles%u)) call put(particles%u(:, p))
+            if (allocated(particles%strain)) call put(particles%strain(:, p))
+            if (allocated(particles%body_force)) call put(particles%body_force(:, p))
+            if (allocated(particles%affine)) call put(reshape(particles%affine(:, :, p), [d*d]))
+            if (allocated(particles%id)) call put([real(particles%id(p), wp)])
+        end do
+
+    contains
+
+        subroutine put(values)
+            real(wp), intent(in) :: values(:)
+            buf(k + 1:k + size(values)) = values
+            k = k + size(values)
+        end subroutine put
+
+    end subroutine pack_particles
+
+    !> Keep the particles where `keep` is true (in their order) and append the particles of
+    !> `records` (pack_particles of particles with the same arrays).
+    subroutine rebuild_particles(particles, keep, records, error)
+        type(particles_type), intent(inout) :: particles
+            !! the particles
+        logical, intent(in) :: keep(:)
+            !! particles that stay (n)
+        real(wp), intent(in) :: records(:)
+            !! records of the arriving particles
+        type(error_type), allocatable, intent(out) :: error
+            !! set when memory cannot be allocated
+
+        integer :: nkeep, nin, n, p, q, k, d, ns, r
+        integer, allocatable :: kept(:)
+
+        d = particles%dim
+        ns = particles%nstress
+        r = record_length(particles)
+        kept = pack([(p, p = 1, particles%n)], keep)
+        nkeep = size(kept)
+        nin = size(records)/r
+        n = nkeep + nin
+        call regrow2(particles%x)
+        call regrow2(particles%v)
+        call regrow2(particles%lp0)
+        call regrow2(particles%lp)
+        call regrow1(particles%mass)
+        call regrow1(particles%volume)
+        call regrow1(particles%volume0)
+        call regrow_int(particles%material)
+        call regrow2(particles%stress)
+        call regrow3(particles%f)
+        call regrow2(particles%state)
+        if (allocated(particles%u)) call regrow2(particles%u)
+        if (allocated(particles%strain)) call regrow2(particles%strain)
+        if (allocated(particles%body_force)) call regrow2(particles%body_force)
+        if (allocated(particles%affine)) call regrow3(particles%affine)
+        if (allocated(particles%id)) call regrow_int(particles%id)
+        if (allocated(error)) return
+        particles%n = n
+        k = 0
+        do q = 1, nin
+            p = nkeep + q
+            particles%x(:, p) = take(d)
+            particles%v(:, p) = take(d)
+            particles%lp0(:, p) = take(d)
+            particles%lp(:, p) = take(d)
+            particles%mass(p) = take1()
+            particles%volume(p) = take1()
+            particles%volume0(p) = take1()
+            particles%material(p) = nint(take1())
+            particles%stress(:, p) = take(ns)
+            particles%f(:, :, p) = reshape(take(d*d), [d, d])
+            particles%state(:, p) = take(particles%nstate)
+            if (allocated(particles%u)) particles%u(:, p) = take(d)
+            if (allocated(particles%strain)) particles%strain(:, p) = take(ns)
+            if (allocated(particles%body_force)) particles%body_force(:, p) = take(d)
+            if (allocated(particles%affine)) particles%affine(:, :, p) = reshape(take(d*d), [d, d])
+            if (allocated(particles%id)) particles%id(p) = nint(take1())
+        end do
+
+    contains
+
+        function take(m) result(values)
+            integer, intent(in) :: m
+            real(wp) :: values(m)
+            values = records(k + 1:k + m)
+            k = k + m
+        end function take
+
+        real(wp) function take1()
+            take1 = records(k + 1)
+            k = k + 1
+        end function take1
+
+        subroutine regrow1(a)
+            real(wp), allocatable, intent(inout) :: a(:)
+            real(wp), allocatable :: b(:)
+            integer :: stat
+            character(len=256) :: msg
+            if (allocated(error)) return
+            allocate (b(n), stat=stat, errmsg=msg)
+            if (stat /= 0) then
+                call failed(msg)
+                return
+            end if
+            b(1:nkeep) = a(kept)
+            call move_alloc(b, a)
+        end subroutine regrow1
+
+        subroutine regrow_int(a)
+            integer, allocatable, intent(inout) :: a(:)
+            integer, allocatable :: b(:)
+            integer :: stat
+            character(len=256) :: msg
+            if (allocated(error)) return
+            allocate (b(n), stat=stat, errmsg=msg)
+            if (stat /= 0) then
+                call failed(msg)
+                return
+            end if
+            b(1:nkeep) = a(kept)
+            call move_alloc(b, a)
+        end subroutine regrow_int
+
+        subroutine regrow2(a)
+            real(wp), allocatable, intent(inout) :: a(:, :)
+            real(wp), allocatable :: b(:, :)
+            integer :: stat
+            character(len=256) :: msg
+            if (allocated(error)) return
+            allocate (b(size(a, 1), n), stat=stat, errmsg=msg)
+            if (stat /= 0) then
+                call failed(msg)
+                return
+            end if
+            b(:, 1:nkeep) = a(:, kept)
+            call move_alloc(b, a)
+        end subroutine regrow2
+
+        subroutine regrow3(a)
+            real(wp), allocatable, intent(inout) :: a(:, :, :)
+            real(wp), allocatable :: b(:, :, :)
+            integer :: stat
+            character(len=256) :: msg
+            if (allocated(error)) return
+            allocate (b(size(a, 1), size(a, 2), n), stat=stat, errmsg=msg)
+            if (stat /= 0) then
+                call failed(msg)
+                return
+            end if
+            b(:, :, 1:nkeep) = a(:, :, kept)
+            call move_alloc(b, a)
+        end subroutine regrow3
+
+        subroutine failed(msg)
+            character(len=*), intent(in) :: msg
+            call fatal_error(error, "cannot allocate the particles of this image after the "// &
+                "exchange with its neighbours: "//trim(msg), exit_other)
+        end subroutine failed
+
+    end subroutine rebuild_particles
 
 end module mpm_particles

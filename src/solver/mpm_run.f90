@@ -5,13 +5,18 @@ module mpm_run
     use mpm_error, only: error_type, fatal_error, exit_input, exit_other
     use mpm_clock, only: wall_time
     use mpm_system, only: peak_memory_mb
-    use mpm_particles, only: particle_bytes
+    use mpm_strings, only: int_text
+    use mpm_particles, only: particles_type, particle_bytes, pack_particles, rebuild_particles, &
+        record_length
     use mpm_case, only: case_type
     use mpm_solver, only: simulation_type, new_simulation, advance, stable_time_step, &
-        compute_energies, has_text, nphases, phase_names, phase_other, phase_output
+        compute_energies, has_text, nphases, phase_names, phase_other, phase_output, agree
+    use mpm_parallel, only: image_id, image_count, counts_of_images, gather_on_first
+    use mpm_decomposition, only: image_grids
     use mpm_stencil, only: stencil_bytes
     use mpm_grid, only: grid_bytes
-    use mpm_output, only: output_writer_type, new_output_writer, write_output, remove_outputs
+    use mpm_output, only: output_writer_type, new_output_writer, write_output, write_index, &
+        remove_outputs
     use mpm_state, only: save_state
     use mpm_filesystem, only: make_directory, directory_exists
     implicit none
@@ -69,41 +74,60 @@ contains
 
         type(output_writer_type) :: writer
         integer :: history_unit, stat
+        integer(i8) :: total
+        logical :: lead, quiet
+        real(wp) :: imbalance
+        integer, parameter :: imbalance_steps = 50
         real(wp) :: t_start, t_last_progress, dt, next_output, next_history, eps_t, clock
         character(len=256) :: msg
         logical :: written
 
         call new_simulation(sim, case, error)
+        call agree(error)
         if (allocated(error)) return
-        summary%particles = sim%particles%n
-        summary%nodes = sim%grid%nnodes
-        if (sim%particles%n == 0) then
+        ! on several images: image 1 prints, writes the history and the index; every image
+        ! writes its part of the particle output
+        lead = image_id() == 1
+        quiet = options%quiet .or. .not. lead
+        total = sum(counts_of_images(sim%particles%n))
+        summary%particles = int(total)
+        summary%nodes = product(case%ncells(1:case%dim) + 1)
+        if (total == 0) then
             call fatal_error(error, case%file//": the case holds no particles", exit_input)
+            if (.not. lead) error%message = ""
             return
         end if
 
         history_unit = -1
         if (options%write_files) then
-            call prepare_output_dir(case, error)
+            if (lead) call prepare_output_dir(case, error)
+            call agree(error)
             if (allocated(error)) return
-            call new_output_writer(writer, case, case%output_dir, error)
-            if (allocated(error)) return
-            open (newunit=history_unit, file=case%output_dir//"/history.csv", status="replace", &
-                action="write", iostat=stat, iomsg=msg)
-            if (stat /= 0) then
-                call fatal_error(error, case%output_dir//"/history.csv: "//trim(msg), exit_other)
-                return
+            call new_output_writer(writer, case, case%output_dir, error, image_id(), image_count())
+            if (.not. allocated(error) .and. lead) then
+                open (newunit=history_unit, file=case%output_dir//"/history.csv", &
+                    status="replace", action="write", iostat=stat, iomsg=msg)
+                if (stat /= 0) then
+                    call fatal_error(error, case%output_dir//"/history.csv: "//trim(msg), &
+                        exit_other)
+                else
+                    write (history_unit, "(a)") "time,step,kinetic_energy,strain_energy," &
+                        //"potential_energy,damping_work,total"
+                end if
             end if
-            write (history_unit, "(a)") "time,step,kinetic_energy,strain_energy," &
-                //"potential_energy,damping_work,total"
-            call write_output(writer, int(sim%step), sim%time, sim%particles, sim%grid, error)
+            call agree(error)
+            if (allocated(error)) return
+            call write_part(writer, sim, error)
             if (allocated(error)) return
             summary%outputs = 1
-            call write_history(history_unit, sim)
+            if (lead) call write_history(history_unit, sim)
         end if
-        if (.not. options%quiet) then
+        if (.not. quiet) then
             write (output_unit, "(a,i0,a,i0,a)") "mpm_geo: case '"//case%name//"', ", &
-                sim%particles%n, " particles, ", sim%grid%nnodes, " nodes"
+                total, " particles, ", summary%nodes, " nodes"
+            if (image_count() > 1) write (output_unit, "(a,i0,a,a,a)") "mpm_geo: ", &
+                image_count(), " images, slabs across ", axis_name(sim%dec%axis), &
+                ", cuts at cells "//cuts_text(sim%dec%cuts)
         end if
 
         eps_t = 1.0e-12_wp*case%tend
@@ -112,6 +136,7 @@ contains
         next_history = 0.0_wp
         t_start = wall_time()
         t_last_progress = t_start
+        imbalance = 0.0_wp
         do while (sim%time < case%tend - eps_t)
             clock = wall_time()
             dt = min(stable_time_step(sim), case%tend - sim%time)
@@ -123,8 +148,7 @@ contains
             if (options%write_files) then
                 if (sim%time >= next_output - eps_t .or. sim%time >= case%tend - eps_t) then
                     call compute_energies(sim)
-                    call write_output(writer, int(sim%step), sim%time, sim%particles, &
-                        sim%grid, error)
+                    call write_part(writer, sim, error)
                     if (allocated(error)) exit
                     summary%outputs = summary%outputs + 1
                     do while (next_output <= sim%time + eps_t)
@@ -134,15 +158,19 @@ contains
                 end if
                 if (sim%time >= next_history - eps_t .or. written) then
                     call compute_energies(sim)
-                    call write_history(history_unit, sim)
+                    if (lead) call write_history(history_unit, sim)
                     next_history = sim%time + case%history_interval
                 end if
                 sim%phase_time(phase_output) = sim%phase_time(phase_output) &
                     + (wall_time() - clock)
             end if
-            if (.not. options%quiet .and. wall_time() - t_last_progress >= case%progress_seconds) then
+            ! the particle counts of the images, now and then (collective: by step number)
+            if (image_count() > 1 .and. mod(sim%step, int(imbalance_steps, i8)) == 0) then
+                imbalance = load_imbalance(sim%particles%n)
+            end if
+            if (.not. quiet .and. wall_time() - t_last_progress >= case%progress_seconds) then
                 t_last_progress = wall_time()
-                call print_progress(sim, case%tend, t_last_progress - t_start)
+                call print_progress(sim, case%tend, t_last_progress - t_start, imbalance)
             end if
         end do
         summary%steps = sim%step
@@ -150,24 +178,123 @@ contains
         summary%wall = wall_time() - t_start
         summary%phase_time = sim%phase_time
         if (summary%wall > 0.0_wp) summary%particle_steps_per_second = &
-            real(sim%particles%n, wp)*real(sim%step, wp)/summary%wall
+            real(total, wp)*real(sim%step, wp)/summary%wall
         if (history_unit >= 0) close (history_unit)
         if (allocated(error)) then
-            if (options%write_files) error%message = error%message//new_line("a")// &
-                "outputs written so far are in "//case%output_dir
+            ! (an image that does not report the failure has no message)
+            if (options%write_files .and. len(error%message) > 0) error%message = &
+                error%message//new_line("a")//"outputs written so far are in "//case%output_dir
             return
         end if
 
         if (has_text(case%save_state)) then
-            call save_state(case%save_state, case, sim%particles, sim%time, int(sim%step), error)
+            call save_run_state(sim, error)
             if (allocated(error)) return
         end if
         ! particle arrays and the per-step scratch: stencils, order, cell
         summary%bytes_per_particle = particle_bytes(sim%particles) + stencil_bytes(sim%stencils)
         summary%bytes_per_node = grid_bytes(sim%grid)
         summary%peak_memory_mb = peak_memory_mb()
-        if (.not. options%quiet) call print_summary(summary, case)
+        if (.not. quiet) call print_summary(summary, case)
     end subroutine run_case
+
+    !> Write this image's part of an output (collective: image 1 writes the index).
+    subroutine write_part(writer, sim, error)
+        type(output_writer_type), intent(inout) :: writer
+            !! the run's writer
+        type(simulation_type), intent(in) :: sim
+            !! the simulation
+        type(error_type), allocatable, intent(out) :: error
+            !! set (on every image) when an image cannot write
+
+        integer(i8), allocatable :: counts(:)
+        real(wp), allocatable :: origins(:, :)
+        integer, allocatable :: nns(:, :)
+
+        if (image_count() == 1) then
+            call write_output(writer, int(sim%step), sim%time, sim%particles, sim%grid, error)
+        else
+            counts = counts_of_images(sim%particles%n)
+            call image_grids(sim%case, sim%dec, origins, nns)
+            call write_output(writer, int(sim%step), sim%time, sim%particles, sim%grid, error, &
+                counts, origins, nns, defer_index=.true.)
+            ! every part is complete before the index names it
+            call agree(error)
+            if (.not. allocated(error)) call write_index(writer, error)
+        end if
+        call agree(error)
+    end subroutine write_part
+
+    !> The state file of the run (collective): on several images, image 1 collects every
+    !> particle, in the order of the ids (the order of one image), and writes the file.
+    subroutine save_run_state(sim, error)
+        type(simulation_type), intent(in) :: sim
+            !! the simulation
+        type(error_type), allocatable, intent(out) :: error
+            !! set (on every image) when the state cannot be written
+
+        type(particles_type) :: all
+        real(wp), allocatable :: mine(:), records(:), ordered(:)
+        integer :: r, q, k, n
+
+        if (image_count() == 1) then
+            call save_state(sim%case%save_state, sim%case, sim%particles, sim%time, &
+                int(sim%step), error)
+            return
+        end if
+        call pack_particles(sim%particles, [(.true., q = 1, sim%particles%n)], mine)
+        call gather_on_first(mine, records)
+        if (image_id() == 1) then
+            ! records in id order (the id is the last value of a record)
+            r = record_length(sim%particles)
+            n = size(records)/r
+            allocate (ordered(size(records)))
+            do q = 1, n
+                k = nint(records(q*r))
+                ordered((k - 1)*r + 1:k*r) = records((q - 1)*r + 1:q*r)
+            end do
+            all = sim%particles
+            call rebuild_particles(all, [(.false., q = 1, all%n)], ordered, error)
+            if (.not. allocated(error)) then
+                deallocate (all%id)
+                call save_state(sim%case%save_state, sim%case, all, sim%time, int(sim%step), &
+                    error)
+            end if
+        end if
+        call agree(error)
+    end subroutine save_run_state
+
+    !> Largest particle count of an image over the mean count (collective).
+    real(wp) function load_imbalance(n)
+        integer, intent(in) :: n
+            !! this image's particles
+
+        integer(i8), allocatable :: counts(:)
+
+        counts = counts_of_images(n)
+        load_imbalance = real(maxval(counts), wp)*real(size(counts), wp) &
+            /max(1.0_wp, real(sum(counts), wp))
+    end function load_imbalance
+
+    pure function axis_name(axis) result(name)
+        integer, intent(in) :: axis
+        character(len=1) :: name
+        name = "-"
+        if (axis >= 1 .and. axis <= 3) name = "xyz"(axis:axis)
+    end function axis_name
+
+    function cuts_text(cuts) result(text)
+        integer, intent(in) :: cuts(:)
+        character(len=:), allocatable :: text
+
+        integer :: k
+
+        text = ""
+        do k = 2, size(cuts) - 1
+            text = text//int_text(cuts(k))
+            if (k < size(cuts) - 1) text = text//", "
+        end do
+    end function cuts_text
 
     !> Create the output folder; refuse an existing one unless overwriting was asked for.
     subroutine prepare_output_dir(case, error)
@@ -196,17 +323,19 @@ contains
         end associate
     end subroutine write_history
 
-    subroutine print_progress(sim, tend, elapsed)
+    subroutine print_progress(sim, tend, elapsed, imbalance)
         type(simulation_type), intent(in) :: sim
         real(wp), intent(in) :: tend, elapsed
+        real(wp), intent(in) :: imbalance
+            !! largest particle count of an image over the mean (0: one image)
 
         real(wp) :: rate, eta
 
         rate = real(sim%step, wp)/max(elapsed, 1.0e-9_wp)
         eta = elapsed*(tend - sim%time)/max(sim%time, tiny(1.0_wp))
-        write (output_unit, "(a,i9,a,es11.4,a,es9.2,a,es10.3,a,f10.1,a,a)") "step", sim%step, &
+        write (output_unit, "(a,i9,a,es11.4,a,es9.2,a,es10.3,a,f10.1,a,a,a)") "step", sim%step, &
             "  t =", sim%time, " s  dt =", sim%dt, " s  KE =", sim%energy%kinetic, " J ", &
-            rate, " steps/s  ETA ", trim(format_seconds(eta))
+            rate, " steps/s  ETA ", trim(format_seconds(eta)), trim(imbalance_text(imbalance))
         flush (output_unit)
     end subroutine print_progress
 
@@ -237,6 +366,18 @@ contains
         end do
         write (output_unit, "(a)") " s"
     end subroutine print_summary
+
+    function imbalance_text(imbalance) result(text)
+        real(wp), intent(in) :: imbalance
+        character(len=:), allocatable :: text
+
+        character(len=32) :: buf
+
+        text = ""
+        if (imbalance <= 0.0_wp) return
+        write (buf, "(a,f0.2)") "  imbalance ", imbalance
+        text = trim(buf)
+    end function imbalance_text
 
     function format_seconds(s) result(text)
         real(wp), intent(in) :: s

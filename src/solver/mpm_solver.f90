@@ -14,8 +14,12 @@ module mpm_solver
     use mpm_case, only: case_type, scheme_usf, scheme_usl, scheme_musl, damping_kinetic, &
         p_wave_speed, viscous_time_step, field_strain, field_displacement
     use mpm_grid, only: grid_type, new_grid
-    use mpm_particles, only: particles_type
-    use mpm_bodies, only: create_particles
+    use mpm_particles, only: particles_type, pack_particles, rebuild_particles
+    use mpm_bodies, only: create_particles, body_cell_histogram
+    use mpm_decomposition, only: decomposition_type, new_decomposition, cut_axis, local_case, &
+        global_cell
+    use mpm_parallel, only: image_count, image_id, sum_over_images, max_over_images, &
+        min_over_images, exchange_neighbours, agree_on_failure
     use mpm_shape, only: shape_type
     use mpm_shape_factory, only: new_shape
     use mpm_material, only: material_holder_type
@@ -28,7 +32,7 @@ module mpm_solver
     implicit none
     private
     public :: simulation_type, new_simulation, advance, stable_time_step, energies_type
-    public :: compute_energies, has_text
+    public :: compute_energies, has_text, agree
     public :: nphases, phase_names, phase_stencils, phase_p2g, phase_nodal, phase_g2p, &
         phase_stress, phase_other, phase_output
 
@@ -75,6 +79,8 @@ module mpm_solver
             !! other stable-step limit of each material (viscosity), huge when none [s]
         type(stencils_type) :: stencils
             !! shape functions of the step, particle order and scatter chunks
+        type(decomposition_type) :: dec
+            !! this image's part of the grid (the whole grid on one image)
         real(wp) :: phase_time(nphases) = 0.0_wp
             !! wall time spent in each phase since the start [s]
         real(wp) :: time = 0.0_wp
@@ -103,13 +109,11 @@ contains
         type(error_type), allocatable, intent(out) :: error
             !! set on allocation failure or an incompatible state file
 
-        real(wp) :: state_time
+        real(wp) :: state_time, lightest
         integer :: state_step, i, stat, nstate
         character(len=256) :: msg
 
         sim%case = case
-        call new_grid(sim%grid, case, error)
-        if (allocated(error)) return
         call new_materials(sim%materials, case, error)
         if (allocated(error)) return
         allocate (sim%wave_speed(size(sim%materials)), sim%time_step_limit(size(sim%materials)))
@@ -120,19 +124,40 @@ contains
             nstate = max(nstate, sim%materials(i)%m%nstate())
         end do
         call new_shape(sim%shape, case%shape)
-        ! frictional faces average the normal impulse over five wave transits of a cell (the
-        ! weight 0.1 per step it had at CFL 0.5), so that a smaller step does not shorten it
-        sim%grid%contact_time = 5.0_wp*case%dx/max(maxval(sim%wave_speed), tiny(1.0_wp))
         if (has_text(case%load_state)) then
             call load_state(case%load_state, case, sim%particles, state_time, state_step, error, &
                 nstate)
             if (allocated(error)) return
             ! a new run starts from the loaded state: displacements count from here
             sim%particles%u = 0.0_wp
+            ! on several images: each keeps the particles of its slab (any number of images)
+            call decompose_loaded(sim, error)
+            if (allocated(error)) return
+        else if (image_count() > 1) then
+            call decompose_bodies(sim, error)
+            if (allocated(error)) return
+            call create_particles(case, sim%particles, error, nstate, [sim%dec%axis, &
+                sim%dec%cell_lo, sim%dec%cell_hi])
+            if (allocated(error)) return
         else
+            call new_decomposition(sim%dec, case, 1, 1, [integer(i8) ::], error)
             call create_particles(case, sim%particles, error, nstate)
             if (allocated(error)) return
         end if
+        ! this image's grid: the whole grid, or its slab with the ghost cells
+        call new_grid(sim%grid, local_case(case, sim%dec), error)
+        if (allocated(error)) return
+        if (sim%dec%axis > 0) then
+            sim%grid%halo_axis = sim%dec%axis
+            sim%grid%halo_left = sim%dec%left
+            sim%grid%halo_right = sim%dec%right
+            sim%grid%owned_lo = sim%dec%cell_lo - sim%dec%node_lo
+            sim%grid%owned_hi = sim%dec%cell_hi - sim%dec%node_lo - 1
+            if (sim%dec%right == 0) sim%grid%owned_hi = sim%grid%owned_hi + 1
+        end if
+        ! frictional faces average the normal impulse over five wave transits of a cell (the
+        ! weight 0.1 per step it had at CFL 0.5), so that a smaller step does not shorten it
+        sim%grid%contact_time = 5.0_wp*case%dx/max(maxval(sim%wave_speed), tiny(1.0_wp))
         ! a case stores what it writes: the accumulated strain and the displacement only when
         ! an output field or a state file asks for them
         if (.not. (case%output_fields(field_strain) .or. has_text(case%save_state))) then
@@ -141,7 +166,11 @@ contains
         if (.not. (case%output_fields(field_displacement) .or. has_text(case%save_state))) then
             deallocate (sim%particles%u)
         end if
-        if (sim%particles%n > 0) sim%grid%small_mass = 1.0e-2_wp*minval(sim%particles%mass)
+        ! the same threshold on every image: the shared nodes get the same update
+        lightest = huge(1.0_wp)
+        if (sim%particles%n > 0) lightest = minval(sim%particles%mass)
+        call min_over_images(lightest)
+        if (lightest < huge(1.0_wp)) sim%grid%small_mass = 1.0e-2_wp*lightest
         ! APIC affine velocities: kept from a state file of an APIC run, zero otherwise (a
         ! uniform velocity per body); dropped when this stage does not use APIC
         if (.not. case%apic .and. allocated(sim%particles%affine)) then
@@ -160,6 +189,92 @@ contains
         sim%kinetic_previous = sim%energy%kinetic
         sim%energy_scale = sim%energy%kinetic
     end subroutine new_simulation
+
+    !> Cut the grid among the images by the particles the bodies will hold.
+    subroutine decompose_bodies(sim, error)
+        type(simulation_type), intent(inout) :: sim
+            !! the simulation (case set)
+        type(error_type), allocatable, intent(out) :: error
+            !! set when the grid cannot be cut for the images
+
+        integer(i8), allocatable :: histogram(:)
+        integer :: axis
+
+        axis = cut_axis(sim%case)
+        allocate (histogram(0:sim%case%ncells(axis) - 1))
+        call body_cell_histogram(sim%case, axis, histogram)
+        call new_decomposition(sim%dec, sim%case, image_count(), image_id(), histogram, error)
+    end subroutine decompose_bodies
+
+    !> Cut the grid among the images by the loaded particles (every image read them all), and
+    !> keep this image's; ids are the indices in the state file.
+    subroutine decompose_loaded(sim, error)
+        type(simulation_type), intent(inout) :: sim
+            !! the simulation, with every particle of the state file
+        type(error_type), allocatable, intent(out) :: error
+            !! set when the grid cannot be cut for the images
+
+        integer(i8), allocatable :: histogram(:)
+        integer :: axis, p, c
+        logical, allocatable :: keep(:)
+
+        if (image_count() == 1) then
+            call new_decomposition(sim%dec, sim%case, 1, 1, [integer(i8) ::], error)
+            return
+        end if
+        associate (particles => sim%particles)
+            axis = cut_axis(sim%case)
+            allocate (histogram(0:sim%case%ncells(axis) - 1), keep(particles%n))
+            histogram = 0
+            do p = 1, particles%n
+                c = global_cell(sim%case, particles%x(axis, p), axis)
+                histogram(c) = histogram(c) + 1
+            end do
+            call new_decomposition(sim%dec, sim%case, image_count(), image_id(), histogram, &
+                error)
+            if (allocated(error)) return
+            do p = 1, particles%n
+                c = global_cell(sim%case, particles%x(axis, p), axis)
+                keep(p) = c >= sim%dec%cell_lo .and. c < sim%dec%cell_hi
+            end do
+            particles%id = [(p, p = 1, particles%n)]
+            call rebuild_particles(particles, keep, [real(wp) ::], error)
+        end associate
+    end subroutine decompose_loaded
+
+    !> Send the particles that left this image's slab to the neighbour that owns them now
+    !> (a particle moves less than a cell per step: to a neighbour at most), and take in
+    !> those that arrived. Collective.
+    subroutine migrate_particles(sim, error)
+        type(simulation_type), intent(inout) :: sim
+            !! the simulation after a step
+        type(error_type), allocatable, intent(out) :: error
+            !! set when memory cannot be allocated
+
+        integer :: p, c, axis
+        logical, allocatable :: to_left(:), to_right(:)
+        real(wp), allocatable :: send_left(:), send_right(:), recv_left(:), recv_right(:)
+
+        if (sim%dec%axis == 0) return
+        axis = sim%dec%axis
+        associate (particles => sim%particles)
+            allocate (to_left(particles%n), to_right(particles%n))
+            do p = 1, particles%n
+                c = global_cell(sim%case, particles%x(axis, p), axis)
+                to_left(p) = c < sim%dec%cell_lo
+                to_right(p) = c >= sim%dec%cell_hi
+            end do
+            call pack_particles(particles, to_left, send_left)
+            call pack_particles(particles, to_right, send_right)
+            call exchange_neighbours(sim%dec%left, sim%dec%right, send_left, send_right, &
+                recv_left, recv_right)
+            ! most steps move no particle across a cut: the arrays stay as they are
+            if (size(send_left) + size(send_right) + size(recv_left) + size(recv_right) > 0) then
+                call rebuild_particles(particles, .not. (to_left .or. to_right), &
+                    [recv_left, recv_right], error)
+            end if
+        end associate
+    end subroutine migrate_particles
 
     !> True when an optional text setting is present and not empty.
     pure logical function has_text(text)
@@ -188,6 +303,7 @@ contains
                 + norm2(sim%particles%v(:, p)))
         end do
         !$omp end parallel do
+        call max_over_images(speed)
         stable_time_step = sim%case%cfl*min(sim%case%dx/max(speed, tiny(1.0_wp)), &
             minval(sim%time_step_limit))
     end function stable_time_step
@@ -201,7 +317,7 @@ contains
         type(error_type), allocatable, intent(out) :: error
             !! set on a numerical failure (exit_numerical)
 
-        real(wp) :: work, damping_work, clock, kinetic
+        real(wp) :: work, damping_work, clock, kinetic, sums(4)
         integer :: scheme
         type(motion_type) :: motion
 
@@ -256,30 +372,54 @@ contains
             end select
             call lap(sim, phase_stress, clock)
         end associate
+        ! sums over the images, in one reduction
+        sums = [kinetic, work, damping_work, motion%potential]
+        call sum_over_images(sums)
         ! the kinetic energy was summed in the G2P pass (nothing changes the velocities after)
-        sim%energy%kinetic = kinetic
+        sim%energy%kinetic = sums(1)
         ! the blow-up guard speaks first, so an unstable run is reported as such rather than
         ! as the particles it throws out of the grid
         call check_blow_up(sim, motion, error)
-        if (allocated(error)) return
-        if (motion%lost > 0) then
+        if (.not. allocated(error) .and. motion%lost > 0) then
             call report_lost(sim%grid, sim%particles, motion%lost, error)
             error%message = step_prefix(sim)//error%message
-            return
         end if
+        call agree(error)
+        if (allocated(error)) return
         sim%time = sim%time + dt
         sim%step = sim%step + 1
         sim%dt = dt
-        sim%energy%strain = sim%energy%strain + work
-        sim%energy%damping = sim%energy%damping + damping_work
-        sim%energy%potential = sim%energy%potential + motion%potential
+        sim%energy%strain = sim%energy%strain + sums(2)
+        sim%energy%damping = sim%energy%damping + sums(3)
+        sim%energy%potential = sim%energy%potential + sums(4)
         associate (e => sim%energy)
             sim%energy_scale = max(sim%energy_scale, e%kinetic + abs(e%strain) + abs(e%damping) &
                 + abs(e%potential))
         end associate
         if (sim%case%damping == damping_kinetic) call kinetic_damping(sim)
+        ! on several images: particles that left the slab go to their new image
+        call migrate_particles(sim, error)
+        call agree(error)
         call lap(sim, phase_other, clock)
     end subroutine advance
+
+    !> Make a failure of any image the failure of all (collective): every image returns the
+    !> error, and only the one that reports it keeps a message (one message per run).
+    subroutine agree(error)
+        type(error_type), allocatable, intent(inout) :: error
+            !! this image's failure, if any; on return the run's
+
+        integer :: code
+        logical :: reporter
+
+        code = 0
+        if (allocated(error)) code = error%code
+        call agree_on_failure(code, reporter)
+        if (code == 0) return
+        if (.not. allocated(error)) allocate (error)
+        error%code = code
+        if (.not. reporter) error%message = ""
+    end subroutine agree
 
     !> Add the wall time since `clock` to a phase and restart the clock.
     subroutine lap(sim, phase, clock)
@@ -417,6 +557,7 @@ contains
             !! the simulation
 
         sim%energy%kinetic = kinetic_energy(sim%particles)
+        call sum_over_images(sim%energy%kinetic)
     end subroutine compute_energies
 
 end module mpm_solver

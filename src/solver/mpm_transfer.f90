@@ -18,7 +18,8 @@ module mpm_transfer
     use mpm_kinds, only: wp
     use mpm_strings, only: vector_text
     use mpm_error, only: error_type, fatal_error, exit_numerical
-    use mpm_grid, only: grid_type, contact_index
+    use mpm_grid, only: grid_type, contact_index, node_owned
+    use mpm_halo, only: halo_sum, halo_contact_gaps
     use mpm_particles, only: particles_type
     use mpm_stencil, only: stencils_type, particle_nodes, max_nodes, axis_derivatives
     use mpm_material, only: material_holder_type
@@ -165,11 +166,14 @@ contains
         !$omp end parallel do
 
         call fold(grid, stc, buf, with_mass, fint_row, body_row)
+        ! the nodes shared with neighbouring images take their particles' part too
+        call halo_sum(grid, with_mass, with_mass, with_fint, body)
         if (with_mass .and. grid%ncontacts > 0) then
             grid%contact_gap = huge(1.0_wp)
             do p = 1, particles%n
                 call contact_gaps(grid, particles, stc, p)
             end do
+            call halo_contact_gaps(grid)
         end if
     end subroutine p2g
 
@@ -428,7 +432,9 @@ contains
                         where (v0(1:dim) == 0.0_wp) fd(1:dim) = 0.0_wp
                         where (grid%constrained(:, i)) fd(1:dim) = 0.0_wp
                         f(1:dim) = f(1:dim) + fd(1:dim)
-                        acc = acc - dt*sum(fd(1:dim)*(v0(1:dim) + 0.5_wp*dt*f(1:dim)/grid%mass(i)))
+                        ! nodes shared with another image count on one of them
+                        if (node_owned(grid, i)) acc = acc &
+                            - dt*sum(fd(1:dim)*(v0(1:dim) + 0.5_wp*dt*f(1:dim)/grid%mass(i)))
                     end if
                     where (grid%constrained(:, i)) f(1:dim) = 0.0_wp
                     if (grid%mass(i) < grid%small_mass) f(1:dim) = 0.0_wp
@@ -519,7 +525,8 @@ contains
                 grid%acceleration(:, id) = grid%acceleration(:, id) + (vnew(1:dim) - v(1:dim))/dt
             end if
             grid%momentum(:, id) = grid%mass(id)*vnew(1:dim)
-            work = work + 0.5_wp*grid%mass(id)*(sum(v(1:dim)**2) - sum(vnew(1:dim)**2))
+            if (node_owned(grid, id)) work = work &
+                + 0.5_wp*grid%mass(id)*(sum(v(1:dim)**2) - sum(vnew(1:dim)**2))
         end do
     end subroutine apply_contacts
 
@@ -638,6 +645,7 @@ contains
         end if
         if (remap) then
             call fold(grid, stc, buf, .true., 0, 0, only_momentum=.true.)
+            call halo_sum(grid, .false., .true., .false., .false.)
             call nodal_velocity(grid)
         end if
     end subroutine g2p

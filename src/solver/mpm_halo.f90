@@ -1,0 +1,226 @@
+!> Halo exchange: the nodal sums of the node layers two images share.
+!>
+!> Where the grid is cut among images (mpm_decomposition), the three node layers around a
+!> cut are on both images, and each holds the sums of its own particles only. After each
+!> scatter the images trade those layers and add the neighbour's part, so both hold the
+!> whole sum (a + b on one and b + a on the other: the same bits) and their nodal updates
+!> agree. A node outside this image's box of touched nodes takes nothing: its particles do
+!> not read it, and nodes outside the box stay zero (mpm_grid).
+module mpm_halo
+    use mpm_kinds, only: wp
+    use mpm_grid, only: grid_type, node_layer
+    use mpm_parallel, only: exchange_neighbours
+    implicit none
+    private
+    public :: halo_sum, halo_contact_gaps
+
+    integer, parameter :: shared_layers = 3
+        !! node layers shared at a cut
+
+contains
+
+    !> Add the neighbours' parts of the shared nodes' mass, momentum and forces (the fields
+    !> the last scatter wrote).
+    subroutine halo_sum(grid, mass, momentum, fint, fext)
+        type(grid_type), intent(inout) :: grid
+            !! grid after a scatter (fold)
+        logical, intent(in) :: mass
+            !! mass was scattered
+        logical, intent(in) :: momentum
+            !! momentum was scattered
+        logical, intent(in) :: fint
+            !! internal force was scattered
+        logical, intent(in) :: fext
+            !! extra body force was scattered
+
+        integer, allocatable :: lo_nodes(:), hi_nodes(:)
+        real(wp), allocatable :: send_lo(:), send_hi(:), recv_lo(:), recv_hi(:)
+
+        if (grid%halo_axis == 0) return
+        call side_nodes(grid, lo_nodes, hi_nodes)
+        call pack_side(lo_nodes, send_lo)
+        call pack_side(hi_nodes, send_hi)
+        call exchange_neighbours(grid%halo_left, grid%halo_right, send_lo, send_hi, recv_lo, &
+            recv_hi)
+        call add_side(lo_nodes, recv_lo)
+        call add_side(hi_nodes, recv_hi)
+
+    contains
+
+        subroutine pack_side(nodes, buf)
+            integer, intent(in) :: nodes(:)
+            real(wp), allocatable, intent(out) :: buf(:)
+
+            integer :: k, r, id, d
+
+            d = grid%dim
+            allocate (buf(size(nodes)*rows()))
+            r = 0
+            do k = 1, size(nodes)
+                id = nodes(k)
+                if (mass) then
+                    buf(r + 1) = grid%mass(id)
+                    r = r + 1
+                end if
+                if (momentum) then
+                    buf(r + 1:r + d) = grid%momentum(:, id)
+                    r = r + d
+                end if
+                if (fint) then
+                    buf(r + 1:r + d) = grid%fint(:, id)
+                    r = r + d
+                end if
+                if (fext) then
+                    buf(r + 1:r + d) = grid%fext(:, id)
+                    r = r + d
+                end if
+            end do
+        end subroutine pack_side
+
+        subroutine add_side(nodes, buf)
+            integer, intent(in) :: nodes(:)
+            real(wp), intent(in) :: buf(:)
+
+            integer :: k, r, id, d
+
+            if (size(buf) == 0) return
+            d = grid%dim
+            r = 0
+            do k = 1, size(nodes)
+                id = nodes(k)
+                if (.not. in_box(grid, id)) then
+                    r = r + rows()
+                    cycle
+                end if
+                if (mass) then
+                    grid%mass(id) = grid%mass(id) + buf(r + 1)
+                    r = r + 1
+                end if
+                if (momentum) then
+                    grid%momentum(:, id) = grid%momentum(:, id) + buf(r + 1:r + d)
+                    r = r + d
+                end if
+                if (fint) then
+                    grid%fint(:, id) = grid%fint(:, id) + buf(r + 1:r + d)
+                    r = r + d
+                end if
+                if (fext) then
+                    grid%fext(:, id) = grid%fext(:, id) + buf(r + 1:r + d)
+                    r = r + d
+                end if
+            end do
+        end subroutine add_side
+
+        integer function rows()
+            rows = 0
+            if (mass) rows = rows + 1
+            if (momentum) rows = rows + grid%dim
+            if (fint) rows = rows + grid%dim
+            if (fext) rows = rows + grid%dim
+        end function rows
+
+    end subroutine halo_sum
+
+    !> The gap between the material and a frictional face at a shared node is the smaller of
+    !> the two images' gaps (P2G sets it from the particles of this image).
+    subroutine halo_contact_gaps(grid)
+        type(grid_type), intent(inout) :: grid
+            !! grid after P2G
+
+        integer, allocatable :: lo_pairs(:), hi_pairs(:)
+        real(wp), allocatable :: send_lo(:), send_hi(:), recv_lo(:), recv_hi(:)
+        integer :: k
+
+        if (grid%halo_axis == 0 .or. grid%ncontacts == 0) return
+        call side_pairs(grid, lo_pairs, hi_pairs)
+        send_lo = grid%contact_gap(lo_pairs)
+        send_hi = grid%contact_gap(hi_pairs)
+        call exchange_neighbours(grid%halo_left, grid%halo_right, send_lo, send_hi, recv_lo, &
+            recv_hi)
+        do k = 1, size(recv_lo)
+            grid%contact_gap(lo_pairs(k)) = min(grid%contact_gap(lo_pairs(k)), recv_lo(k))
+        end do
+        do k = 1, size(recv_hi)
+            grid%contact_gap(hi_pairs(k)) = min(grid%contact_gap(hi_pairs(k)), recv_hi(k))
+        end do
+    end subroutine halo_contact_gaps
+
+    !> The shared nodes at the low and high ends of halo_axis (none without a neighbour
+    !> there), in lexicographic order: the neighbour lists the same nodes in the same order.
+    subroutine side_nodes(grid, lo_nodes, hi_nodes)
+        type(grid_type), intent(in) :: grid
+        integer, allocatable, intent(out) :: lo_nodes(:), hi_nodes(:)
+
+        integer :: n
+
+        n = grid%nn(grid%halo_axis)
+        if (grid%halo_left > 0) then
+            lo_nodes = layer_nodes(grid, 0, shared_layers - 1)
+        else
+            allocate (lo_nodes(0))
+        end if
+        if (grid%halo_right > 0) then
+            hi_nodes = layer_nodes(grid, n - shared_layers, n - 1)
+        else
+            allocate (hi_nodes(0))
+        end if
+    end subroutine side_nodes
+
+    !> Nodes whose index along halo_axis is in [l0, l1], in lexicographic order.
+    function layer_nodes(grid, l0, l1) result(nodes)
+        type(grid_type), intent(in) :: grid
+        integer, intent(in) :: l0, l1
+        integer, allocatable :: nodes(:)
+
+        integer :: lo(3), hi(3), i, j, k, m
+
+        lo = 0
+        hi = grid%nn - 1
+        lo(grid%halo_axis) = l0
+        hi(grid%halo_axis) = l1
+        allocate (nodes(product(hi - lo + 1)))
+        m = 0
+        do k = lo(3), hi(3)
+            do j = lo(2), hi(2)
+                do i = lo(1), hi(1)
+                    m = m + 1
+                    nodes(m) = 1 + i + grid%nn(1)*(j + grid%nn(2)*k)
+                end do
+            end do
+        end do
+    end function layer_nodes
+
+    !> Frictional contact pairs at the shared nodes of each end, in pair order (faces in a
+    !> fixed order, nodes of a face in lexicographic order: the neighbour's order too).
+    subroutine side_pairs(grid, lo_pairs, hi_pairs)
+        type(grid_type), intent(in) :: grid
+        integer, allocatable, intent(out) :: lo_pairs(:), hi_pairs(:)
+
+        integer :: c, layer, n
+        logical :: lo_side(grid%ncontacts), hi_side(grid%ncontacts)
+
+        n = grid%nn(grid%halo_axis)
+        do c = 1, grid%ncontacts
+            layer = node_layer(grid, grid%contact_node(c), grid%halo_axis)
+            lo_side(c) = grid%halo_left > 0 .and. layer < shared_layers
+            hi_side(c) = grid%halo_right > 0 .and. layer >= n - shared_layers
+        end do
+        lo_pairs = pack([(c, c = 1, grid%ncontacts)], lo_side)
+        hi_pairs = pack([(c, c = 1, grid%ncontacts)], hi_side)
+    end subroutine side_pairs
+
+    !> Whether node id is in the box of nodes the last scatter of this image touched.
+    pure logical function in_box(grid, id)
+        type(grid_type), intent(in) :: grid
+        integer, intent(in) :: id
+
+        integer :: a, layer
+
+        in_box = .true.
+        do a = 1, grid%dim
+            layer = node_layer(grid, id, a)
+            in_box = in_box .and. layer >= grid%active_lo(a) .and. layer <= grid%active_hi(a)
+        end do
+    end function in_box
+
+end module mpm_halo

@@ -1,0 +1,114 @@
+"""Compare the last output of a serial run with that of a run on several images.
+
+usage: compare_runs.py SERIAL_DIR PARALLEL_DIR [--rtol R] [--images N]
+
+The parallel run writes one part per image (particles_NNNNNN_pKKKKK.h5) with the id of each
+particle (its index in the serial run); it must have N parts (default 2; with N = 1 the
+second folder holds a serial run too). The check: the same particle count and total mass
+exactly, every id once, and positions and stresses equal to round-off (relative to the
+size of the field). Exit code 0 when they agree, 1 otherwise, with what differs.
+"""
+
+import argparse
+import glob
+import os
+import sys
+
+import h5py
+import numpy as np
+
+
+def last_index(folder, pattern):
+    """Highest output index NNNNNN of the files matching pattern (a glob with the index)."""
+    files = glob.glob(os.path.join(folder, pattern))
+    if not files:
+        raise SystemExit(f"compare_runs: no output files {pattern} in {folder}")
+    return max(int(os.path.basename(f).split("_")[1].split(".")[0]) for f in files)
+
+
+def read_serial(folder):
+    index = last_index(folder, "particles_[0-9][0-9][0-9][0-9][0-9][0-9].h5")
+    with h5py.File(os.path.join(folder, f"particles_{index:06d}.h5"), "r") as f:
+        data = {k: f["particles"][k][()] for k in f["particles"]}
+        time = f.attrs["time"]
+    data["id"] = np.arange(1, len(data["position"]) + 1)
+    return index, time, data
+
+
+def read_parallel(folder, index, images):
+    if images == 1:
+        _, time, data = read_serial(folder)
+        return {float(time)}, [len(data["position"])], data
+    parts = sorted(glob.glob(os.path.join(folder, f"particles_{index:06d}_p*.h5")))
+    if len(parts) != images:
+        raise SystemExit(f"compare_runs: {len(parts)} parts of output {index} in {folder}, "
+                         f"expected {images}")
+    fields = {}
+    times = set()
+    counts = []
+    for part in parts:
+        with h5py.File(part, "r") as f:
+            times.add(float(f.attrs["time"]))
+            group = f["particles"]
+            counts.append(len(group["position"]))
+            for k in group:
+                fields.setdefault(k, []).append(group[k][()])
+    data = {k: np.concatenate(v) for k, v in fields.items()}
+    return times, counts, data
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("serial")
+    parser.add_argument("parallel")
+    parser.add_argument("--rtol", type=float, default=1e-9)
+    parser.add_argument("--images", type=int, default=2)
+    args = parser.parse_args()
+
+    index, time, ser = read_serial(args.serial)
+    times, counts, par = read_parallel(args.parallel, index, args.images)
+    failures = []
+    if times != {float(time)}:
+        failures.append(f"output {index}: times {sorted(times)} against {time}")
+    n = len(ser["position"])
+    if len(par["position"]) != n:
+        failures.append(f"particle count {len(par['position'])} against {n}")
+    ids = np.sort(par["id"])
+    if not np.array_equal(ids, np.arange(1, n + 1)):
+        failures.append("the ids of the parts are not 1..n, each once")
+    if failures:
+        print("\n".join(failures))
+        return 1
+    order = np.argsort(par["id"])
+    for k in par:
+        par[k] = par[k][order]
+    # total mass exactly: the same particles, whatever their image
+    if "mass" in ser and not np.array_equal(np.sort(ser["mass"]), np.sort(par["mass"])):
+        failures.append("particle masses differ")
+    if "mass" in ser and ser["mass"].sum() != par["mass"].sum():
+        failures.append(f"total mass {par['mass'].sum()!r} against {ser['mass'].sum()!r}")
+    report = []
+    for field in ("position", "velocity", "stress", "plastic_strain"):
+        if field not in ser:
+            continue
+        a, b = ser[field], par[field]
+        scale = max(np.abs(a).max(), 1e-300)
+        if field == "position":
+            # positions: relative to the extent of the material
+            scale = max(np.ptp(a, axis=0).max(), 1e-300)
+        err = np.abs(a - b).max() / scale
+        report.append(f"{field}: max |serial - parallel| / scale = {err:.3e}")
+        if err > args.rtol:
+            failures.append(f"{field} differs: {err:.3e} > {args.rtol:.1e} (relative)")
+    print(f"output {index} (t = {time:.6g} s), {n} particles on {len(counts)} images "
+          f"({', '.join(str(c) for c in counts)})")
+    print("\n".join(report))
+    if failures:
+        print("\n".join(failures))
+        return 1
+    print("the runs agree")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,122 @@
+#!/usr/bin/env bash
+# Runs on 2 images against the serial build (CTest in the coarray build, make test-coarray):
+#  - each case of tests/parallel/cases/ (2D and 3D, particles crossing the cut, an image that
+#    starts empty): particle count, ids and masses exactly, positions, velocities and
+#    stresses to round-off (compare_runs.py);
+#  - a state saved on 2 images continues serially, and a serial state on 2 images, as the
+#    serial run does;
+#  - failures: a broken case file and a particle lost on one image give the serial exit code
+#    and one message.
+# usage: test_images_match_serial.sh CAF_MPM_GEO SERIAL_MPM_GEO CAFRUN
+set -uo pipefail
+cd "$(dirname "$0")/../.."
+caf_exe=$1
+serial_exe=$2
+cafrun=$3
+python=.venv/bin/python
+[ -x "$serial_exe" ] || { echo "FAIL: serial build $serial_exe not found (make build)"; exit 1; }
+[ -x "$python" ] || { echo "FAIL: $python not found (make deps)"; exit 1; }
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+failed=0
+fail() { echo "FAIL: $*"; failed=$((failed + 1)); }
+export OMP_NUM_THREADS=1
+
+par() { "$cafrun" -np 2 "$caf_exe" "$@"; }
+
+for case in tests/parallel/cases/*.json; do
+    name=$(basename "$case" .json)
+    "$serial_exe" "$case" --output "$tmp/$name-serial" -q || { fail "$name: serial run"; continue; }
+    par "$case" --output "$tmp/$name-images" -q || { fail "$name: run on 2 images"; continue; }
+    echo "--- $name"
+    "$python" tests/parallel/compare_runs.py "$tmp/$name-serial" "$tmp/$name-images" \
+        || fail "$name: 2 images differ from the serial run"
+done
+
+# State files across image counts: the collapse saved at 0.08 s, continued to 0.15 s
+stage() {   # stage NAME TEND [load|save STATE ...]: writes $tmp/NAME.json
+    "$python" - "$tmp" "$@" <<'EOF'
+import json, sys
+folder, name, tend, rest = sys.argv[1], sys.argv[2], float(sys.argv[3]), sys.argv[4:]
+c = json.load(open("tests/parallel/cases/par_collapse_2d.json"))
+c["name"] = name
+c["time"]["tend"] = tend
+c["output"]["interval"] = 0.05
+for key, path in zip(rest[::2], rest[1::2]):
+    c[key + "_state"] = path
+    if key == "load":
+        del c["bodies"]
+json.dump(c, open(f"{folder}/{name}.json", "w"))
+EOF
+}
+stage first 0.08 save "$tmp/first.h5"
+stage rest 0.07 load "$tmp/first.h5"
+stage first2 0.08 save "$tmp/first2.h5"
+stage rest2 0.07 load "$tmp/first2.h5"
+"$serial_exe" "$tmp/first.json" --output "$tmp/first" -q || fail "state: serial first stage"
+"$serial_exe" "$tmp/rest.json" --output "$tmp/rest-serial" -q || fail "state: serial second stage"
+par "$tmp/rest.json" --output "$tmp/rest-images" -q || fail "state: second stage on 2 images"
+echo "--- serial state continued on 2 images"
+"$python" tests/parallel/compare_runs.py "$tmp/rest-serial" "$tmp/rest-images" \
+    || fail "a serial state continued on 2 images differs from the serial continuation"
+par "$tmp/first2.json" --output "$tmp/first2" -q || fail "state: first stage on 2 images"
+"$serial_exe" "$tmp/rest2.json" --output "$tmp/rest2-serial" -q \
+    || fail "state: serial run from a state saved on 2 images"
+echo "--- state saved on 2 images, continued serially"
+"$python" - "$tmp/first.h5" "$tmp/first2.h5" <<'EOF' || fail "states saved serially and on 2 images differ"
+import sys, h5py, numpy as np
+a, b = (h5py.File(p, "r") for p in sys.argv[1:])
+def walk(g, prefix=""):
+    for k, v in g.items():
+        if isinstance(v, h5py.Group):
+            yield from walk(v, prefix + k + "/")
+        else:
+            yield prefix + k, v[()]
+da, db = dict(walk(a)), dict(walk(b))
+assert da.keys() == db.keys(), (sorted(da), sorted(db))
+worst = 0.0
+for k in da:
+    x, y = np.asarray(da[k]), np.asarray(db[k])
+    assert x.shape == y.shape, (k, x.shape, y.shape)
+    if x.dtype.kind in "iu":
+        assert np.array_equal(x, y), k
+    else:
+        worst = max(worst, float(np.abs(x - y).max() / max(np.abs(x).max(), 1e-300)))
+print(f"state files: same datasets and shapes, largest relative difference {worst:.2e}")
+assert worst < 1e-9
+EOF
+"$python" tests/parallel/compare_runs.py "$tmp/rest-serial" "$tmp/rest2-serial" --images 1 \
+    || fail "the continuation of a state saved on 2 images differs from the serial one"
+
+# Failures: the exit code of the serial run and one message
+expect_failure() {   # expect_failure LABEL CASE
+    local label=$1 case=$2 serial_rc rc messages
+    "$serial_exe" "$case" --output "$tmp/fail-serial" --overwrite -q 2> "$tmp/serial.err"
+    serial_rc=$?
+    par "$case" --output "$tmp/fail-images" --overwrite -q 2> "$tmp/images.err"
+    rc=$?
+    messages=$(grep -c "^mpm_geo: error:" "$tmp/images.err")
+    echo "--- $label: serial exit $serial_rc, 2 images exit $rc, $messages message(s)"
+    [ "$serial_rc" -ne 0 ] || fail "$label: the serial run did not fail"
+    [ "$rc" -eq "$serial_rc" ] || fail "$label: exit code $rc on 2 images, $serial_rc serially"
+    [ "$messages" -eq 1 ] || { fail "$label: $messages messages on 2 images"; cat "$tmp/images.err"; }
+}
+printf '{"name": "broken", "domain": {"nx": 10,\n' > "$tmp/broken.json"
+expect_failure "broken case file" "$tmp/broken.json"
+"$python" - "$tmp/lost.json" <<'EOF'
+import json, sys
+c = json.load(open("tests/parallel/cases/par_block_moves_2d.json"))
+c["name"] = "lost"
+c["bodies"][0]["min"] = [0.8, 0.0]
+c["bodies"][0]["max"] = [0.9, 0.1]
+c["bodies"][0]["velocity"] = [-4.0, 0.0]
+c["time"]["tend"] = 1.0
+json.dump(c, open(sys.argv[1], "w"))
+EOF
+expect_failure "particle lost on one image" "$tmp/lost.json"
+
+if [ "$failed" -gt 0 ]; then
+    echo "$failed check(s) failed"
+    exit 1
+fi
+echo "all checks passed"
