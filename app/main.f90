@@ -31,8 +31,11 @@ program mpm_geo_main
     if (overwrite) case%overwrite = .true.
 
     if (check_only) then
-        write (output_unit, "(a)") case_summary(case)
-        write (output_unit, "(a)") "mpm_geo: "//case_path//" is valid (--check: nothing was run)"
+        if (image_id() == 1) then
+            write (output_unit, "(a)") case_summary(case)
+            write (output_unit, "(a)") "mpm_geo: "//case_path//" is valid (--check: nothing "// &
+                "was run)"
+        end if
         stop
     end if
 
@@ -76,11 +79,11 @@ contains
             arg = argument(i)
             select case (arg)
             case ("-h", "--help")
-                call print_help()
+                if (image_id() == 1) call print_help()
                 done = .true.
                 return
             case ("-V", "--version")
-                write (output_unit, "(a)") "mpm_geo "//mpm_version_string
+                if (image_id() == 1) write (output_unit, "(a)") "mpm_geo "//mpm_version_string
                 done = .true.
                 return
             case ("--check")
@@ -161,7 +164,9 @@ contains
             "  -V, --version      print the version", &
             "", &
             "exit codes: 0 success, 1 other errors, 2 invalid input, 3 numerical failure", &
-            "threads: set OMP_NUM_THREADS (default: all cores)"
+            "threads: set OMP_NUM_THREADS (default: all cores)", &
+            "images: cafrun -np N mpm_geo CASE.json with the coarray build (make coarray; "// &
+            "docs/hpc.md)"
     end subroutine print_help
 
 end program mpm_geo_main

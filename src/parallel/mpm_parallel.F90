@@ -13,7 +13,7 @@ module mpm_parallel
 
     !> Sum over the images of a value of each image.
     interface sum_over_images
-        module procedure sum_real, sum_reals, sum_i8
+        module procedure sum_real, sum_reals, sum_i8, sum_i8s
     end interface sum_over_images
 
     !> Largest value over the images.
@@ -63,6 +63,12 @@ contains
             !! this image's value; on return the sum over the images
         if (num_images() > 1) call co_sum(x)
     end subroutine sum_i8
+
+    subroutine sum_i8s(x)
+        integer(i8), intent(inout) :: x(:)
+            !! this image's values; on return the sums over the images
+        if (num_images() > 1) call co_sum(x)
+    end subroutine sum_i8s
 
     subroutine max_real(x)
         real(wp), intent(inout) :: x

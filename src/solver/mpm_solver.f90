@@ -12,8 +12,8 @@ module mpm_solver
     use mpm_strings, only: vector_text
     use mpm_error, only: error_type, fatal_error, exit_numerical
     use mpm_case, only: case_type, scheme_usf, scheme_usl, scheme_musl, damping_kinetic, &
-        p_wave_speed, viscous_time_step, field_strain, field_displacement
-    use mpm_grid, only: grid_type, new_grid
+        p_wave_speed, viscous_time_step, field_strain, field_displacement, bc_frictional
+    use mpm_grid, only: grid_type, new_grid, node_owned, node_layer
     use mpm_particles, only: particles_type, pack_particles, rebuild_particles
     use mpm_bodies, only: create_particles, body_cell_histogram
     use mpm_decomposition, only: decomposition_type, new_decomposition, cut_axis, local_case, &
@@ -45,6 +45,10 @@ module mpm_solver
         !! sorting: shape functions, particle order by cell layer and chunks; P2G: scatters;
         !! nodal: nodal update; G2P: velocities, positions (USL, USF), the MUSL remap;
         !! stress: stress update (MUSL: positions); other: time step, guard, energies; output
+    integer, parameter :: rebalance_steps = 50
+        !! steps between two looks at the particle counts of the images
+    real(wp), parameter :: rebalance_threshold = 1.1_wp
+        !! the cuts move when the busiest image holds more than this times the mean count
     integer, parameter :: sum_block = 4096
         !! particles per partial sum of the energies (fixed order with any thread count)
 
@@ -145,19 +149,8 @@ contains
             if (allocated(error)) return
         end if
         ! this image's grid: the whole grid, or its slab with the ghost cells
-        call new_grid(sim%grid, local_case(case, sim%dec), error)
+        call slab_grid(sim, error)
         if (allocated(error)) return
-        if (sim%dec%axis > 0) then
-            sim%grid%halo_axis = sim%dec%axis
-            sim%grid%halo_left = sim%dec%left
-            sim%grid%halo_right = sim%dec%right
-            sim%grid%owned_lo = sim%dec%cell_lo - sim%dec%node_lo
-            sim%grid%owned_hi = sim%dec%cell_hi - sim%dec%node_lo - 1
-            if (sim%dec%right == 0) sim%grid%owned_hi = sim%grid%owned_hi + 1
-        end if
-        ! frictional faces average the normal impulse over five wave transits of a cell (the
-        ! weight 0.1 per step it had at CFL 0.5), so that a smaller step does not shorten it
-        sim%grid%contact_time = 5.0_wp*case%dx/max(maxval(sim%wave_speed), tiny(1.0_wp))
         ! a case stores what it writes: the accumulated strain and the displacement only when
         ! an output field or a state file asks for them
         if (.not. (case%output_fields(field_strain) .or. has_text(case%save_state))) then
@@ -189,6 +182,178 @@ contains
         sim%kinetic_previous = sim%energy%kinetic
         sim%energy_scale = sim%energy%kinetic
     end subroutine new_simulation
+
+    !> The grid of this image's part of the decomposition (the whole grid on one image).
+    subroutine slab_grid(sim, error)
+        type(simulation_type), intent(inout) :: sim
+            !! the simulation (case and decomposition set)
+        type(error_type), allocatable, intent(out) :: error
+            !! set when memory cannot be allocated
+
+        call new_grid(sim%grid, local_case(sim%case, sim%dec), error)
+        if (allocated(error)) return
+        if (sim%dec%axis > 0) then
+            sim%grid%halo_axis = sim%dec%axis
+            sim%grid%halo_left = sim%dec%left
+            sim%grid%halo_right = sim%dec%right
+            sim%grid%owned_lo = sim%dec%cell_lo - sim%dec%node_lo
+            sim%grid%owned_hi = sim%dec%cell_hi - sim%dec%node_lo - 1
+            if (sim%dec%right == 0) sim%grid%owned_hi = sim%grid%owned_hi + 1
+        end if
+        ! frictional faces average the normal impulse over five wave transits of a cell (the
+        ! weight 0.1 per step it had at CFL 0.5), so that a smaller step does not shorten it
+        sim%grid%contact_time = 5.0_wp*sim%case%dx/max(maxval(sim%wave_speed), tiny(1.0_wp))
+    end subroutine slab_grid
+
+    !> Move the cuts when the particle counts of the images drift apart (a flow that travels
+    !> into other slabs): every `rebalance_steps` steps the particles per cell layer are
+    !> summed over the images, and when the busiest image holds more than
+    !> `rebalance_threshold` times the mean, the cuts are set again as at the start. The
+    !> particles then go to their new images (neighbour by neighbour), each image builds the
+    !> grid of its new slab, and the running contact loads of the frictional faces (the only
+    !> nodal state kept from step to step) follow their nodes. Collective.
+    subroutine rebalance(sim, error)
+        type(simulation_type), intent(inout) :: sim
+            !! the simulation after a step
+        type(error_type), allocatable, intent(out) :: error
+            !! set when memory cannot be allocated
+
+        integer(i8), allocatable :: histogram(:)
+        type(decomposition_type) :: dec
+        real(wp), allocatable :: loads(:)
+        real(wp) :: small_mass, imbalance
+        integer :: axis, p, c, k, misplaced
+
+        if (sim%dec%axis == 0 .or. mod(sim%step, int(rebalance_steps, i8)) /= 0) return
+        axis = sim%dec%axis
+        allocate (histogram(0:sim%case%ncells(axis) - 1))
+        histogram = 0
+        do p = 1, sim%particles%n
+            c = global_cell(sim%case, sim%particles%x(axis, p), axis)
+            histogram(c) = histogram(c) + 1
+        end do
+        call sum_over_images(histogram)
+        imbalance = 0.0_wp
+        do k = 1, sim%dec%images
+            imbalance = max(imbalance, real(sum(histogram(sim%dec%cuts(k - 1): &
+                sim%dec%cuts(k) - 1)), wp))
+        end do
+        imbalance = imbalance*real(sim%dec%images, wp)/max(1.0_wp, real(sum(histogram), wp))
+        if (imbalance <= rebalance_threshold) return
+        call new_decomposition(dec, sim%case, sim%dec%images, sim%dec%me, histogram, error)
+        if (allocated(error)) return
+        if (all(dec%cuts == sim%dec%cuts)) return
+        call face_loads(sim, loads)
+        sim%dec = dec
+        ! the particles to their new slabs: one neighbour per pass
+        do
+            misplaced = 0
+            do p = 1, sim%particles%n
+                c = global_cell(sim%case, sim%particles%x(axis, p), axis)
+                if (c < dec%cell_lo .or. c >= dec%cell_hi) misplaced = misplaced + 1
+            end do
+            call max_over_images(misplaced)
+            if (misplaced == 0) exit
+            call migrate_particles(sim, error)
+            call agree(error)
+            if (allocated(error)) return
+        end do
+        small_mass = sim%grid%small_mass
+        call slab_grid(sim, error)
+        call agree(error)
+        if (allocated(error)) return
+        sim%grid%small_mass = small_mass
+        call take_face_loads(sim, loads)
+        ! the stencil tables follow the new grid
+        sim%stencils = stencils_type()
+    end subroutine rebalance
+
+    !> The running normal loads of the frictional faces, by node of the whole grid's faces
+    !> (faces in axis then side order), each node given by the image that owns it.
+    subroutine face_loads(sim, loads)
+        type(simulation_type), intent(in) :: sim
+            !! the simulation
+        real(wp), allocatable, intent(out) :: loads(:)
+            !! loads of every frictional face node [N s]
+
+        integer :: c, k
+
+        allocate (loads(face_node_count(sim)))
+        loads = 0.0_wp
+        do c = 1, sim%grid%ncontacts
+            if (.not. node_owned(sim%grid, sim%grid%contact_node(c))) cycle
+            k = face_node(sim, c)
+            loads(k) = sim%grid%contact_load(c)
+        end do
+        call sum_over_images(loads)
+    end subroutine face_loads
+
+    !> Set the running normal loads of this image's frictional face nodes from face_loads.
+    subroutine take_face_loads(sim, loads)
+        type(simulation_type), intent(inout) :: sim
+            !! the simulation, on its new grid
+        real(wp), intent(in) :: loads(:)
+            !! face_loads of the grid before
+
+        integer :: c
+
+        do c = 1, sim%grid%ncontacts
+            sim%grid%contact_load(c) = loads(face_node(sim, c))
+        end do
+    end subroutine take_face_loads
+
+    !> Number of nodes of the frictional faces of the whole grid.
+    integer function face_node_count(sim)
+        type(simulation_type), intent(in) :: sim
+
+        integer :: a, side, nn(3)
+
+        nn = 1
+        nn(1:sim%case%dim) = sim%case%ncells(1:sim%case%dim) + 1
+        face_node_count = 0
+        do a = 1, sim%case%dim
+            do side = 1, 2
+                if (sim%case%bc(side, a) == bc_frictional) face_node_count = &
+                    face_node_count + product(nn)/nn(a)
+            end do
+        end do
+    end function face_node_count
+
+    !> Index among the whole grid's frictional face nodes (face_loads) of contact pair c of
+    !> this image's grid.
+    integer function face_node(sim, c)
+        type(simulation_type), intent(in) :: sim
+        integer, intent(in) :: c
+            !! contact pair
+
+        integer :: a, side, b, nn(3), ijk(3), stride, face, s
+
+        nn = 1
+        nn(1:sim%case%dim) = sim%case%ncells(1:sim%case%dim) + 1
+        do b = 1, 3
+            ijk(b) = node_layer(sim%grid, sim%grid%contact_node(c), b)
+        end do
+        if (sim%dec%axis > 0) ijk(sim%dec%axis) = ijk(sim%dec%axis) + sim%dec%node_lo
+        a = sim%grid%contact_axis(c)
+        side = merge(1, 2, sim%grid%contact_normal(c) < 0.0_wp)
+        ! faces before this one
+        face_node = 0
+        do b = 1, sim%case%dim
+            do s = 1, 2
+                if (b == a .and. s == side) exit
+                if (sim%case%bc(s, b) == bc_frictional) face_node = face_node + product(nn)/nn(b)
+            end do
+            if (b == a) exit
+        end do
+        face = 1
+        stride = 1
+        do b = 1, 3
+            if (b == a) cycle
+            face = face + ijk(b)*stride
+            stride = stride*nn(b)
+        end do
+        face_node = face_node + face
+    end function face_node
 
     !> Cut the grid among the images by the particles the bodies will hold.
     subroutine decompose_bodies(sim, error)
@@ -397,9 +562,11 @@ contains
                 + abs(e%potential))
         end associate
         if (sim%case%damping == damping_kinetic) call kinetic_damping(sim)
-        ! on several images: particles that left the slab go to their new image
+        ! on several images: particles that left the slab go to their new image, and now
+        ! and then the cuts follow the particles
         call migrate_particles(sim, error)
         call agree(error)
+        if (.not. allocated(error)) call rebalance(sim, error)
         call lap(sim, phase_other, clock)
     end subroutine advance
 

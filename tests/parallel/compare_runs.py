@@ -1,10 +1,11 @@
 """Compare the last output of a serial run with that of a run on several images.
 
-usage: compare_runs.py SERIAL_DIR PARALLEL_DIR [--rtol R] [--images N]
+usage: compare_runs.py SERIAL_DIR PARALLEL_DIR [--rtol R] [--images N] [--min-part M]
 
 The parallel run writes one part per image (particles_NNNNNN_pKKKKK.h5) with the id of each
 particle (its index in the serial run); it must have N parts (default 2; with N = 1 the
-second folder holds a serial run too). The check: the same particle count and total mass
+second folder holds a serial run too), each with at least M particles at the last output
+(the cuts followed the particles). The check: the same particle count and total mass
 exactly, every id once, and positions and stresses equal to round-off (relative to the
 size of the field). Exit code 0 when they agree, 1 otherwise, with what differs.
 """
@@ -63,6 +64,7 @@ def main():
     parser.add_argument("parallel")
     parser.add_argument("--rtol", type=float, default=1e-9)
     parser.add_argument("--images", type=int, default=2)
+    parser.add_argument("--min-part", type=int, default=0)
     args = parser.parse_args()
 
     index, time, ser = read_serial(args.serial)
@@ -76,6 +78,8 @@ def main():
     ids = np.sort(par["id"])
     if not np.array_equal(ids, np.arange(1, n + 1)):
         failures.append("the ids of the parts are not 1..n, each once")
+    if min(counts) < args.min_part:
+        failures.append(f"parts of {counts} particles: one has fewer than {args.min_part}")
     if failures:
         print("\n".join(failures))
         return 1
