@@ -6,7 +6,9 @@
 #  - a state saved on 2 images continues serially, and a serial state on 2 images, as the
 #    serial run does;
 #  - failures: a broken case file and a particle lost on one image give the serial exit code
-#    and one message.
+#    and one message;
+#  - 2 images of 2 threads each (hybrid) give the serial result too;
+#  - ParaView (pvbatch) opens the parts of a run as one time series.
 # usage: test_images_match_serial.sh CAF_MPM_GEO SERIAL_MPM_GEO CAFRUN
 set -uo pipefail
 cd "$(dirname "$0")/../.."
@@ -35,6 +37,26 @@ for case in tests/parallel/cases/*.json; do
     "$python" tests/parallel/compare_runs.py "$tmp/$name-serial" "$tmp/$name-images" \
         --min-part "$min_part" || fail "$name: 2 images differ from the serial run"
 done
+
+# Hybrid: 2 images of 2 threads each (threads do not change the bits of an image's sums)
+echo "--- par_collapse_3d on 2 images x 2 threads"
+OMP_NUM_THREADS=2 "$cafrun" -np 2 --bind-to none "$caf_exe" tests/parallel/cases/par_collapse_3d.json \
+    --output "$tmp/hybrid" -q || fail "hybrid run"
+"$python" tests/parallel/compare_runs.py "$tmp/par_collapse_3d-serial" "$tmp/hybrid" \
+    || fail "2 images x 2 threads differ from the serial run"
+
+# ParaView opens the parts of a run as one time series (pvbatch comes with make test's deps)
+if command -v pvbatch > /dev/null 2>&1; then
+    echo "--- ParaView: par_collapse_2d on 2 images"
+    pvbatch tests/parallel/check_parts_paraview.py \
+        "$tmp/par_collapse_2d-images/par_collapse_2d.xdmf" 3200 2>&1 | grep -E "^(ok|FAIL)" \
+        > "$tmp/pv.log"
+    cat "$tmp/pv.log"
+    { grep -q "^ok   ids" "$tmp/pv.log" && ! grep -q "^FAIL" "$tmp/pv.log"; } \
+        || fail "ParaView does not open the parts of a run on 2 images as one series"
+else
+    echo "--- ParaView check skipped: pvbatch not found"
+fi
 
 # State files across image counts: the collapse saved at 0.08 s, continued to 0.15 s
 stage() {   # stage NAME TEND [load|save STATE ...]: writes $tmp/NAME.json
