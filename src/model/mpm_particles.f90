@@ -11,7 +11,7 @@ module mpm_particles
     implicit none
     private
     public :: particles_type, new_particles, nstress_of, particle_bytes, record_length, &
-        pack_particles, rebuild_particles
+        pack_particles, rebuild_particles, particle_number
 
     !> All particles of a run.
     type :: particles_type
@@ -128,6 +128,17 @@ contains
         particles%material = 0
         particles%state = 0.0_wp
     end subroutine new_particles
+
+    !> The number of particle p for messages: its index in the whole run (its id when the
+    !> particles are spread over images).
+    pure integer function particle_number(particles, p)
+        type(particles_type), intent(in) :: particles
+            !! the particles
+        integer, intent(in) :: p
+            !! index in these particles
+        particle_number = p
+        if (allocated(particles%id)) particle_number = particles%id(p)
+    end function particle_number
 
     !> Bytes of particle storage per particle (all per-particle arrays).
     pure integer function particle_bytes(particles)

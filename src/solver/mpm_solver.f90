@@ -14,7 +14,7 @@ module mpm_solver
     use mpm_case, only: case_type, scheme_usf, scheme_usl, scheme_musl, damping_kinetic, &
         p_wave_speed, viscous_time_step, field_strain, field_displacement, bc_frictional
     use mpm_grid, only: grid_type, new_grid, node_owned, node_layer
-    use mpm_particles, only: particles_type, pack_particles, rebuild_particles
+    use mpm_particles, only: particles_type, pack_particles, rebuild_particles, particle_number
     use mpm_bodies, only: create_particles, body_cell_histogram
     use mpm_decomposition, only: decomposition_type, new_decomposition, cut_axis, local_case, &
         global_cell
@@ -546,7 +546,10 @@ contains
         ! as the particles it throws out of the grid
         call check_blow_up(sim, motion, error)
         if (.not. allocated(error) .and. motion%lost > 0) then
-            call report_lost(sim%grid, sim%particles, motion%lost, error)
+            ! the corners of the whole grid (this image's is a slab of it)
+            call report_lost(sim%case%origin, sim%case%origin + sim%case%dx* &
+                real(merge(sim%case%ncells, 0, [1, 2, 3] <= sim%case%dim), wp), sim%particles, &
+                motion%lost, error)
             error%message = step_prefix(sim)//error%message
         end if
         call agree(error)
@@ -625,7 +628,8 @@ contains
             if (motion%jump > sim%case%dx) then
                 p = motion%jump_particle
                 write (msg, "(a,i0,a,a,a,es10.3,a,es10.3,a)") &
-                    "the run became unstable: particle ", p, " (now at ", &
+                    "the run became unstable: particle ", particle_number(particles, p), &
+                    " (now at ", &
                     trim(vector_text(particles%x(:, p))), ") m moved ", &
                     motion%jump_length, " m in one step, more than a cell (dx = ", &
                     sim%case%dx, " m)"
@@ -652,14 +656,16 @@ contains
                 end if
             end do
             if (.not. (ke <= huge(1.0_wp))) then
-                write (msg, "(a,i0,a,a,a)") "the run became unstable: particle ", worst, &
+                write (msg, "(a,i0,a,a,a)") "the run became unstable: particle ", &
+                    particle_number(particles, worst), &
                     " at (", trim(vector_text(particles%x(:, worst))), &
                     ") m has a velocity or stress that is not finite"
             else
                 write (msg, "(a,es10.3,a,es10.3,a,i0,a,a,a,es10.3,a,es10.3,a)") &
                     "the run became unstable: the kinetic energy ", ke, &
                     " J is more than 10 times the largest energy of the run so far (", &
-                    sim%energy_scale, " J); fastest particle ", worst, " at (", &
+                    sim%energy_scale, " J); fastest particle ", particle_number(particles, worst), &
+                    " at (", &
                     trim(vector_text(particles%x(:, worst))), ") m, |v| = ", fastest, &
                     " m/s (P-wave speed ", sim%wave_speed(particles%material(worst)), " m/s)"
             end if

@@ -20,7 +20,7 @@ module mpm_transfer
     use mpm_error, only: error_type, fatal_error, exit_numerical
     use mpm_grid, only: grid_type, contact_index, node_owned
     use mpm_halo, only: halo_sum, halo_contact_gaps
-    use mpm_particles, only: particles_type
+    use mpm_particles, only: particles_type, particle_number
     use mpm_stencil, only: stencils_type, particle_nodes, max_nodes, axis_derivatives
     use mpm_material, only: material_holder_type
     use mpm_case, only: damping_local, bc_free
@@ -759,21 +759,19 @@ contains
         end do
     end subroutine merge_motion
 
-    !> The error of a particle that left the grid.
-    subroutine report_lost(grid, particles, p, error)
-        type(grid_type), intent(in) :: grid
+    !> The error of a particle that left the grid (`lo`, `hi`: the corners of the whole grid).
+    subroutine report_lost(lo, hi, particles, p, error)
+        real(wp), intent(in) :: lo(3), hi(3)
         type(particles_type), intent(in) :: particles
         integer, intent(in) :: p
         type(error_type), allocatable, intent(out) :: error
 
         character(len=600) :: msg
         integer :: dim
-        real(wp) :: lo(3), hi(3)
 
         dim = particles%dim
-        lo = grid%origin
-        hi = grid%origin + grid%dx*real(grid%nn - 1, wp)
-        write (msg, "(a,i0,a,a,a,a,a,a,a)") "particle ", p, " left the grid: position (", &
+        write (msg, "(a,i0,a,a,a,a,a,a,a)") "particle ", particle_number(particles, p), &
+            " left the grid: position (", &
             vector_text(particles%x(:, p)), ") m, grid from (", vector_text(lo(1:dim)), &
             ") to (", vector_text(hi(1:dim)), &
             ") m; enlarge the domain or close its faces with boundary conditions"
