@@ -12,23 +12,13 @@ import os
 import sys
 import xml.etree.ElementTree as ElementTree
 
+import numpy as np
 from paraview import servermanager
 from paraview import simple
 from vtk.util.numpy_support import vtk_to_numpy
-import numpy as np
 
-
-def leaves(data):
-    """The datasets of a reader output, whatever the nesting (multiblock, multipiece)."""
-    if data is None:
-        return []
-    if data.IsA("vtkMultiBlockDataSet"):
-        return [leaf for i in range(data.GetNumberOfBlocks())
-                for leaf in leaves(data.GetBlock(i))]
-    if data.IsA("vtkMultiPieceDataSet"):
-        return [leaf for i in range(data.GetNumberOfPieces())
-                for leaf in leaves(data.GetPiece(i))]
-    return [data]
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "cli"))
+from check_xdmf_paraview import leaves  # noqa: E402  (the same walk over the reader output)
 
 
 def main(argv):
