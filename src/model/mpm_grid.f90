@@ -52,6 +52,9 @@ module mpm_grid
             !! axis normal to the face of each pair (ncontacts)
         real(wp), allocatable :: contact_normal(:)
             !! outward normal of the face along contact_axis: -1 (min face) or +1 (ncontacts)
+        real(wp), allocatable :: contact_dir(:, :)
+            !! unit normal of each pair into the obstacle (dim, ncontacts): a face's outward
+            !! normal
         real(wp), allocatable :: contact_mu(:)
             !! Coulomb friction coefficient of the face (ncontacts) [-]
         real(wp), allocatable :: contact_gap(:)
@@ -162,7 +165,8 @@ contains
             end do
         end do
         allocate (grid%contact_node(grid%ncontacts), grid%contact_axis(grid%ncontacts), &
-            grid%contact_normal(grid%ncontacts), grid%contact_mu(grid%ncontacts), &
+            grid%contact_normal(grid%ncontacts), grid%contact_dir(d, grid%ncontacts), &
+            grid%contact_mu(grid%ncontacts), &
             grid%contact_gap(grid%ncontacts), grid%contact_load(grid%ncontacts), &
             stat=stat, errmsg=msg)
         if (stat /= 0) then
@@ -194,6 +198,8 @@ contains
                                 grid%contact_node(c) = id
                                 grid%contact_axis(c) = a
                                 grid%contact_normal(c) = merge(-1.0_wp, 1.0_wp, side == 1)
+                                grid%contact_dir(:, c) = 0.0_wp
+                                grid%contact_dir(a, c) = grid%contact_normal(c)
                                 grid%contact_mu(c) = case%bc_friction(side, a)
                             case default
                                 continue

@@ -490,8 +490,8 @@ contains
         real(wp), intent(out) :: work
             !! kinetic energy the contacts removed (normal impact and friction) [J]
 
-        integer :: c, id, a, dim
-        real(wp) :: v(3), vnew(3), vn, vt_norm, factor, weight
+        integer :: c, id, dim
+        real(wp) :: v(3), vnew(3), vt(3), n(3), vn, vt_norm, factor, weight
         logical :: touching
 
         dim = grid%dim
@@ -502,25 +502,28 @@ contains
                 if (dt > 0.0_wp) grid%contact_load(c) = 0.0_wp
                 cycle
             end if
-            a = grid%contact_axis(c)
+            ! n: unit normal into the obstacle (a face: +-e_axis, exactly; the arithmetic
+            ! below then gives the same bits as component-wise code)
+            n(1:dim) = grid%contact_dir(:, c)
             v(1:dim) = grid%momentum(:, id)/grid%mass(id)
-            vn = v(a)*grid%contact_normal(c)
+            vn = dot_product(v(1:dim), n(1:dim))
             touching = grid%contact_gap(c) <= contact_tolerance*grid%dx
             if (.not. touching) vn = 0.0_wp
             vnew(1:dim) = v(1:dim)
-            if (vn > 0.0_wp) vnew(a) = 0.0_wp
+            if (vn > 0.0_wp) vnew(1:dim) = v(1:dim) - vn*n(1:dim)
             if (dt > 0.0_wp) then
                 ! running mean over a fixed time, so that the friction does not depend on dt
                 weight = load_smoothing
                 if (grid%contact_time > 0.0_wp) weight = min(1.0_wp, dt/grid%contact_time)
                 grid%contact_load(c) = (1.0_wp - weight)*grid%contact_load(c) &
                     + weight*max(vn, 0.0_wp)*grid%mass(id)
-                vt_norm = norm2(vnew(1:dim) - vnew(a)*unit(a, dim))
+                vn = dot_product(vnew(1:dim), n(1:dim))
+                vt(1:dim) = vnew(1:dim) - vn*n(1:dim)
+                vt_norm = norm2(vt(1:dim))
                 if (vt_norm > 0.0_wp) then
                     factor = max(0.0_wp, &
                         1.0_wp - grid%contact_mu(c)*grid%contact_load(c)/(grid%mass(id)*vt_norm))
-                    vnew(1:dim) = factor*(vnew(1:dim) - vnew(a)*unit(a, dim)) &
-                        + vnew(a)*unit(a, dim)
+                    vnew(1:dim) = factor*vt(1:dim) + vn*n(1:dim)
                 end if
                 grid%acceleration(:, id) = grid%acceleration(:, id) + (vnew(1:dim) - v(1:dim))/dt
             end if
@@ -1272,14 +1275,6 @@ contains
         end do
         dF(1:dim, 1:dim) = dF(1:dim, 1:dim) + dt*gradv(1:dim, 1:dim)
     end function increment
-
-    !> Unit vector along axis a.
-    pure function unit(a, dim) result(e)
-        integer, intent(in) :: a, dim
-        real(wp) :: e(dim)
-        e = 0.0_wp
-        e(a) = 1.0_wp
-    end function unit
 
     !> Determinant of a 2x2 or 3x3 matrix.
     pure real(wp) function determinant(m, dim)
