@@ -1,0 +1,275 @@
+!> A rigid terrain surface (triangles, e.g. from an STL file) and the distance to it.
+!>
+!> The triangles are oriented so that their normals point to the side of the material (up:
+!> against gravity, decided by the area-weighted mean normal) and indexed by the cells of a
+!> regular box (the grid's cells): a cell lists every triangle whose bounding box, grown by
+!> `reach`, overlaps the cell. A point then finds every triangle within `reach` of it in its
+!> own cell's list, so the distance query is exact up to `reach` and costs only the triangles
+!> near the point: a run pays for the terrain where the material is close to it. In 2D the
+!> terrain is the section of the surface by the plane z = 0.
+module mpm_terrain
+    use mpm_kinds, only: wp
+    use mpm_error, only: error_type, fatal_error, exit_input, exit_other
+    implicit none
+    private
+    public :: terrain_type, new_terrain, terrain_distance, closest_point_on_triangle
+
+    !> The surface and its cell index.
+    type :: terrain_type
+        integer :: n = 0
+            !! triangles
+        real(wp), allocatable :: corner(:, :, :)
+            !! (3 coordinates, 3 corners, n) [m]
+        real(wp), allocatable :: normal(:, :)
+            !! unit normal of each triangle, towards the material (3, n)
+        real(wp) :: origin(3) = 0.0_wp
+            !! corner of the index box [m]
+        real(wp) :: h = 1.0_wp
+            !! cell size of the index [m]
+        integer :: ncells(3) = 1
+            !! cells of the index per axis
+        real(wp) :: reach = 0.0_wp
+            !! distance up to which queries are exact [m]
+        integer, allocatable :: first(:)
+            !! (cells + 1) start of each cell's triangles in `list` (CSR)
+        integer, allocatable :: list(:)
+            !! triangles of the cells, cell after cell
+    end type terrain_type
+
+contains
+
+    !> Orient and index a surface over a box of cells.
+    subroutine new_terrain(terrain, corner, origin, ncells, h, dim, reach, gravity, error)
+        type(terrain_type), intent(out) :: terrain
+            !! the terrain
+        real(wp), intent(in) :: corner(:, :, :)
+            !! (3, 3, n) triangle corners [m]
+        real(wp), intent(in) :: origin(3)
+            !! corner of the box (the grid's origin) [m]
+        integer, intent(in) :: ncells(3)
+            !! cells of the box per axis (the grid's; 1 in z in 2D)
+        real(wp), intent(in) :: h
+            !! cell size [m]
+        integer, intent(in) :: dim
+            !! space dimensions: in 2D the box spans z in [-h/2, h/2]
+        real(wp), intent(in) :: reach
+            !! queries are exact up to this distance [m]
+        real(wp), intent(in) :: gravity(3)
+            !! gravity: the normals point against it (no change when it is zero) [m/s2]
+        type(error_type), allocatable, intent(out) :: error
+            !! set when the surface misses the box or memory cannot be allocated
+
+        integer :: t, k, lo(3), hi(3), i, j, m, ncell, stat
+        integer, allocatable :: count(:)
+        real(wp) :: mean(3), e1(3), e2(3), cross(3), length
+        logical :: inside
+        character(len=256) :: msg
+
+        terrain%n = size(corner, 3)
+        terrain%corner = corner
+        allocate (terrain%normal(3, terrain%n))
+        mean = 0.0_wp
+        do t = 1, terrain%n
+            e1 = corner(:, 2, t) - corner(:, 1, t)
+            e2 = corner(:, 3, t) - corner(:, 1, t)
+            cross = [e1(2)*e2(3) - e1(3)*e2(2), e1(3)*e2(1) - e1(1)*e2(3), &
+                e1(1)*e2(2) - e1(2)*e2(1)]
+            length = norm2(cross)
+            terrain%normal(:, t) = 0.0_wp
+            if (length > 0.0_wp) terrain%normal(:, t) = cross/length
+            mean = mean + 0.5_wp*cross
+        end do
+        ! the material side: against gravity
+        if (dot_product(mean, gravity) > 0.0_wp) then
+            terrain%normal = -terrain%normal
+            terrain%corner(:, 2, :) = corner(:, 3, :)
+            terrain%corner(:, 3, :) = corner(:, 2, :)
+        end if
+        terrain%origin = origin
+        terrain%ncells = ncells
+        if (dim == 2) then
+            terrain%origin(3) = -0.5_wp*h
+            terrain%ncells(3) = 1
+        end if
+        terrain%h = h
+        terrain%reach = reach
+        ncell = product(terrain%ncells)
+        allocate (count(ncell), terrain%first(ncell + 1), stat=stat, errmsg=msg)
+        if (stat /= 0) then
+            call fatal_error(error, "cannot allocate the terrain index: "//trim(msg), exit_other)
+            return
+        end if
+        ! two passes over the triangles: count per cell, then fill
+        count = 0
+        do t = 1, terrain%n
+            call cell_range(terrain, t, lo, hi, inside)
+            if (.not. inside) cycle
+            do k = lo(3), hi(3)
+                do j = lo(2), hi(2)
+                    do i = lo(1), hi(1)
+                        m = cell_index(terrain, [i, j, k])
+                        count(m) = count(m) + 1
+                    end do
+                end do
+            end do
+        end do
+        if (sum(int(count, 8)) == 0) then
+            call fatal_error(error, "the terrain surface does not come within reach of the "// &
+                "domain: no triangle is nearer than one cell to it (check the units, "// &
+                "contact.scale and contact.offset)", exit_input)
+            return
+        end if
+        terrain%first(1) = 1
+        do m = 1, ncell
+            terrain%first(m + 1) = terrain%first(m) + count(m)
+        end do
+        allocate (terrain%list(terrain%first(ncell + 1) - 1), stat=stat, errmsg=msg)
+        if (stat /= 0) then
+            call fatal_error(error, "cannot allocate the terrain index: "//trim(msg), exit_other)
+            return
+        end if
+        count = 0
+        do t = 1, terrain%n
+            call cell_range(terrain, t, lo, hi, inside)
+            if (.not. inside) cycle
+            do k = lo(3), hi(3)
+                do j = lo(2), hi(2)
+                    do i = lo(1), hi(1)
+                        m = cell_index(terrain, [i, j, k])
+                        terrain%list(terrain%first(m) + count(m)) = t
+                        count(m) = count(m) + 1
+                    end do
+                end do
+            end do
+        end do
+    end subroutine new_terrain
+
+    !> Cells (0-based, clamped to the box) that the bounding box of triangle t, grown by
+    !> reach, overlaps; `inside` is false when it misses the box.
+    pure subroutine cell_range(terrain, t, lo, hi, inside)
+        type(terrain_type), intent(in) :: terrain
+        integer, intent(in) :: t
+        integer, intent(out) :: lo(3), hi(3)
+        logical, intent(out) :: inside
+
+        integer :: a
+        real(wp) :: low, high
+
+        inside = .false.
+        lo = 0
+        hi = -1
+        if (all(terrain%normal(:, t) == 0.0_wp)) return   ! degenerate: no face to touch
+        do a = 1, 3
+            low = (minval(terrain%corner(a, :, t)) - terrain%reach - terrain%origin(a))/terrain%h
+            high = (maxval(terrain%corner(a, :, t)) + terrain%reach - terrain%origin(a))/terrain%h
+            if (high < 0.0_wp .or. low > real(terrain%ncells(a), wp)) return
+            lo(a) = max(0, floor(low))
+            hi(a) = min(terrain%ncells(a) - 1, floor(high))
+        end do
+        inside = .true.
+    end subroutine cell_range
+
+    pure integer function cell_index(terrain, ijk)
+        type(terrain_type), intent(in) :: terrain
+        integer, intent(in) :: ijk(3)
+        cell_index = 1 + ijk(1) + terrain%ncells(1)*(ijk(2) + terrain%ncells(2)*ijk(3))
+    end function cell_index
+
+    !> Signed distance from x to the surface (positive on the material's side) and the normal
+    !> of the nearest triangle (towards the material); found is false when no triangle is
+    !> within reach (or x is outside the index box).
+    pure subroutine terrain_distance(terrain, x, found, d, n)
+        type(terrain_type), intent(in) :: terrain
+            !! the terrain
+        real(wp), intent(in) :: x(3)
+            !! point (z = 0 in 2D) [m]
+        logical, intent(out) :: found
+            !! a triangle is within reach
+        real(wp), intent(out) :: d
+            !! signed distance [m]
+        real(wp), intent(out) :: n(3)
+            !! normal of the nearest triangle, towards the material
+
+        integer :: ijk(3), a, m, q, t
+        real(wp) :: p(3), dist, best
+
+        found = .false.
+        d = huge(1.0_wp)
+        n = 0.0_wp
+        do a = 1, 3
+            ijk(a) = floor((x(a) - terrain%origin(a))/terrain%h)
+            if (ijk(a) < 0 .or. ijk(a) >= terrain%ncells(a)) return
+        end do
+        m = cell_index(terrain, ijk)
+        best = huge(1.0_wp)
+        do q = terrain%first(m), terrain%first(m + 1) - 1
+            t = terrain%list(q)
+            p = closest_point_on_triangle(x, terrain%corner(:, 1, t), terrain%corner(:, 2, t), &
+                terrain%corner(:, 3, t))
+            dist = norm2(x - p)
+            if (dist < best) then
+                best = dist
+                n = terrain%normal(:, t)
+                d = sign(dist, dot_product(x - p, n))
+            end if
+        end do
+        found = best <= terrain%reach
+    end subroutine terrain_distance
+
+    !> The point of triangle (a, b, c) nearest to p (Ericson, Real-Time Collision Detection,
+    !> 5.1.5: the Voronoi regions of the corners, edges and face).
+    pure function closest_point_on_triangle(p, a, b, c) result(q)
+        real(wp), intent(in) :: p(3)
+            !! point
+        real(wp), intent(in) :: a(3), b(3), c(3)
+            !! corners
+        real(wp) :: q(3)
+
+        real(wp) :: ab(3), ac(3), ap(3), bp(3), cp(3), d1, d2, d3, d4, d5, d6, va, vb, vc, &
+            v, w, denom
+
+        ab = b - a
+        ac = c - a
+        ap = p - a
+        d1 = dot_product(ab, ap)
+        d2 = dot_product(ac, ap)
+        if (d1 <= 0.0_wp .and. d2 <= 0.0_wp) then
+            q = a
+            return
+        end if
+        bp = p - b
+        d3 = dot_product(ab, bp)
+        d4 = dot_product(ac, bp)
+        if (d3 >= 0.0_wp .and. d4 <= d3) then
+            q = b
+            return
+        end if
+        vc = d1*d4 - d3*d2
+        if (vc <= 0.0_wp .and. d1 >= 0.0_wp .and. d3 <= 0.0_wp) then
+            q = a + (d1/(d1 - d3))*ab
+            return
+        end if
+        cp = p - c
+        d5 = dot_product(ab, cp)
+        d6 = dot_product(ac, cp)
+        if (d6 >= 0.0_wp .and. d5 <= d6) then
+            q = c
+            return
+        end if
+        vb = d5*d2 - d1*d6
+        if (vb <= 0.0_wp .and. d2 >= 0.0_wp .and. d6 <= 0.0_wp) then
+            q = a + (d2/(d2 - d6))*ac
+            return
+        end if
+        va = d3*d6 - d5*d4
+        if (va <= 0.0_wp .and. (d4 - d3) >= 0.0_wp .and. (d5 - d6) >= 0.0_wp) then
+            q = b + ((d4 - d3)/((d4 - d3) + (d5 - d6)))*(c - b)
+            return
+        end if
+        denom = 1.0_wp/(va + vb + vc)
+        v = vb*denom
+        w = vc*denom
+        q = a + ab*v + ac*w
+    end function closest_point_on_triangle
+
+end module mpm_terrain

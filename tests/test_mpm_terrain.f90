@@ -1,0 +1,156 @@
+!> The terrain surface (mpm_terrain): nearest points on a triangle, signed distances and
+!> normals through the cell index, independence of the triangulation (a tilted plane of 2 or
+!> 2 000 triangles), the orientation against gravity, the 2D section, and the refusal of a
+!> surface that misses the domain.
+program test_mpm_terrain
+    use mpm_kinds, only: wp
+    use mpm_testing, only: test_suite_type, new_suite, check, check_close, finish
+    use mpm_error, only: error_type, exit_input
+    use mpm_terrain, only: terrain_type, new_terrain, terrain_distance, &
+        closest_point_on_triangle
+    implicit none
+
+    type(test_suite_type) :: suite
+    real(wp), parameter :: pi = acos(-1.0_wp), theta = pi/6, g(3) = [0.0_wp, 0.0_wp, -9.81_wp]
+
+    call new_suite(suite, "mpm_terrain")
+    call test_closest_point()
+    call test_triangulation()
+    call test_orientation()
+    call test_section_2d()
+    call test_misses_domain()
+    call finish(suite)
+
+contains
+
+    subroutine test_closest_point()
+        real(wp) :: a(3), b(3), c(3), q(3)
+
+        a = [0.0_wp, 0.0_wp, 0.0_wp]
+        b = [1.0_wp, 0.0_wp, 0.0_wp]
+        c = [0.0_wp, 1.0_wp, 0.0_wp]
+        q = closest_point_on_triangle([0.25_wp, 0.25_wp, 2.0_wp], a, b, c)
+        call check(suite, all(abs(q - [0.25_wp, 0.25_wp, 0.0_wp]) < 1e-15_wp), "face interior")
+        q = closest_point_on_triangle([0.5_wp, -1.0_wp, 0.5_wp], a, b, c)
+        call check(suite, all(abs(q - [0.5_wp, 0.0_wp, 0.0_wp]) < 1e-15_wp), "edge ab")
+        q = closest_point_on_triangle([1.0_wp, 1.0_wp, 0.0_wp], a, b, c)
+        call check(suite, all(abs(q - [0.5_wp, 0.5_wp, 0.0_wp]) < 1e-15_wp), "edge bc")
+        q = closest_point_on_triangle([-1.0_wp, -1.0_wp, 1.0_wp], a, b, c)
+        call check(suite, all(q == a), "corner a")
+        q = closest_point_on_triangle([2.0_wp, -0.5_wp, 0.0_wp], a, b, c)
+        call check(suite, all(q == b), "corner b")
+    end subroutine test_closest_point
+
+    !> The plane z = tan(theta) x over [0, 1] x [0, 1] as m x m squares of 2 triangles.
+    function tilted_plane(m) result(corner)
+        integer, intent(in) :: m
+        real(wp), allocatable :: corner(:, :, :)
+
+        integer :: i, j, t
+        real(wp) :: x0, x1, y0, y1
+
+        allocate (corner(3, 3, 2*m*m))
+        t = 0
+        do j = 0, m - 1
+            do i = 0, m - 1
+                x0 = real(i, wp)/m
+                x1 = real(i + 1, wp)/m
+                y0 = real(j, wp)/m
+                y1 = real(j + 1, wp)/m
+                t = t + 1
+                corner(:, :, t) = reshape([x0, y0, z(x0), x1, y0, z(x1), x1, y1, z(x1)], [3, 3])
+                t = t + 1
+                corner(:, :, t) = reshape([x0, y0, z(x0), x1, y1, z(x1), x0, y1, z(x0)], [3, 3])
+            end do
+        end do
+    end function tilted_plane
+
+    pure real(wp) function z(x)
+        real(wp), intent(in) :: x
+        z = tan(theta)*x
+    end function z
+
+    subroutine test_triangulation()
+        type(terrain_type) :: coarse, fine
+        type(error_type), allocatable :: error
+        real(wp) :: x(3), d1, d2, n1(3), n2(3), exact
+        logical :: f1, f2
+        integer :: k
+
+        call new_terrain(coarse, tilted_plane(1), [0.0_wp, 0.0_wp, -0.5_wp], [10, 10, 15], &
+            0.1_wp, 3, 0.2_wp, g, error)
+        call check(suite, .not. allocated(error), "plane of 2 triangles indexed")
+        call new_terrain(fine, tilted_plane(32), [0.0_wp, 0.0_wp, -0.5_wp], [10, 10, 15], &
+            0.1_wp, 3, 0.2_wp, g, error)
+        call check(suite, .not. allocated(error), "plane of 2048 triangles indexed")
+        call check(suite, coarse%n == 2 .and. fine%n == 2048, "triangle counts")
+        do k = 1, 40
+            ! points above and below the plane, inside its extent
+            x = [0.1_wp + 0.02_wp*k, 0.9_wp - 0.015_wp*k, 0.0_wp]
+            x(3) = z(x(1)) + 0.15_wp*cos(real(k, wp))
+            call terrain_distance(coarse, x, f1, d1, n1)
+            call terrain_distance(fine, x, f2, d2, n2)
+            exact = (x(3) - z(x(1)))*cos(theta)
+            call check(suite, f1 .and. f2, "points within reach are found")
+            call check_close(suite, d1, exact, 1e-12_wp, "signed distance, 2 triangles")
+            call check_close(suite, d2, exact, 1e-12_wp, "signed distance, 2048 triangles")
+            call check(suite, all(abs(n1 - [-sin(theta), 0.0_wp, cos(theta)]) < 1e-12_wp) .and. &
+                all(abs(n2 - n1) < 1e-12_wp), "normal up the slope, the same for both")
+        end do
+        call terrain_distance(coarse, [0.5_wp, 0.5_wp, 0.8_wp], f1, d1, n1)
+        call check(suite, .not. f1, "a point beyond reach is not found")
+    end subroutine test_triangulation
+
+    subroutine test_orientation()
+        type(terrain_type) :: terrain
+        type(error_type), allocatable :: error
+        real(wp), allocatable :: corner(:, :, :)
+        real(wp) :: d, n(3)
+        logical :: found
+
+        ! the same plane with every triangle listed the other way round: normals down
+        corner = tilted_plane(2)
+        corner(:, 2:3, :) = corner(:, 3:2:-1, :)
+        call new_terrain(terrain, corner, [0.0_wp, 0.0_wp, -0.5_wp], [10, 10, 15], 0.1_wp, 3, &
+            0.2_wp, g, error)
+        call terrain_distance(terrain, [0.5_wp, 0.5_wp, z(0.5_wp) + 0.1_wp], found, d, n)
+        call check(suite, found .and. d > 0.0_wp .and. n(3) > 0.0_wp, &
+            "normals turned against gravity: above the plane is the material side")
+    end subroutine test_orientation
+
+    subroutine test_section_2d()
+        type(terrain_type) :: terrain
+        type(error_type), allocatable :: error
+        real(wp), allocatable :: corner(:, :, :)
+        real(wp) :: d, n(3)
+        logical :: found
+
+        ! the plane y = tan(theta) x, extruded along z across z = 0, for a 2D case (x, y)
+        corner = tilted_plane(3)
+        corner([1, 2, 3], :, :) = corner([1, 3, 2], :, :)
+        corner(3, :, :) = corner(3, :, :) - 0.5_wp
+        call new_terrain(terrain, corner, [0.0_wp, -0.5_wp, 0.0_wp], [10, 15, 1], 0.1_wp, 2, &
+            0.2_wp, [0.0_wp, -9.81_wp, 0.0_wp], error)
+        call check(suite, .not. allocated(error), "2D section indexed")
+        call terrain_distance(terrain, [0.4_wp, z(0.4_wp) + 0.05_wp, 0.0_wp], found, d, n)
+        call check(suite, found, "2D point found")
+        call check_close(suite, d, 0.05_wp*cos(theta), 1e-12_wp, "2D signed distance")
+        call check(suite, n(2) > 0.0_wp .and. abs(n(3)) < 1e-12_wp, "2D normal in the plane, up")
+    end subroutine test_section_2d
+
+    subroutine test_misses_domain()
+        type(terrain_type) :: terrain
+        type(error_type), allocatable :: error
+        real(wp), allocatable :: corner(:, :, :)
+
+        corner = tilted_plane(1)
+        corner(3, :, :) = corner(3, :, :) + 100.0_wp
+        call new_terrain(terrain, corner, [0.0_wp, 0.0_wp, -0.5_wp], [10, 10, 15], 0.1_wp, 3, &
+            0.2_wp, g, error)
+        call check(suite, allocated(error), "a surface far above the domain is refused")
+        if (allocated(error)) call check(suite, error%code == exit_input .and. &
+            index(error%message, "does not come within reach of the domain") > 0, &
+            "refusal: input error that says why")
+    end subroutine test_misses_domain
+
+end program test_mpm_terrain
