@@ -273,6 +273,16 @@ contains
         if (allocated(error)) then
             call check(suite, index(error%message, "unknown key") == 0, "contact.mu is known")
         end if
+        call read_case_string(case_text(extra='"contact": {"type": "terrain_stl", "mu": 0.4, ' &
+            //'"file": "tests/data/stl/floor_2.stl", "scale": 0.001, "offset": [1, 2, 3]}'), &
+            case, error)
+        call check(suite, .not. allocated(error), "contact terrain_stl with scale and offset")
+        if (.not. allocated(error)) then
+            call check(suite, case%contact_type == "terrain_stl" .and. case%contact_mu == 0.4_wp &
+                .and. case%contact_file == "tests/data/stl/floor_2.stl" .and. &
+                case%contact_scale == 0.001_wp .and. all(case%contact_offset == [1, 2, 3]), &
+                "contact: type, mu, file, scale and offset read")
+        end if
         call read_case_string(case_text(extra='"contact": {"file": "t.stl"}'), case, error)
         if (allocated(error)) then
             call check_contains(suite, error%message, "contact.file only applies to " &
@@ -541,10 +551,24 @@ contains
 
     subroutine test_section_errors()
         call expect_error(case_text(extra='"contact": {"type": "terrain_stl", "mu": 0.4, ' &
-            //'"file": "data/terrain.stl"}'), [character(len=200) :: "contact.type = " &
-            //'"terrain_stl": STL terrain contact is not available in this version of ' &
-            //'mpm-geo; remove the contact section or set "type": "none"'], &
-            "terrain_stl refused")
+            //'"file": "data/no_such_terrain.stl"}'), [character(len=200) :: "contact.file", &
+            "data/no_such_terrain.stl' not found"], "terrain_stl: missing STL file")
+        call expect_error(case_text(extra='"contact": {"type": "terrain_stl", ' &
+            //'"file": "tests/data/stl/floor_2.stl"}'), [character(len=200) :: "contact.mu"], &
+            "terrain_stl: mu is required")
+        call expect_error(case_text(extra='"contact": {"type": "terrain_stl", "mu": -0.1, ' &
+            //'"file": "tests/data/stl/floor_2.stl"}'), [character(len=200) :: "contact.mu"], &
+            "terrain_stl: negative mu")
+        call expect_error(case_text(extra='"contact": {"type": "terrain_stl", "mu": 0.4, ' &
+            //'"file": "tests/data/stl/floor_2.stl", "scale": 0}'), [character(len=200) :: &
+            "contact.scale"], "terrain_stl: scale 0")
+        call expect_error(case_text(extra='"contact": {"type": "terrain_stl", "mu": 0.4, ' &
+            //'"file": "tests/data/stl/floor_2.stl", "offset": [0, 1]}'), &
+            [character(len=200) :: "contact.offset must have 3 numbers"], &
+            "terrain_stl: offset of 2 numbers")
+        call expect_error(case_text(extra='"contact": {"type": "terrain_stl", "mu": 0.4, ' &
+            //'"file": "tests/data/stl/floor_2.stl", "normal": [0, 1, 0]}'), &
+            [character(len=200) :: "contact.normal"], "terrain_stl: unknown key")
         call expect_error(case_text(extra='"contact": {"type": "none", "mu": 0.4}'), &
             [character(len=200) :: "contact.mu only applies", "terrain_stl"], "mu without STL")
         call expect_error(case_text(domain='"domain": {"nx": 4, "ny": 2, "nz": 2, "dx": 0.1}', &

@@ -193,7 +193,15 @@ module mpm_case
         real(wp) :: damping_value = 0.0_wp
             !! local damping coefficient alpha [-] (0 <= alpha < 1)
         character(len=:), allocatable :: contact_type
-            !! "none" (terrain contact comes later)
+            !! "none" or "terrain_stl" (frictional contact with a rigid surface from an STL file)
+        real(wp) :: contact_mu = 0.0_wp
+            !! Coulomb friction coefficient of the terrain [-]
+        character(len=:), allocatable :: contact_file
+            !! STL file of the terrain surface (terrain_stl)
+        real(wp) :: contact_scale = 1.0_wp
+            !! factor on the STL coordinates (units to metres) [-]
+        real(wp) :: contact_offset(3) = 0.0_wp
+            !! added to the scaled STL coordinates [m]
         real(wp) :: output_interval = 0.0_wp
             !! time between particle outputs [s]; 0 for no intermediate output
         logical :: output_fields(nfields) = .true.

@@ -45,7 +45,8 @@ submodule (mpm_case) mpm_case_reader
     character(len=*), parameter :: time_keys(*) = [character(len=14) :: "tend", "dt", "cfl", &
         "allow_unstable"]
     character(len=*), parameter :: damping_keys(*) = [character(len=5) :: "type", "value"]
-    character(len=*), parameter :: contact_keys(*) = [character(len=4) :: "type", "mu", "file"]
+    character(len=*), parameter :: contact_keys(*) = [character(len=6) :: "type", "mu", "file", &
+        "scale", "offset"]
     character(len=*), parameter :: output_keys(*) = [character(len=16) :: "interval", "fields", &
         "grid", "directory", "overwrite", "history_interval"]
     character(len=*), parameter :: progress_keys(*) = [character(len=8) :: "interval"]
@@ -271,7 +272,7 @@ contains
         if (allocated(error)) return
         call read_damping(root, src, case, error)
         if (allocated(error)) return
-        call read_contact(root, src, error)
+        call read_contact(root, src, case, error)
         if (allocated(error)) return
         call read_output(root, src, case, error)
         if (allocated(error)) return
@@ -1135,44 +1136,58 @@ contains
         end if
     end subroutine read_damping
 
-    !> `contact`: only "none" in this version; terrain contact is refused first of all.
-    subroutine read_contact(root, src, error)
+    !> `contact`: "none", or "terrain_stl": frictional contact with the rigid surface of an
+    !> STL file (mu, file; optional scale and offset of its coordinates).
+    subroutine read_contact(root, src, case, error)
         type(json_value_type), intent(in) :: root
             !! top-level object
         character(len=*), intent(in) :: src
             !! case file name for messages
+        type(case_type), intent(inout) :: case
+            !! case being filled
         type(error_type), allocatable, intent(out) :: error
             !! first error found
 
         type(json_value_type) :: contact
-        character(len=:), allocatable :: kind
-        logical :: found
+        logical :: found, exists
         integer :: k, code
 
         call get_typed(root, "contact", "", src, "object", "an object", contact, found, error)
         if (allocated(error) .or. .not. found) return
-        kind = "none"
-        call get_string(contact, "type", "contact", src, kind, error)
-        if (allocated(error)) return
-        if (same(lower(kind), "terrain_stl")) then
-            call input_error(error, src, 'contact.type = "terrain_stl": STL terrain contact is ' &
-                //"not available in this version of mpm-geo; remove the contact section or " &
-                //'set "type": "none"')
-            return
-        end if
         call check_keys(contact, "contact", contact_keys, src, error)
         if (allocated(error)) return
         code = 0
         call get_choice(contact, "type", "contact", src, &
             [character(len=11) :: "none", "terrain_stl"], [0, 1], code, error)
         if (allocated(error)) return
-        do k = 2, size(contact_keys)
-            if (json_is_valid(json_get(contact, trim(contact_keys(k))))) then
-                call input_error(error, src, "contact."//trim(contact_keys(k))//" only applies " &
-                    //'to contact.type = "terrain_stl"; remove it')
-                return
-            end if
-        end do
+        if (code == 0) then
+            do k = 2, size(contact_keys)
+                if (json_is_valid(json_get(contact, trim(contact_keys(k))))) then
+                    call input_error(error, src, "contact."//trim(contact_keys(k))// &
+                        ' only applies to contact.type = "terrain_stl"; remove it')
+                    return
+                end if
+            end do
+            return
+        end if
+        case%contact_type = "terrain_stl"
+        call get_real(contact, "mu", "contact", src, case%contact_mu, error, required=.true., &
+            at_least=0.0_wp)
+        if (allocated(error)) return
+        call get_string(contact, "file", "contact", src, case%contact_file, error, &
+            required=.true.)
+        if (allocated(error)) return
+        inquire (file=case%contact_file, exist=exists)
+        if (len(case%contact_file) == 0 .or. .not. exists) then
+            call input_error(error, src, "contact.file: STL file '"//case%contact_file// &
+                "' not found (a relative path is taken from the current working directory)")
+            return
+        end if
+        call get_real(contact, "scale", "contact", src, case%contact_scale, error, &
+            above=0.0_wp)
+        if (allocated(error)) return
+        call get_vector(contact, "offset", "contact", src, 3, case%contact_offset, error, &
+            unit="m")
     end subroutine read_contact
 
     !> `output`: folder, intervals and fields.

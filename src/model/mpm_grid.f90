@@ -6,9 +6,11 @@ module mpm_grid
     use mpm_kinds, only: wp
     use mpm_error, only: error_type, fatal_error, exit_other
     use mpm_case, only: case_type, bc_sliding, bc_fixed, bc_frictional
+    use mpm_terrain, only: terrain_type, new_terrain, terrain_distance
     implicit none
     private
-    public :: grid_type, new_grid, node_index, node_position, contact_index, grid_bytes, node_owned, &
+    public :: grid_type, new_grid, add_terrain, node_index, node_position, contact_index, &
+        grid_bytes, node_owned, &
         node_layer
 
     !> Geometry of the grid and the nodal fields of one step.
@@ -80,6 +82,10 @@ module mpm_grid
         integer :: owned_lo = 0, owned_hi = huge(1)/2
             !! node layers along halo_axis (0-based) whose energies this image counts (every
             !! node is counted by one image)
+        type(terrain_type), allocatable :: terrain
+            !! rigid terrain surface (contact.type = "terrain_stl"), absent otherwise
+        integer, allocatable :: terrain_pair(:)
+            !! contact pair of each node with the terrain, 0 for none (nnodes; with terrain)
     end type grid_type
 
 contains
@@ -210,6 +216,88 @@ contains
             end do
         end do
     end subroutine new_grid
+
+    !> Frictional contact with a rigid terrain surface: every node within two cells of the
+    !> surface becomes a contact pair (after the pairs of the frictional faces) whose normal
+    !> is that of the nearest triangle, into the terrain; P2G sets its gap from the particles
+    !> and the nodal update applies it like a frictional face.
+    subroutine add_terrain(grid, corner, mu, gravity, error)
+        type(grid_type), intent(inout) :: grid
+            !! grid made by new_grid
+        real(wp), intent(in) :: corner(:, :, :)
+            !! (3, 3, n) triangle corners of the surface [m]
+        real(wp), intent(in) :: mu
+            !! Coulomb friction coefficient [-]
+        real(wp), intent(in) :: gravity(3)
+            !! gravity: the material is on the surface's side against it [m/s2]
+        type(error_type), allocatable, intent(out) :: error
+            !! set when the surface misses the grid or memory cannot be allocated
+
+        integer :: id, c, nold, nnew, stat, d
+        real(wp) :: x(3), dist, n(3)
+        logical :: found
+        integer, allocatable :: node(:), axis(:)
+        real(wp), allocatable :: normal(:), dir(:, :), friction(:), gap(:), load(:)
+        character(len=256) :: msg
+
+        d = grid%dim
+        allocate (grid%terrain)
+        call new_terrain(grid%terrain, corner, grid%origin, grid%ncells, grid%dx, d, &
+            2.0_wp*grid%dx, gravity, error)
+        if (allocated(error)) return
+        allocate (grid%terrain_pair(grid%nnodes), stat=stat, errmsg=msg)
+        if (stat /= 0) then
+            call fatal_error(error, "cannot allocate the terrain contacts: "//trim(msg), &
+                exit_other)
+            return
+        end if
+        grid%terrain_pair = 0
+        nnew = 0
+        do id = 1, grid%nnodes
+            x = node_position(grid, id)
+            if (d == 2) x(3) = 0.0_wp
+            call terrain_distance(grid%terrain, x, found, dist, n)
+            if (found) nnew = nnew + 1
+        end do
+        nold = grid%ncontacts
+        allocate (node(nold + nnew), axis(nold + nnew), normal(nold + nnew), &
+            dir(d, nold + nnew), friction(nold + nnew), gap(nold + nnew), load(nold + nnew), &
+            stat=stat, errmsg=msg)
+        if (stat /= 0) then
+            call fatal_error(error, "cannot allocate the terrain contacts: "//trim(msg), &
+                exit_other)
+            return
+        end if
+        node(1:nold) = grid%contact_node
+        axis(1:nold) = grid%contact_axis
+        normal(1:nold) = grid%contact_normal
+        dir(:, 1:nold) = grid%contact_dir
+        friction(1:nold) = grid%contact_mu
+        c = nold
+        do id = 1, grid%nnodes
+            x = node_position(grid, id)
+            if (d == 2) x(3) = 0.0_wp
+            call terrain_distance(grid%terrain, x, found, dist, n)
+            if (.not. found) cycle
+            c = c + 1
+            node(c) = id
+            axis(c) = 0
+            normal(c) = 0.0_wp
+            dir(:, c) = -n(1:d)
+            friction(c) = mu
+            grid%terrain_pair(id) = c
+        end do
+        gap = huge(1.0_wp)
+        load = 0.0_wp
+        call move_alloc(node, grid%contact_node)
+        call move_alloc(axis, grid%contact_axis)
+        call move_alloc(normal, grid%contact_normal)
+        call move_alloc(dir, grid%contact_dir)
+        call move_alloc(friction, grid%contact_mu)
+        call move_alloc(gap, grid%contact_gap)
+        call move_alloc(load, grid%contact_load)
+        grid%ncontacts = nold + nnew
+    end subroutine add_terrain
 
     !> Linear index of node (i, j, k), 0-based per direction.
     pure integer function node_index(grid, ijk)

@@ -10,10 +10,11 @@
 module mpm_solver
     use mpm_kinds, only: wp, i8
     use mpm_strings, only: vector_text
-    use mpm_error, only: error_type, fatal_error, exit_numerical
+    use mpm_error, only: error_type, fatal_error, exit_numerical, exit_input
     use mpm_case, only: case_type, scheme_usf, scheme_usl, scheme_musl, damping_kinetic, &
         p_wave_speed, viscous_time_step, field_strain, field_displacement, bc_frictional
-    use mpm_grid, only: grid_type, new_grid, node_owned, node_layer
+    use mpm_grid, only: grid_type, new_grid, add_terrain, node_owned, node_layer
+    use mpm_stl, only: stl_mesh_type, read_stl
     use mpm_particles, only: particles_type, pack_particles, rebuild_particles, particle_number
     use mpm_bodies, only: create_particles, body_cell_histogram
     use mpm_decomposition, only: decomposition_type, new_decomposition, cut_axis, local_case, &
@@ -151,6 +152,10 @@ contains
         ! this image's grid: the whole grid, or its slab with the ghost cells
         call slab_grid(sim, error)
         if (allocated(error)) return
+        if (case%contact_type == "terrain_stl") then
+            call terrain_contact(sim, error)
+            if (allocated(error)) return
+        end if
         ! a case stores what it writes: the accumulated strain and the displacement only when
         ! an output field or a state file asks for them
         if (.not. (case%output_fields(field_strain) .or. has_text(case%save_state))) then
@@ -204,6 +209,29 @@ contains
         ! weight 0.1 per step it had at CFL 0.5), so that a smaller step does not shorten it
         sim%grid%contact_time = 5.0_wp*sim%case%dx/max(maxval(sim%wave_speed), tiny(1.0_wp))
     end subroutine slab_grid
+
+    !> Frictional contact with the terrain surface of contact.file.
+    subroutine terrain_contact(sim, error)
+        type(simulation_type), intent(inout) :: sim
+            !! the simulation, with its grid
+        type(error_type), allocatable, intent(out) :: error
+            !! set when the file is refused or the surface misses the domain
+
+        type(stl_mesh_type) :: mesh
+
+        if (image_count() > 1) then
+            call fatal_error(error, sim%case%file//': contact.type = "terrain_stl" runs on '// &
+                "one image in this version (the running contact loads of the terrain do not "// &
+                "follow moving cuts yet): run it without cafrun, with threads", exit_input)
+            return
+        end if
+        call read_stl(sim%case%contact_file, mesh, error, sim%case%contact_scale, &
+            sim%case%contact_offset, key="contact.file")
+        if (allocated(error)) return
+        call add_terrain(sim%grid, mesh%vertex, sim%case%contact_mu, sim%case%gravity, error)
+        if (allocated(error)) error%message = 'contact.file = "'//sim%case%contact_file// &
+            '": '//error%message
+    end subroutine terrain_contact
 
     !> Move the cuts when the particle counts of the images drift apart (a flow that travels
     !> into other slabs): every `rebalance_steps` steps the particles per cell layer are

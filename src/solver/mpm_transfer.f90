@@ -20,6 +20,7 @@ module mpm_transfer
     use mpm_error, only: error_type, fatal_error, exit_numerical
     use mpm_grid, only: grid_type, contact_index, node_owned
     use mpm_halo, only: halo_sum, halo_contact_gaps
+    use mpm_terrain, only: terrain_distance
     use mpm_particles, only: particles_type, particle_number
     use mpm_stencil, only: stencils_type, particle_nodes, max_nodes, axis_derivatives
     use mpm_material, only: material_holder_type
@@ -312,12 +313,29 @@ contains
         type(stencils_type), intent(in) :: stc
         integer, intent(in) :: p
 
-        integer :: a, side, c, k
+        integer :: a, side, c, k, dim
         integer :: node(max_nodes)
-        real(wp) :: gap, face, w(max_nodes), dw(3, max_nodes)
-        logical :: have_nodes
+        real(wp) :: gap, face, w(max_nodes), dw(3, max_nodes), x(3), d, n(3)
+        logical :: have_nodes, found
 
         have_nodes = .false.
+        dim = grid%dim
+        if (allocated(grid%terrain)) then
+            ! the terrain: the distance from the particle domain to the surface
+            x = 0.0_wp
+            x(1:dim) = particles%x(:, p)
+            call terrain_distance(grid%terrain, x, found, d, n)
+            if (found) then
+                gap = d - sum(particles%lp(:, p)*abs(n(1:dim)))
+                call particle_nodes(stc, p, node, w, dw)
+                have_nodes = .true.
+                do k = 1, stc%count
+                    if (w(k) <= 0.0_wp) cycle
+                    c = grid%terrain_pair(node(k))
+                    if (c > 0) grid%contact_gap(c) = min(grid%contact_gap(c), gap)
+                end do
+            end if
+        end if
         do a = 1, grid%dim
             do side = 1, 2
                 if (grid%contact_offset(side, a) < 0) cycle
