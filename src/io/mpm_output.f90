@@ -23,7 +23,8 @@ module mpm_output
     use mpm_version, only: mpm_version_string
     implicit none
     private
-    public :: output_writer_type, new_output_writer, write_output, write_index, remove_outputs
+    public :: output_writer_type, new_output_writer, write_output, write_index, remove_outputs, &
+        write_terrain
 
     integer, parameter :: max_images = 99999
         !! most images a part file name can number (5 digits)
@@ -497,6 +498,69 @@ contains
         if (.not. allocated(error) .and. allocated(close_error)) call move_alloc(close_error, error)
     end subroutine write_grid_group
 
+    !> The terrain surface of a run, for ParaView: `<dir>/terrain.h5` (/terrain/position, the
+    !> 3 corners of each triangle, and /terrain/triangles, their 0-based indices) and
+    !> `<dir>/terrain.xdmf`, a triangle mesh to open beside the particles' index.
+    subroutine write_terrain(dir, corner, error)
+        character(len=*), intent(in) :: dir
+            !! output folder
+        real(wp), intent(in) :: corner(:, :, :)
+            !! (3, 3, n) triangle corners, as the run uses them [m]
+        type(error_type), allocatable, intent(out) :: error
+            !! set when a file cannot be written
+
+        type(hdf5_location_type) :: file, group
+        type(error_type), allocatable :: close_error, ignored
+        real(wp), allocatable :: position(:, :)
+        integer :: n, k, unit, stat
+        character(len=256) :: message
+        character(len=:), allocatable :: path, nt, nv
+
+        n = size(corner, 3)
+        position = reshape(corner, [3, 3*n])
+        path = dir//"/terrain.h5"
+        call hdf5_create_file(path//".tmp", file, error)
+        if (allocated(error)) return
+        call hdf5_create_group(file, "terrain", group, error)
+        if (.not. allocated(error)) then
+            call hdf5_write_dataset(group, "position", position, error, units="m")
+            if (.not. allocated(error)) call hdf5_write_dataset(group, "triangles", &
+                [(k, k = 0, 3*n - 1)], error, units="-")
+            call hdf5_close(group, close_error)
+        end if
+        if (.not. allocated(error) .and. allocated(close_error)) call move_alloc(close_error, error)
+        call hdf5_close(file, close_error)
+        if (.not. allocated(error) .and. allocated(close_error)) call move_alloc(close_error, error)
+        if (allocated(error)) then
+            call remove_file(path//".tmp", ignored)
+            return
+        end if
+        call rename_file(path//".tmp", path, error)
+        if (allocated(error)) return
+        nt = int_text(n)
+        nv = int_text(3*n)
+        path = dir//"/terrain.xdmf"
+        open (newunit=unit, file=path, status="replace", action="write", iostat=stat, &
+            iomsg=message)
+        if (stat == 0) write (unit, "(a)", iostat=stat, iomsg=message) &
+            '<?xml version="1.0" ?>', &
+            '<Xdmf Version="3.0">', &
+            '  <Domain>', &
+            '    <Grid Name="terrain" GridType="Uniform">', &
+            '      <Topology TopologyType="Triangle" NumberOfElements="'//nt//'">', &
+            "        "//data_item(nt//" 3", "Int", "terrain.h5:/terrain/triangles"), &
+            '      </Topology>', &
+            '      <Geometry GeometryType="XYZ">', &
+            "        "//data_item(nv//" 3", "Float", "terrain.h5:/terrain/position"), &
+            '      </Geometry>', &
+            '    </Grid>', &
+            '  </Domain>', &
+            '</Xdmf>'
+        if (stat == 0) close (unit, iostat=stat, iomsg=message)
+        if (stat /= 0) call fatal_error(error, "cannot write the terrain index '"//path//"': "// &
+            trim(message), exit_other)
+    end subroutine write_terrain
+
     !> Write a (dim, n) vector field as an (n, 3) dataset, z = 0 in 2D.
     subroutine write_vector(group, name, values, units, error)
         type(hdf5_location_type), intent(in) :: group
@@ -880,6 +944,11 @@ contains
         call remove_file(dir//"/"//case_name//".xdmf", error)
         if (allocated(error)) return
         call remove_file(dir//"/"//case_name//".xdmf.tmp", error)
+        if (allocated(error)) return
+        ! the terrain of an earlier run (write_terrain)
+        call remove_file(dir//"/terrain.xdmf", error)
+        if (allocated(error)) return
+        call remove_file(dir//"/terrain.h5", error)
         if (allocated(error)) return
         parts = 0
         do

@@ -16,7 +16,7 @@ module mpm_run
     use mpm_stencil, only: stencil_bytes
     use mpm_grid, only: grid_bytes
     use mpm_output, only: output_writer_type, new_output_writer, write_output, write_index, &
-        remove_outputs
+        remove_outputs, write_terrain
     use mpm_state, only: save_state
     use mpm_filesystem, only: make_directory, directory_exists
     implicit none
@@ -115,6 +115,9 @@ contains
                         //"potential_energy,damping_work,total"
                 end if
             end if
+            ! the terrain surface, to open in ParaView beside the particles
+            if (lead .and. allocated(sim%grid%terrain)) call write_terrain(case%output_dir, &
+                sim%grid%terrain%corner, error)
             call agree(error)
             if (allocated(error)) return
             call write_part(writer, sim, error)
