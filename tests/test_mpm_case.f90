@@ -48,6 +48,7 @@ program test_mpm_case
     call test_key_errors()
     call test_value_errors()
     call test_body_errors()
+    call test_stl_body_errors()
     call test_time_errors()
     call test_section_errors()
     call test_document_errors()
@@ -519,6 +520,54 @@ contains
             [character(len=200) :: "bodies cannot be given together with load_state", &
             "the particles come from the state file"], "bodies with load_state")
     end subroutine test_body_errors
+
+    !> Bodies from closed STL surfaces (tests/data/stl): a valid one and every refusal.
+    subroutine test_stl_body_errors()
+        type(case_type) :: case
+        character(len=*), parameter :: cube = '"file": "tests/data/stl/unit_cube.stl"'
+
+        call read_valid(case_text(bodies='"bodies": [{"name": "s", "material": "soil", ' &
+            //cube//', "scale": 0.1, "offset": [0.1, 0.05, -0.05]}]'), case, "STL body valid")
+        call check(suite, allocated(case%bodies(1)%triangle), "STL body keeps its triangles")
+        if (allocated(case%bodies(1)%triangle)) then
+            call check(suite, size(case%bodies(1)%triangle, 3) == 12, "STL body: 12 triangles")
+            call check_close(suite, case%bodies(1)%xmax(1), 0.2_wp, tol, &
+                "STL body: max = bounding box of x*scale + offset")
+        end if
+        call expect_error(case_text(bodies='"bodies": [{"name": "s", "material": "soil", ' &
+            //cube//', "min": [0, 0], "max": [0.1, 0.1]}]'), [character(len=200) :: &
+            'bodies[1] "s"', "give either 'file'", "or 'min' and 'max'", "not both"], &
+            "STL body with min and max")
+        call expect_error(case_text(bodies='"bodies": [{"name": "s", "material": "soil"}]'), &
+            [character(len=200) :: 'bodies[1] "s"', "give either 'file'", "'min' and 'max'", &
+            "neither was given"], "body with neither file nor min/max")
+        call expect_error(case_text(bodies='"bodies": [{"name": "s", "material": "soil", ' &
+            //'"min": [0, 0], "max": [0.1, 0.1], "scale": 2}]'), [character(len=200) :: &
+            "bodies[1].scale only applies to a body given by 'file'"], "scale of a box")
+        call expect_error(case_text(bodies='"bodies": [{"name": "s", "material": "soil", ' &
+            //'"file": "tests/data/stl/open_cube.stl", "scale": 0.1, ' &
+            //'"offset": [0, 0, -0.05]}]'), [character(len=200) :: &
+            'bodies[1] "s": the surface ''tests/data/stl/open_cube.stl'' is not closed', &
+            "a body needs a closed surface"], "open STL surface")
+        call expect_error(case_text(bodies='"bodies": [{"name": "s", "material": "soil", ' &
+            //'"file": "tests/data/stl/prism.stl"}]'), [character(len=200) :: &
+            'bodies[1] "s": the bounding box of the surface', &
+            "surface 'tests/data/stl/prism.stl', corner max = (0.69", &
+            "outside the domain [0, 0.4] x [0, 0.2] [m]"], "STL body outside the domain")
+        call expect_error(case_text(bodies='"bodies": [{"name": "s", "material": "soil", ' &
+            //'"file": "no/such.stl"}]'), [character(len=200) :: &
+            "bodies[1].file: STL file 'no/such.stl' not found"], "missing STL file")
+        call expect_error(case_text(bodies='"bodies": [{"name": "s", "material": "soil", ' &
+            //cube//', "scale": 0.02, "offset": [0.1, 0.1, -0.01]}]'), [character(len=200) :: &
+            'bodies[1] "s": the closed surface', "holds no particle"], "STL body too thin")
+        call expect_error(case_text(bodies='"bodies": [{"name": "s", "material": "soil", ' &
+            //cube//', "scale": 0.1, "offset": [0, 0, 0.05]}]'), [character(len=200) :: &
+            'bodies[1] "s"', "section by the plane z = 0"], "2D STL body off z = 0")
+        call expect_error(case_text(bodies='"bodies": [{"name": "a", "material": "soil", ' &
+            //'"min": [0, 0], "max": [0.15, 0.1]}, {"name": "s", "material": "soil", ' &
+            //cube//', "scale": 0.1, "offset": [0.1, 0, -0.05]}]'), [character(len=200) :: &
+            'bodies[2] "s" overlaps bodies[1] "a"'], "STL bounding box overlaps a box")
+    end subroutine test_stl_body_errors
 
     subroutine test_time_errors()
         type(case_type) :: case

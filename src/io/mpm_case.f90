@@ -121,18 +121,27 @@ module mpm_case
             !! bulk modulus K of a Newtonian fluid [Pa] (sets the pressure and the wave speed)
     end type material_spec_type
 
-    !> A box of particles of one material.
+    !> A body of particles of one material: a box, or the inside of a closed STL surface.
     type :: body_spec_type
         character(len=:), allocatable :: name
             !! name of the body (for messages and output)
         integer :: material = 0
             !! index into case%materials
         real(wp) :: xmin(3) = 0.0_wp
-            !! lower corner of the box [m]
+            !! lower corner of the box (of the surface's bounding box for an STL body) [m]
         real(wp) :: xmax(3) = 0.0_wp
-            !! upper corner of the box [m]
+            !! upper corner of the box (of the surface's bounding box for an STL body) [m]
         real(wp) :: velocity(3) = 0.0_wp
             !! initial velocity [m/s]
+        character(len=:), allocatable :: file
+            !! STL file of the closed surface ("" for a box)
+        real(wp) :: scale = 1.0_wp
+            !! factor applied to the STL coordinates before `offset` [m per unit]
+        real(wp) :: offset(3) = 0.0_wp
+            !! translation added to the scaled STL coordinates [m]
+        real(wp), allocatable :: triangle(:, :, :)
+            !! corners (coordinate, corner 1..3, triangle) of the closed surface after scale and
+            !! offset; not allocated for a box [m]
     end type body_spec_type
 
     !> Every setting of a run, resolved and checked.

@@ -9,10 +9,12 @@
 submodule (mpm_case) mpm_case_reader
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     use mpm_kinds, only: i8
-    use mpm_error, only: fatal_error, exit_input
+    use mpm_error, only: fatal_error, exit_input, exit_other
     use mpm_json, only: json_document_type, json_value_type, json_parse_file, &
         json_parse_string, json_free, json_root, json_is_valid, json_is_object, json_type_name, &
         json_get, json_size, json_item, json_key, json_number, json_string, json_bool
+    use mpm_stl, only: stl_mesh_type, read_stl, check_closed
+    use mpm_bodies, only: count_body_particles
     implicit none
 
     ! Allowed keys of each object of a case file
@@ -39,7 +41,9 @@ submodule (mpm_case) mpm_case_reader
     character(len=*), parameter :: softening_keys(*) = [character(len=12) :: "type", &
         "phi_residual", "c_residual", "psi_residual", "strain"]
     character(len=*), parameter :: body_keys(*) = [character(len=8) :: "name", "material", &
-        "min", "max", "velocity"]
+        "min", "max", "velocity", "file", "scale", "offset"]
+    character(len=*), parameter :: body_stl_keys(*) = [character(len=6) :: "scale", "offset"]
+        !! keys of a body that only apply with `file`
     character(len=*), parameter :: solver_keys(*) = [character(len=18) :: "scheme", &
         "shape_function", "locking_correction", "transfer", "flip_fraction"]
     character(len=*), parameter :: time_keys(*) = [character(len=14) :: "tend", "dt", "cfl", &
@@ -154,14 +158,14 @@ contains
             else
                 total = 0
                 do b = 1, size(case%bodies)
-                    total = total + body_particle_count(case, case%bodies(b))
+                    total = total + body_particle_count(case, b)
                 end do
                 text = text//"bodies      "//itoa(size(case%bodies))//", "//itoa(total) &
                     //" particles"//nl
             end if
             do b = 1, size(case%bodies)
                 associate (body => case%bodies(b))
-                    count = body_particle_count(case, body)
+                    count = body_particle_count(case, b)
                     line = '  "'//text_or(body%name, "?")//'"'
                     if (allocated(case%materials)) then
                         if (body%material >= 1 .and. body%material <= size(case%materials)) then
@@ -856,7 +860,8 @@ contains
         end if
     end subroutine read_states
 
-    !> `bodies`: boxes of particles inside the domain, not overlapping, each with particles.
+    !> `bodies`: boxes or closed STL surfaces filled with particles, inside the domain, not
+    !> overlapping (bounding boxes for STL bodies), each with particles.
     subroutine read_bodies(root, src, case, error)
         type(json_value_type), intent(in) :: root
             !! top-level object
@@ -883,8 +888,9 @@ contains
             return
         end if
         if (.not. json_is_valid(json_get(root, "bodies"))) then
-            call input_error(error, src, "missing required key 'bodies' (an array of boxes of " &
-                //"particles); give load_state instead to start from a saved state")
+            call input_error(error, src, "missing required key 'bodies' (an array of boxes or " &
+                //"closed STL surfaces of particles); give load_state instead to start from a " &
+                //"saved state")
             return
         end if
         call get_list(root, "bodies", src, "body", list, error)
@@ -918,19 +924,39 @@ contains
                         //material_list(case%materials))
                     return
                 end if
-                call get_vector(item, "min", path, src, case%dim, body%xmin, error, &
-                    required=.true., unit="m")
-                if (allocated(error)) return
-                call get_vector(item, "max", path, src, case%dim, body%xmax, error, &
-                    required=.true., unit="m")
-                if (allocated(error)) return
+                if (json_is_valid(json_get(item, "file"))) then
+                    call read_body_surface(item, path, src, case, body, error)
+                    if (allocated(error)) return
+                else
+                    if (.not. (json_is_valid(json_get(item, "min")) &
+                        .or. json_is_valid(json_get(item, "max")))) then
+                        call input_error(error, src, path//' "'//body%name//'": give either ' &
+                            //"'file' (a closed STL surface) or 'min' and 'max' (a box); " &
+                            //"neither was given")
+                        return
+                    end if
+                    do j = 1, 2
+                        if (json_is_valid(json_get(item, trim(body_stl_keys(j))))) then
+                            call input_error(error, src, path//"."//trim(body_stl_keys(j)) &
+                                //" only applies to a body given by 'file' (a closed STL " &
+                                //"surface); remove it")
+                            return
+                        end if
+                    end do
+                    call get_vector(item, "min", path, src, case%dim, body%xmin, error, &
+                        required=.true., unit="m")
+                    if (allocated(error)) return
+                    call get_vector(item, "max", path, src, case%dim, body%xmax, error, &
+                        required=.true., unit="m")
+                    if (allocated(error)) return
+                end if
                 call get_vector(item, "velocity", path, src, case%dim, body%velocity, error, &
                     unit="m/s")
                 if (allocated(error)) return
             end associate
             call check_body_box(case, i, src, error)
             if (allocated(error)) return
-            total = total + body_particle_count(case, case%bodies(i))
+            total = total + body_particle_count(case, i)
         end do
         if (total > huge(1)) then
             call input_error(error, src, "the bodies hold "//itoa(total)//" particles, more " &
@@ -938,6 +964,72 @@ contains
                 //"particles.ppc or a larger domain.dx")
         end if
     end subroutine read_bodies
+
+    !> An STL body (`file`, `scale`, `offset`): reads the surface, refuses an open one or one
+    !> given together with `min`/`max`, and sets min/max to its bounding box.
+    subroutine read_body_surface(item, path, src, case, body, error)
+        type(json_value_type), intent(in) :: item
+            !! the body's object
+        character(len=*), intent(in) :: path
+            !! key path of the body ("bodies[i]")
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        type(case_type), intent(in) :: case
+            !! case being resolved (dimension set)
+        type(body_spec_type), intent(inout) :: body
+            !! the body (name set)
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(stl_mesh_type) :: mesh
+        type(error_type), allocatable :: stl_error
+        character(len=:), allocatable :: label, message
+        logical :: exists, closed
+
+        label = path//' "'//body%name//'"'
+        if (json_is_valid(json_get(item, "min")) .or. json_is_valid(json_get(item, "max"))) &
+            then
+            call input_error(error, src, label//": give either 'file' (a closed STL surface) " &
+                //"or 'min' and 'max' (a box), not both")
+            return
+        end if
+        body%file = ""
+        call get_string(item, "file", path, src, body%file, error, required=.true.)
+        if (allocated(error)) return
+        inquire (file=body%file, exist=exists)
+        if (len(body%file) == 0 .or. .not. exists) then
+            call input_error(error, src, path//".file: STL file '"//body%file//"' not found " &
+                //"(a relative path is taken from the current working directory)")
+            return
+        end if
+        call get_real(item, "scale", path, src, body%scale, error, above=0.0_wp)
+        if (allocated(error)) return
+        call get_vector(item, "offset", path, src, 3, body%offset, error, unit="m")
+        if (allocated(error)) return
+        call read_stl(body%file, mesh, stl_error, body%scale, body%offset, path//".file")
+        if (allocated(stl_error)) then
+            call fatal_error(error, src//": "//stl_error%message, stl_error%code)
+            return
+        end if
+        call check_closed(mesh, closed, message, stl_error)
+        if (allocated(stl_error)) then
+            call fatal_error(error, src//": "//stl_error%message, stl_error%code)
+            return
+        end if
+        if (.not. closed) then
+            call input_error(error, src, label//": the surface '"//body%file//"' is not closed: " &
+                //message//"; a body needs a closed surface")
+            return
+        end if
+        body%xmin = mesh%lo
+        body%xmax = mesh%hi
+        call move_alloc(mesh%vertex, body%triangle)
+        if (case%dim == 2 .and. .not. (body%xmin(3) < 0.0_wp .and. 0.0_wp < body%xmax(3))) then
+            call input_error(error, src, label//": the surface '"//body%file//"' spans z = " &
+                //fmt_real(body%xmin(3))//" .. "//fmt_real(body%xmax(3))//" [m]; a 2D body " &
+                //"is its section by the plane z = 0, which must cross the surface")
+        end if
+    end subroutine read_body_surface
 
     !> Geometric checks of body `i`: a proper box, inside the domain, holding particles and
     !> overlapping none of the bodies before it.
@@ -951,14 +1043,24 @@ contains
         type(error_type), allocatable, intent(out) :: error
             !! first error found
 
-        character(len=:), allocatable :: label
+        character(len=:), allocatable :: label, corner, what
         real(wp) :: lower(3), upper(3), tol
         integer :: d, j, dim
+        integer(i8) :: count
 
         dim = case%dim
         tol = box_tolerance*case%dx
         associate (body => case%bodies(i))
             label = "bodies["//itoa(i)//'] "'//body%name//'"'
+            corner = "corner"
+            what = "the box "//fmt_box(body%xmin(1:dim), body%xmax(1:dim))//" [m]"
+            if (allocated(body%triangle)) then
+                corner = "the bounding box of the surface '"//body%file//"', corner"
+                what = "the closed surface '"//body%file//"' (bounding box " &
+                    //fmt_box(body%xmin(1:dim), body%xmax(1:dim))//" [m]"
+                if (dim == 2) what = what//", section by z = 0"
+                what = what//")"
+            end if
             do d = 1, dim
                 if (.not. body%xmin(d) < body%xmax(d)) then
                     call input_error(error, src, label//": min["//itoa(d)//"] = " &
@@ -970,22 +1072,27 @@ contains
             lower(1:dim) = case%origin(1:dim)
             upper(1:dim) = case%origin(1:dim) + case%ncells(1:dim)*case%dx
             if (any(body%xmin(1:dim) < lower(1:dim) - tol)) then
-                call input_error(error, src, label//": corner min = " &
+                call input_error(error, src, label//": "//corner//" min = " &
                     //fmt_vector(body%xmin(1:dim))//" lies outside the domain " &
                     //fmt_box(lower(1:dim), upper(1:dim), domain_digits)//" [m]")
                 return
             end if
             if (any(body%xmax(1:dim) > upper(1:dim) + tol)) then
-                call input_error(error, src, label//": corner max = " &
+                call input_error(error, src, label//": "//corner//" max = " &
                     //fmt_vector(body%xmax(1:dim))//" lies outside the domain " &
                     //fmt_box(lower(1:dim), upper(1:dim), domain_digits)//" [m]")
                 return
             end if
-            if (body_particle_count(case, body) == 0) then
-                call input_error(error, src, label//": the box "//fmt_box(body%xmin(1:dim), &
-                    body%xmax(1:dim))//" [m] holds no particle (with ppc = "//itoa(case%ppc) &
-                    //" particles sit at origin + (i + (k - 0.5)/ppc) dx, k = 1..ppc, in each " &
-                    //"cell i); make the box larger or raise particles.ppc")
+            count = body_particle_count(case, i)
+            if (count < 0) then
+                call fatal_error(error, src//": "//label//": cannot allocate the memory to " &
+                    //"fill the closed surface '"//body%file//"' with particles", exit_other)
+                return
+            end if
+            if (count == 0) then
+                call input_error(error, src, label//": "//what//" holds no particle (with ppc = " &
+                    //itoa(case%ppc)//" particles sit at origin + (i + (k - 0.5)/ppc) dx, " &
+                    //"k = 1..ppc, in each cell i); make the body larger or raise particles.ppc")
                 return
             end if
             do j = 1, i - 1
@@ -993,7 +1100,8 @@ contains
                     if (all(min(body%xmax(1:dim), other%xmax(1:dim)) &
                         - max(body%xmin(1:dim), other%xmin(1:dim)) > tol)) then
                         call input_error(error, src, label//" overlaps bodies["//itoa(j) &
-                            //'] "'//other%name//'": the boxes ' &
+                            //'] "'//other%name//'": the boxes (bounding boxes of STL ' &
+                            //"surfaces) " &
                             //fmt_box(body%xmin(1:dim), body%xmax(1:dim))//" and " &
                             //fmt_box(other%xmin(1:dim), other%xmax(1:dim))//" [m] share a " &
                             //"volume; bodies must not overlap")
@@ -1813,21 +1921,15 @@ contains
         node_count = product(int(case%ncells(1:case%dim), i8) + 1_i8)
     end function node_count
 
-    !> Number of particles of a body, from the placement rule of body_subcell_range (the one
-    !> the particle generator uses, so the count and the particles always agree).
-    pure integer(i8) function body_particle_count(case, body) result(count)
+    !> Number of particles of body b, from the particle generator itself (so the count and the
+    !> particles always agree); -1 when the memory to fill an STL body is missing.
+    integer(i8) function body_particle_count(case, b) result(count)
         type(case_type), intent(in) :: case
-            !! case (grid and ppc set)
-        type(body_spec_type), intent(in) :: body
-            !! the body
+            !! case (grid, ppc and bodies 1..b set)
+        integer, intent(in) :: b
+            !! body index
 
-        integer :: lo(3), hi(3), d
-
-        call body_subcell_range(case, body, lo, hi)
-        count = 1
-        do d = 1, case%dim
-            count = count*max(0_i8, int(hi(d), i8) - lo(d) + 1)
-        end do
+        count = count_body_particles(case, b)
     end function body_particle_count
 
     !> Index of the material called `name`, 0 when there is none.

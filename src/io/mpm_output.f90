@@ -545,17 +545,17 @@ contains
         if (stat == 0) write (unit, "(a)", iostat=stat, iomsg=message) &
             '<?xml version="1.0" ?>', &
             '<Xdmf Version="3.0">', &
-            '  <Domain>', &
+            "  <Domain>", &
             '    <Grid Name="terrain" GridType="Uniform">', &
             '      <Topology TopologyType="Triangle" NumberOfElements="'//nt//'">', &
             "        "//data_item(nt//" 3", "Int", "terrain.h5:/terrain/triangles"), &
-            '      </Topology>', &
+            "      </Topology>", &
             '      <Geometry GeometryType="XYZ">', &
             "        "//data_item(nv//" 3", "Float", "terrain.h5:/terrain/position"), &
-            '      </Geometry>', &
-            '    </Grid>', &
-            '  </Domain>', &
-            '</Xdmf>'
+            "      </Geometry>", &
+            "    </Grid>", &
+            "  </Domain>", &
+            "</Xdmf>"
         if (stat == 0) close (unit, iostat=stat, iomsg=message)
         if (stat /= 0) call fatal_error(error, "cannot write the terrain index '"//path//"': "// &
             trim(message), exit_other)
