@@ -90,7 +90,7 @@ contains
         integer :: p, q, k, c, dim, ns, shift, fint_row, body_row, rows, mass_row
         real(wp) :: s(6), vs(6), xp(3), vp(3), aff(3, 3), bf(3)
         logical :: apic, body
-        real(wp), allocatable :: cell_pv(:), cell_v(:)
+        real(wp), allocatable :: cell_pv(:), cell_v(:), gaps(:)
         real(wp), pointer, contiguous :: buf(:, :)
 
         dim = grid%dim
@@ -170,10 +170,16 @@ contains
         ! the nodes shared with neighbouring images take their particles' part too
         call halo_sum(grid, with_mass, with_mass, with_fint, body)
         if (with_mass .and. grid%ncontacts > 0) then
-            grid%contact_gap = huge(1.0_wp)
+            ! the smallest gap per pair: a minimum, the same whatever the order (threads)
+            allocate (gaps(grid%ncontacts))
+            gaps = huge(1.0_wp)
+            !$omp parallel do default(none) schedule(static) shared(grid, particles, stc) &
+            !$omp private(p) reduction(min: gaps)
             do p = 1, particles%n
-                call contact_gaps(grid, particles, stc, p)
+                call contact_gaps(grid, particles, stc, p, gaps)
             end do
+            !$omp end parallel do
+            grid%contact_gap = gaps
             call halo_contact_gaps(grid)
         end if
     end subroutine p2g
@@ -305,13 +311,20 @@ contains
         last = first + hi(1) - lo(1)
     end subroutine box_row
 
-    !> Record, for the frictional-face nodes particle p maps to, the gap between the
-    !> particle's domain and the face (negative when it reaches past it).
-    subroutine contact_gaps(grid, particles, stc, p)
-        type(grid_type), intent(inout) :: grid
+    !> Record, for the contact nodes (frictional faces, terrain) particle p maps to, the gap
+    !> between the particle's domain and the face or surface (negative when it reaches past
+    !> it), as the smallest so far.
+    subroutine contact_gaps(grid, particles, stc, p, gaps)
+        type(grid_type), intent(in) :: grid
+            !! grid with its contact pairs
         type(particles_type), intent(in) :: particles
+            !! particles
         type(stencils_type), intent(in) :: stc
+            !! stencils of the step
         integer, intent(in) :: p
+            !! particle
+        real(wp), intent(inout) :: gaps(:)
+            !! smallest gap of each contact pair so far [m]
 
         integer :: a, side, c, k, dim
         integer :: node(max_nodes)
@@ -332,7 +345,7 @@ contains
                 do k = 1, stc%count
                     if (w(k) <= 0.0_wp) cycle
                     c = grid%terrain_pair(node(k))
-                    if (c > 0) grid%contact_gap(c) = min(grid%contact_gap(c), gap)
+                    if (c > 0) gaps(c) = min(gaps(c), gap)
                 end do
             end if
         end if
@@ -354,7 +367,7 @@ contains
                 do k = 1, stc%count
                     if (w(k) <= 0.0_wp) cycle
                     c = contact_index(grid, node(k), side, a)
-                    if (c > 0) grid%contact_gap(c) = min(grid%contact_gap(c), gap)
+                    if (c > 0) gaps(c) = min(gaps(c), gap)
                 end do
             end do
         end do
