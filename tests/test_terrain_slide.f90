@@ -5,9 +5,9 @@
 !> (dx = 0.02 m), so the contact is found from the distances to the surface, not from a face
 !> of the grid. Gravity g (sin theta, -cos theta), theta = 30 deg, Coulomb friction mu. Exact:
 !> s(t) = g (sin theta - mu cos theta) t^2 / 2 while mu < tan theta; the block sticks for
-!> mu >= tan theta. Checked: the mean displacement along the floor within 2 % for mu = 0,
-!> 0.2, 0.4, below 0.2 % of the frictionless slide for mu = 0.6, no lift-off, no particle
-!> below the floor, and the same slide (to 1e-9) with the floor as 2 or as 2 000 triangles.
+!> mu >= tan theta. Checked: the mean displacement along the floor within 2 % for mu = 0 and
+!> 0.4, below 0.2 % of the frictionless slide for mu = 0.6, no lift-off, no particle below
+!> the floor, and the same slide (to 1e-9) with the floor as 2 or as 2 000 triangles.
 !>
 !> Then the slope itself tilted by theta in the grid, gravity vertical, and the block a
 !> rectangle turned with it (a body from a closed STL surface): the displacement along the
@@ -41,12 +41,10 @@ program test_terrain_slide
     theta = acos(-1.0_wp)/6
     s_free = 0.5_wp*g*sin(theta)*tend**2
     call run_block(0.0_wp, "0.0", "floor_2", s2)
-    call run_block(0.2_wp, "0.2", "floor_2", s2)
-    call run_block(0.4_wp, "0.4", "floor_2", s2)
     call run_block(0.6_wp, "0.6", "floor_2", s2)
+    call run_block(0.4_wp, "0.4", "floor_2", s2)
     ! the triangulation does not matter
     call run_block(0.4_wp, "0.4", "floor_2000", s2000)
-    call run_block(0.4_wp, "0.4", "floor_2", s2)
     call check_close(suite, s2000, s2, 1.0e-9_wp*abs(s2), &
         "the same slide on 2 and on 2 000 triangles")
     call tilted_slope()
@@ -124,8 +122,8 @@ contains
         call write_block(dir//"/block.stl")
         call run_tilted(0.0_wp, "0.0", dir, "slope_2", s)
         call run_tilted(0.2_wp, "0.2", dir, "slope_2", s)
-        call run_tilted(0.4_wp, "0.4", dir, "slope_2", s_plane2)
         call run_tilted(0.6_wp, "0.6", dir, "slope_2", s)
+        call run_tilted(0.4_wp, "0.4", dir, "slope_2", s_plane2)
         call run_tilted(0.4_wp, "0.4", dir, "slope_2000", s_plane2000)
         call check_close(suite, s_plane2000, s_plane2, 1.0e-6_wp*abs(s_plane2), &
             "tilted slope: the same slide on 2 and on 2 000 triangles")
