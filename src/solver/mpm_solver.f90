@@ -132,7 +132,11 @@ contains
         if (has_text(case%load_state)) then
             call load_state(case%load_state, case, sim%particles, state_time, state_step, error, &
                 nstate)
-            if (allocated(error)) return
+            if (allocated(error)) then
+                ! which case and key asked for the file
+                error%message = case%file//": load_state: "//error%message
+                return
+            end if
             ! a new run starts from the loaded state: displacements count from here
             sim%particles%u = 0.0_wp
             ! on several images: each keeps the particles of its slab (any number of images)
