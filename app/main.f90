@@ -8,7 +8,7 @@ program mpm_geo_main
     use mpm_case, only: case_type, read_case_file, case_summary
     use mpm_run, only: run_options_type, run_summary_type, run_case
     use mpm_solver, only: simulation_type
-    use mpm_parallel, only: image_id, stop_images
+    use mpm_parallel, only: image_id, end_images
     implicit none
 
     type(error_type), allocatable :: error
@@ -42,7 +42,7 @@ program mpm_geo_main
     before_run = .false.
     call run_case(case, options, sim, summary, error)
     if (allocated(error)) call fail(error)
-    call stop_images(0)
+    call end_images(0)
 
 contains
 
@@ -56,7 +56,8 @@ contains
             write (error_unit, "(a)") "mpm_geo: error: "//err%message
             flush (error_unit)
         end if
-        call stop_images(err%code)
+        call end_images(err%code)
+        stop err%code, quiet=.true.
     end subroutine fail
 
     subroutine parse_arguments(case_path, output_dir, check_only, overwrite, options, done, error)

@@ -9,6 +9,7 @@
 submodule (mpm_case) mpm_case_reader
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     use mpm_kinds, only: i8
+    use mpm_strings, only: lower
     use mpm_error, only: fatal_error, exit_input, exit_other
     use mpm_json, only: json_document_type, json_value_type, json_parse_file, &
         json_parse_string, json_free, json_root, json_is_valid, json_is_object, json_type_name, &
@@ -2348,20 +2349,6 @@ contains
         same = len(a) == len(b)
         if (same) same = a == b
     end function same
-
-    !> ASCII lower case.
-    pure function lower(str) result(low)
-        character(len=*), intent(in) :: str
-        character(len=len(str)) :: low
-
-        integer :: i, code
-
-        low = str
-        do i = 1, len(str)
-            code = iachar(str(i:i))
-            if (code >= iachar("A") .and. code <= iachar("Z")) low(i:i) = achar(code + 32)
-        end do
-    end function lower
 
     !> Edit distance between two strings (insertions, deletions, substitutions).
     pure integer function levenshtein(a, b)

@@ -695,7 +695,7 @@ contains
             character(len=:), allocatable :: n, source
             integer :: c, nstress
 
-            n = count_text(record%counts(part))
+            n = int_text(record%counts(part))
             source = part_file_name(index, part, writer%images)//":/particles/"
             ! Voigt order: the first 4 components in 2D, all 6 in 3D
             nstress = merge(4, 6, writer%dim == 2)
@@ -871,19 +871,6 @@ contains
 
         listed = counts(part) > 0 .or. (part == 1 .and. all(counts == 0))
     end function listed
-
-    !> A particle count as text.
-    pure function count_text(value) result(text)
-        integer(i8), intent(in) :: value
-            !! the count
-        character(len=:), allocatable :: text
-            !! its digits
-
-        character(len=24) :: buffer
-
-        write (buffer, "(i0)") value
-        text = trim(buffer)
-    end function count_text
 
     !> Name of the particle file of output number `index` (0-based).
     pure function particle_file_name(index) result(name)

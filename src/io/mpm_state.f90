@@ -7,7 +7,7 @@
 !> materials in another order or add new ones. The layout is described in docs/output.md.
 module mpm_state
     use mpm_kinds, only: wp
-    use mpm_strings, only: int_text
+    use mpm_strings, only: int_text, real_text, reals_text
     use mpm_error, only: error_type, fatal_error, exit_other, exit_input
     use mpm_case, only: case_type
     use mpm_particles, only: particles_type, new_particles, nstress_of
@@ -536,40 +536,5 @@ contains
             text = text//int_text(values(i))
         end do
     end function ints_text
-
-    !> The shortest text (up to 17 digits) that reads back as the same double.
-    pure function real_text(value) result(text)
-        real(wp), intent(in) :: value
-        character(len=:), allocatable :: text
-
-        character(len=40) :: buffer, form
-        character(len=80) :: message
-        real(wp) :: back
-        integer :: digits, stat
-
-        do digits = 1, 17
-            write (form, "(a,i0,a)") "(g0.", digits, ")"
-            write (buffer, form) value
-            read (buffer, *, iostat=stat, iomsg=message) back
-            if (stat == 0 .and. back == value) exit
-        end do
-        text = trim(adjustl(buffer))
-        ! g0.d writes 1.0 as "1."
-        if (text(len(text):) == ".") text = text(1:len(text) - 1)
-    end function real_text
-
-    pure function reals_text(values) result(text)
-        real(wp), intent(in) :: values(:)
-        character(len=:), allocatable :: text
-
-        integer :: i
-
-        text = "("
-        do i = 1, size(values)
-            if (i > 1) text = text//", "
-            text = text//real_text(values(i))
-        end do
-        text = text//")"
-    end function reals_text
 
 end module mpm_state

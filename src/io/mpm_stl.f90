@@ -24,6 +24,7 @@ module mpm_stl
     use mpm_kinds, only: wp, i8
     use mpm_error, only: error_type, fatal_error, exit_input, exit_other
     use mpm_filesystem, only: file_exists, directory_exists, c_string
+    use mpm_strings, only: lower, real_text, vector_text => reals_text, i8_text => int_text
     implicit none
     private
     public :: stl_mesh_type, read_stl, check_closed, enclosed_volume
@@ -1298,35 +1299,6 @@ contains
         is_digit = c >= "0" .and. c <= "9"
     end function is_digit
 
-    !> ASCII lower case.
-    pure function lower(text) result(low)
-        character(len=*), intent(in) :: text
-            !! any text
-        character(len=len(text)) :: low
-            !! A-Z turned into a-z
-
-        integer :: i, code
-
-        low = text
-        do i = 1, len(text)
-            code = iachar(text(i:i))
-            if (code >= iachar("A") .and. code <= iachar("Z")) low(i:i) = achar(code + 32)
-        end do
-    end function lower
-
-    !> Decimal text of a 64-bit integer: "42".
-    pure function i8_text(value) result(text)
-        integer(i8), intent(in) :: value
-            !! the integer
-        character(len=:), allocatable :: text
-            !! its digits
-
-        character(len=24) :: buffer
-
-        write (buffer, "(i0)") value
-        text = trim(buffer)
-    end function i8_text
-
     !> "line 12: " before a message about an ASCII file, "" for a binary one (line 0).
     pure function line_prefix(line) result(text)
         integer, intent(in) :: line
@@ -1351,50 +1323,5 @@ contains
             text = " (extra bytes after the last triangle?)"
         end if
     end function size_hint
-
-    !> The shortest text (up to 17 digits) that reads back as the same double.
-    pure function real_text(value) result(text)
-        real(wp), intent(in) :: value
-            !! a finite number
-        character(len=:), allocatable :: text
-            !! its text, "0.5", "1", "512345.67", "1.0E+35"
-
-        character(len=40) :: buffer, form
-        character(len=80) :: message
-        real(wp) :: back
-        integer :: digits, stat
-
-        do digits = 1, 17
-            ! plain decimals for ordinary sizes, "1.5E+35" beyond
-            if (value == 0.0_wp .or. (abs(value) >= 1.0e-3_wp .and. abs(value) < 1.0e15_wp)) &
-                then
-                write (form, "(a,i0,a)") "(g0.", digits, ")"
-            else
-                write (form, "(a,i0,a)") "(es30.", max(digits - 1, 1), ")"
-            end if
-            write (buffer, form) value
-            read (buffer, *, iostat=stat, iomsg=message) back
-            if (stat == 0 .and. back == value) exit
-        end do
-        text = trim(adjustl(buffer))
-        if (text(len(text):) == ".") text = text(1:len(text) - 1)
-    end function real_text
-
-    !> "(x, y, z)" with each component in its shortest exact form.
-    pure function vector_text(values) result(text)
-        real(wp), intent(in) :: values(:)
-            !! the components
-        character(len=:), allocatable :: text
-            !! the vector as text
-
-        integer :: i
-
-        text = "("
-        do i = 1, size(values)
-            if (i > 1) text = text//", "
-            text = text//real_text(values(i))
-        end do
-        text = text//")"
-    end function vector_text
 
 end module mpm_stl

@@ -9,7 +9,7 @@ module mpm_parallel
     implicit none
     private
     public :: image_id, image_count, sum_over_images, max_over_images, min_over_images, &
-        counts_of_images, exchange_neighbours, gather_on_first, agree_on_failure, stop_images
+        counts_of_images, exchange_neighbours, gather_on_first, agree_on_failure, end_images
 
     !> Sum over the images of a value of each image.
     interface sum_over_images
@@ -229,10 +229,11 @@ contains
         reporter = code /= 0 .and. first == this_image()
     end subroutine agree_on_failure
 
-    !> End the run on every image with an exit code (all images call it). In a coarray run
-    !> `stop code` is an MPI abort on each image; the images finish MPI normally instead, so
-    !> the launcher passes the code on without an abort report.
-    subroutine stop_images(code)
+    !> End a coarray run on every image with an exit code (all images call it; app/main.f90
+    !> then stops). In a coarray run `stop code` is an MPI abort on each image: the images
+    !> finish MPI normally instead and leave with the code, so the launcher passes it on
+    !> without an abort report. In the serial build it returns and the caller stops.
+    subroutine end_images(code)
 #ifdef MPM_COARRAY
         use, intrinsic :: iso_c_binding, only: c_int
 #endif
@@ -254,8 +255,6 @@ contains
         call mpi_finalize(ierror)
         call c_exit(int(code, c_int))
 #endif
-        if (code == 0) stop
-        stop code, quiet=.true.
-    end subroutine stop_images
+    end subroutine end_images
 
 end module mpm_parallel
