@@ -8,7 +8,7 @@ module mpm_error
     implicit none
     private
     public :: error_type, fatal_error
-    public :: exit_success, exit_other, exit_input, exit_numerical
+    public :: exit_success, exit_other, exit_input, exit_numerical, exit_interrupted
 
     integer, parameter :: exit_success = 0
         !! process exit code: success
@@ -18,6 +18,9 @@ module mpm_error
         !! process exit code: invalid input (case file, state file, command line)
     integer, parameter :: exit_numerical = 3
         !! process exit code: numerical failure (instability, NaN)
+    integer, parameter :: exit_interrupted = 4
+        !! process exit code: stopped by SIGTERM or SIGINT after writing a checkpoint (the run
+        !! continues with mpm_geo --restart)
 
     !> An error with a message for the user and the exit code it maps to.
     type :: error_type

@@ -1,9 +1,9 @@
 !> Facts about the running process (Linux /proc), for summaries and benchmarks.
 module mpm_system
-    use mpm_kinds, only: wp
+    use mpm_kinds, only: wp, i8
     implicit none
     private
-    public :: peak_memory_mb
+    public :: peak_memory_mb, available_memory_bytes
 
 contains
 
@@ -28,5 +28,71 @@ contains
         end do
         close (unit)
     end function peak_memory_mb
+
+    !> Memory this process can still take [bytes]: MemAvailable of /proc/meminfo, or less
+    !> when a cgroup (v2: memory.max - memory.current; v1: memory.limit_in_bytes -
+    !> memory.usage_in_bytes) limits the job, as Slurm and containers do; -1 when unknown
+    !> (not Linux).
+    integer(i8) function available_memory_bytes()
+        integer(i8) :: limit, used
+
+        available_memory_bytes = meminfo_bytes("MemAvailable:")
+        limit = first_number("/sys/fs/cgroup/memory.max")
+        used = first_number("/sys/fs/cgroup/memory.current")
+        if (limit < 0) then
+            limit = first_number("/sys/fs/cgroup/memory/memory.limit_in_bytes")
+            used = first_number("/sys/fs/cgroup/memory/memory.usage_in_bytes")
+        end if
+        ! (v1 reports "no limit" as a huge number, v2 as "max", which reads as -1)
+        if (limit > 0 .and. used >= 0 .and. limit < huge(limit)/2) then
+            if (available_memory_bytes < 0) then
+                available_memory_bytes = max(0_i8, limit - used)
+            else
+                available_memory_bytes = min(available_memory_bytes, max(0_i8, limit - used))
+            end if
+        end if
+    end function available_memory_bytes
+
+    !> A line "Key: N kB" of /proc/meminfo in bytes; -1 when missing.
+    integer(i8) function meminfo_bytes(key)
+        character(len=*), intent(in) :: key
+            !! key with its colon
+
+        integer :: unit, stat
+        integer(i8) :: kb
+        character(len=256) :: line, msg
+
+        meminfo_bytes = -1
+        open (newunit=unit, file="/proc/meminfo", action="read", status="old", iostat=stat, &
+            iomsg=msg)
+        if (stat /= 0) return
+        do
+            read (unit, "(a)", iostat=stat, iomsg=msg) line
+            if (stat /= 0) exit
+            if (line(1:len(key)) == key) then
+                read (line(len(key) + 1:), *, iostat=stat, iomsg=msg) kb
+                if (stat == 0) meminfo_bytes = 1024_i8*kb
+                exit
+            end if
+        end do
+        close (unit)
+    end function meminfo_bytes
+
+    !> The integer on the first line of a file; -1 when the file is missing or holds none.
+    integer(i8) function first_number(path)
+        character(len=*), intent(in) :: path
+            !! file to read
+
+        integer :: unit, stat
+        integer(i8) :: value
+        character(len=256) :: msg
+
+        first_number = -1
+        open (newunit=unit, file=path, action="read", status="old", iostat=stat, iomsg=msg)
+        if (stat /= 0) return
+        read (unit, *, iostat=stat, iomsg=msg) value
+        if (stat == 0) first_number = value
+        close (unit)
+    end function first_number
 
 end module mpm_system

@@ -10,6 +10,7 @@ module mpm_case
     private
     public :: case_type, material_spec_type, body_spec_type
     public :: read_case_file, read_case_string, case_summary, critical_time_step
+    public :: case_key_paths
     public :: bc_free, bc_sliding, bc_fixed, bc_frictional, bc_names
     public :: cone_plane_strain, cone_compression, cone_extension, cone_names
     public :: softening_none, softening_linear, softening_exponential, softening_names
@@ -227,6 +228,22 @@ module mpm_case
             !! state file to start from ("" for none)
         real(wp) :: progress_seconds = 2.0_wp
             !! wall-clock seconds between progress lines [s]
+        integer :: checkpoint_steps = 0
+            !! steps between two checkpoints; 0: none by step count
+        real(wp) :: checkpoint_minutes = 0.0_wp
+            !! wall-clock minutes between two checkpoints; 0: none by wall time [min]
+        character(len=:), allocatable :: checkpoint_file
+            !! checkpoint file; "" for <output_dir>/checkpoint.h5
+        logical :: checkpoint_on_signal = .true.
+            !! on SIGTERM or SIGINT, write a checkpoint and stop (exit_interrupted)
+        real(wp) :: guard_energy_factor = 10.0_wp
+            !! the blow-up guard stops a run whose kinetic energy exceeds this factor times the
+            !! largest energy of the run so far [-]
+        integer :: guard_snapshot_steps = 100
+            !! steps between two copies of the state kept in memory, written as the last
+            !! healthy state when the guard stops the run; 0: no copy
+        character(len=:), allocatable :: text
+            !! JSON text of the case file as read (checkpoints keep it); "" from text
     end type case_type
 
     interface
@@ -259,6 +276,17 @@ module mpm_case
             character(len=:), allocatable :: text
                 !! summary, lines separated by new_line("a")
         end function case_summary
+
+        !> Every key path the case reader accepts, from the reader's own key lists (the schema
+        !> test compares them with docs/case.schema.json). An object's keys are written
+        !> "section.key", an array item's "array[].key", and a material's, which depend on its
+        !> type, "materials[type=NAME].key" for each type name (aliases included):
+        !> "domain.boundaries.xmin.mu", "bodies[].file", "materials[type=drucker_prager].cone".
+        !> (A subroutine: gfortran 12 fails on a deferred-length array function result here.)
+        module subroutine case_key_paths(paths)
+            character(len=:), allocatable, intent(out) :: paths(:)
+                !! key paths, in the reader's order, blank-padded to the longest
+        end subroutine case_key_paths
     end interface
 
 contains

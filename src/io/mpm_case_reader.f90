@@ -21,11 +21,13 @@ submodule (mpm_case) mpm_case_reader
     ! Allowed keys of each object of a case file
     character(len=*), parameter :: top_keys(*) = [character(len=10) :: "name", "dimension", &
         "domain", "particles", "materials", "bodies", "gravity", "solver", "time", "damping", &
-        "contact", "output", "progress", "save_state", "load_state"]
+        "contact", "output", "progress", "save_state", "load_state", "checkpoint", "guard"]
     character(len=*), parameter :: domain_keys(*) = [character(len=10) :: "nx", "ny", "nz", &
         "dx", "origin", "boundaries"]
     character(len=*), parameter :: face_keys(*) = [character(len=4) :: "xmin", "xmax", &
         "ymin", "ymax", "zmin", "zmax"]
+    character(len=*), parameter :: face_object_keys(*) = [character(len=4) :: "type", "mu"]
+        !! keys of a face given as an object
     character(len=*), parameter :: particle_keys(*) = [character(len=12) :: "ppc", &
         "distribution", "seed"]
     character(len=*), parameter :: elastic_keys(*) = [character(len=4) :: "name", "type", &
@@ -55,6 +57,12 @@ submodule (mpm_case) mpm_case_reader
     character(len=*), parameter :: output_keys(*) = [character(len=16) :: "interval", "fields", &
         "grid", "directory", "overwrite", "history_interval"]
     character(len=*), parameter :: progress_keys(*) = [character(len=8) :: "interval"]
+    character(len=*), parameter :: checkpoint_keys(*) = [character(len=13) :: "every_steps", &
+        "every_minutes", "file", "on_signal"]
+    character(len=*), parameter :: guard_keys(*) = [character(len=14) :: "energy_factor", &
+        "snapshot_steps"]
+    integer, parameter :: key_path_width = 80
+        !! longest key path case_key_paths can list ("materials[type=...].softening.strain")
 
     ! Material models (codes used only inside the reader; the case stores the model name)
     integer, parameter :: model_elastic = 1, model_mohr_coulomb = 2, model_drucker_prager = 3, &
@@ -87,12 +95,14 @@ contains
 
     module procedure read_case_file
         type(json_document_type) :: doc
+        character(len=:), allocatable :: text
 
-        call json_parse_file(path, doc, error)
+        call json_parse_file(path, doc, error, text)
         if (.not. allocated(error)) then
             call resolve_case(json_root(doc), path, base_name(path), case, error)
         end if
         call json_free(doc)
+        if (.not. allocated(error)) call move_alloc(text, case%text)
     end procedure read_case_file
 
     module procedure read_case_string
@@ -112,6 +122,7 @@ contains
             call resolve_case(json_root(doc), src, default_name, case, error)
         end if
         call json_free(doc)
+        if (.not. allocated(error)) case%text = text
     end procedure read_case_string
 
     module procedure case_summary
@@ -229,6 +240,65 @@ contains
         text = text//"load_state  "//text_or(case%load_state, "(none)", .true.)
     end procedure case_summary
 
+    module procedure case_key_paths
+        character(len=key_path_width), allocatable :: list(:)
+        character(len=len(any_material_keys)), allocatable :: keys(:)
+        character(len=:), allocatable :: material
+        integer :: i, longest
+
+        ! Every object the reader checks with check_keys, from the same key lists; a new
+        ! section needs its line here too (the schema test then asks for its keys).
+        allocate (list(0))
+        call add_key_paths(list, "", top_keys)
+        call add_key_paths(list, "domain", domain_keys)
+        call add_key_paths(list, "domain.boundaries", face_keys)
+        do i = 1, size(face_keys)
+            call add_key_paths(list, "domain.boundaries."//trim(face_keys(i)), face_object_keys)
+        end do
+        call add_key_paths(list, "particles", particle_keys)
+        do i = 1, size(model_choices)
+            material = "materials[type="//trim(model_choices(i))//"]"
+            keys = material_keys(model_choice_codes(i))
+            call add_key_paths(list, material, keys)
+            if (any_same(keys, "softening")) then
+                call add_key_paths(list, material//".softening", softening_keys)
+            end if
+        end do
+        call add_key_paths(list, "bodies[]", body_keys)
+        call add_key_paths(list, "solver", solver_keys)
+        call add_key_paths(list, "time", time_keys)
+        call add_key_paths(list, "damping", damping_keys)
+        call add_key_paths(list, "contact", contact_keys)
+        call add_key_paths(list, "output", output_keys)
+        call add_key_paths(list, "progress", progress_keys)
+        call add_key_paths(list, "checkpoint", checkpoint_keys)
+        call add_key_paths(list, "guard", guard_keys)
+        longest = 0
+        do i = 1, size(list)
+            longest = max(longest, len_trim(list(i)))
+        end do
+        allocate (character(len=longest) :: paths(size(list)))
+        do i = 1, size(list)
+            paths(i) = list(i)
+        end do
+    end procedure case_key_paths
+
+    !> Append "path.key" for every key of an object to a list of key paths.
+    pure subroutine add_key_paths(list, path, keys)
+        character(len=key_path_width), allocatable, intent(inout) :: list(:)
+            !! key paths so far
+        character(len=*), intent(in) :: path
+            !! path of the object ("" at the top level)
+        character(len=*), intent(in) :: keys(:)
+            !! keys of the object
+
+        integer :: k
+
+        do k = 1, size(keys)
+            list = [character(len=key_path_width) :: list, join(path, trim(keys(k)))]
+        end do
+    end subroutine add_key_paths
+
     ! ----------------------------------------------------------------------------------------
     ! Sections of the case file, in the order they are checked
     ! ----------------------------------------------------------------------------------------
@@ -250,6 +320,8 @@ contains
         case%contact_type = "none"
         case%save_state = ""
         case%load_state = ""
+        case%checkpoint_file = ""
+        case%text = ""
         if (.not. json_is_object(root)) then
             call input_error(error, src, "the top level must be a JSON object { ... } holding " &
                 //"the case keys, found "//describe(root))
@@ -282,6 +354,10 @@ contains
         call read_output(root, src, case, error)
         if (allocated(error)) return
         call read_progress(root, src, case, error)
+        if (allocated(error)) return
+        call read_checkpoint(root, src, case, error)
+        if (allocated(error)) return
+        call read_guard(root, src, case, error)
     end subroutine resolve_case
 
     !> `name`: default from the file name; it becomes a folder name, so keep it simple.
@@ -419,7 +495,6 @@ contains
         type(error_type), allocatable, intent(out) :: error
             !! first error found
 
-        character(len=*), parameter :: face_object_keys(*) = [character(len=4) :: "type", "mu"]
         character(len=*), parameter :: frictional_form = '{"type": "frictional", "mu": 0.4}'
         character(len=*), parameter :: allowed = 'one of "free", "sliding", "fixed", or an ' &
             //"object "//frictional_form//" for a face with Coulomb friction"
@@ -585,18 +660,26 @@ contains
             error, required=.true.)
         if (allocated(error)) return
         owner = "a "//trim(model_names(model))//" material"
+        call check_keys(item, path, material_keys(model), src, error, owner, any_material_keys)
+    end subroutine read_material_type
+
+    !> Keys of a material of one model (the reader's check and `case_key_paths` both use it).
+    pure function material_keys(model) result(keys)
+        integer, intent(in) :: model
+            !! model code (model_elastic, ...)
+        character(len=len(any_material_keys)), allocatable :: keys(:)
+
         select case (model)
         case (model_elastic, model_neo_hookean)
-            call check_keys(item, path, elastic_keys, src, error, owner, any_material_keys)
+            keys = elastic_keys
         case (model_mohr_coulomb)
-            call check_keys(item, path, mohr_coulomb_keys, src, error, owner, any_material_keys)
+            keys = mohr_coulomb_keys
         case (model_drucker_prager)
-            call check_keys(item, path, drucker_prager_keys, src, error, owner, &
-                any_material_keys)
+            keys = drucker_prager_keys
         case default
-            call check_keys(item, path, newtonian_keys, src, error, owner, any_material_keys)
+            keys = newtonian_keys
         end select
-    end subroutine read_material_type
+    end function material_keys
 
     !> Elastic parameters of a solid: `E`, `nu`, `rho`.
     subroutine read_elasticity(item, path, src, mat, error)
@@ -1396,6 +1479,58 @@ contains
         call get_real(progress, "interval", "progress", src, case%progress_seconds, error, &
             above=0.0_wp, unit="s")
     end subroutine read_progress
+
+    !> `checkpoint`: when to write the state of the run for a restart, and where.
+    subroutine read_checkpoint(root, src, case, error)
+        type(json_value_type), intent(in) :: root
+            !! top-level object
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        type(case_type), intent(inout) :: case
+            !! case being resolved
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(json_value_type) :: checkpoint
+        logical :: found
+
+        call get_section(root, "checkpoint", "", src, checkpoint_keys, checkpoint, error, &
+            found=found)
+        if (allocated(error) .or. .not. found) return
+        call get_int(checkpoint, "every_steps", "checkpoint", src, case%checkpoint_steps, &
+            error, at_least=1)
+        if (allocated(error)) return
+        call get_real(checkpoint, "every_minutes", "checkpoint", src, case%checkpoint_minutes, &
+            error, above=0.0_wp, unit="min")
+        if (allocated(error)) return
+        call get_string(checkpoint, "file", "checkpoint", src, case%checkpoint_file, error)
+        if (allocated(error)) return
+        call get_bool(checkpoint, "on_signal", "checkpoint", src, case%checkpoint_on_signal, &
+            error)
+    end subroutine read_checkpoint
+
+    !> `guard`: the blow-up guard's energy bound and its copies of the healthy state.
+    subroutine read_guard(root, src, case, error)
+        type(json_value_type), intent(in) :: root
+            !! top-level object
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        type(case_type), intent(inout) :: case
+            !! case being resolved
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(json_value_type) :: guard
+        logical :: found
+
+        call get_section(root, "guard", "", src, guard_keys, guard, error, found=found)
+        if (allocated(error) .or. .not. found) return
+        call get_real(guard, "energy_factor", "guard", src, case%guard_energy_factor, error, &
+            above=1.0_wp)
+        if (allocated(error)) return
+        call get_int(guard, "snapshot_steps", "guard", src, case%guard_snapshot_steps, error, &
+            at_least=0)
+    end subroutine read_guard
 
     ! ----------------------------------------------------------------------------------------
     ! Typed getters: each reads one key, checks it and writes the message when it is wrong

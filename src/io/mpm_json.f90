@@ -79,13 +79,15 @@ module mpm_json
 contains
 
     !> Read and parse a JSON file. Errors name the file and the line and column of a syntax error.
-    subroutine json_parse_file(path, doc, error)
+    subroutine json_parse_file(path, doc, error, contents)
         character(len=*), intent(in) :: path
             !! file to read
         type(json_document_type), intent(out) :: doc
             !! parsed document
         type(error_type), allocatable, intent(out) :: error
             !! set when the file is missing, unreadable or not valid JSON
+        character(len=:), allocatable, intent(out), optional :: contents
+            !! the text of the file, as read
 
         character(len=:), allocatable :: text
         integer :: unit, stat, nbytes
@@ -115,6 +117,7 @@ contains
         end if
         close (unit)
         call json_parse_string(text, doc, error, path)
+        if (present(contents)) call move_alloc(text, contents)
     end subroutine json_parse_file
 
     !> Parse JSON text. `source` names the text in messages (usually the file name).

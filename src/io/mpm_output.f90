@@ -23,6 +23,7 @@ module mpm_output
     use mpm_version, only: mpm_version_string
     implicit none
     private
+    public :: output_list, resume_output_writer, output_count
     public :: output_writer_type, new_output_writer, write_output, write_index, remove_outputs, &
         write_terrain
 
@@ -164,6 +165,78 @@ contains
         allocate (writer%records(merge(16, 0, writer%image == 1)))
         writer%count = 0
     end subroutine new_output_writer
+
+    !> Number of output times written so far (a restart counts those of the earlier run).
+    pure integer function output_count(writer)
+        type(output_writer_type), intent(in) :: writer
+            !! the run's writer
+        output_count = writer%count
+    end function output_count
+
+    !> The output times written so far, for a checkpoint (image 1 keeps them; the other
+    !> images return empty lists).
+    subroutine output_list(writer, time, step, counts, id)
+        type(output_writer_type), intent(in) :: writer
+            !! the run's writer
+        real(wp), allocatable, intent(out) :: time(:)
+            !! time of each output [s]
+        integer, allocatable, intent(out) :: step(:)
+            !! step of each output
+        integer, allocatable, intent(out) :: counts(:, :)
+            !! particles in the file of each image at each output (images, outputs)
+        logical, allocatable, intent(out) :: id(:)
+            !! the files of each output hold particle ids
+
+        integer :: i, n
+
+        n = 0
+        if (writer%image == 1) n = writer%count
+        allocate (time(n), step(n), counts(writer%images, n), id(n))
+        do i = 1, n
+            time(i) = writer%records(i)%time
+            step(i) = writer%records(i)%step
+            counts(:, i) = int(writer%records(i)%counts)
+            id(i) = writer%records(i)%id
+        end do
+    end subroutine output_list
+
+    !> Continue the outputs of an earlier run of the case (a restart from a checkpoint): the
+    !> next output gets the next number, and the index lists the earlier outputs too.
+    subroutine resume_output_writer(writer, time, step, counts, id, error)
+        type(output_writer_type), intent(inout) :: writer
+            !! writer made by new_output_writer, nothing written yet
+        real(wp), intent(in) :: time(:)
+            !! output_list of the earlier run
+        integer, intent(in) :: step(:)
+            !! output_list of the earlier run
+        integer, intent(in) :: counts(:, :)
+            !! output_list of the earlier run (images, outputs)
+        logical, intent(in) :: id(:)
+            !! output_list of the earlier run
+        type(error_type), allocatable, intent(out) :: error
+            !! set when the lists do not fit this writer
+
+        integer :: i, n
+
+        n = size(time)
+        if (size(step) /= n .or. size(id) /= n .or. size(counts, 2) /= n .or. &
+            size(counts, 1) /= writer%images) then
+            call fatal_error(error, "output: the outputs of the earlier run do not fit ("// &
+                int_text(size(counts, 1))//" images, this run has "// &
+                int_text(writer%images)//")", exit_other)
+            return
+        end if
+        writer%count = n
+        if (writer%image /= 1) return
+        deallocate (writer%records)
+        allocate (writer%records(max(16, 2*n)))
+        do i = 1, n
+            writer%records(i)%time = time(i)
+            writer%records(i)%step = step(i)
+            writer%records(i)%counts = int(counts(:, i), i8)
+            writer%records(i)%id = id(i)
+        end do
+    end subroutine resume_output_writer
 
     !> Write the particles (and the grid if the case asks) at one time, then the XDMF index.
     !>

@@ -5,8 +5,13 @@
 !> grid (dimension, ncells, dx, origin) and the material names. Material indices are stored
 !> as in the saving case and remapped by name when loading, so a case may list its
 !> materials in another order or add new ones. The layout is described in docs/output.md.
+!>
+!> A checkpoint is a state file with a group "run" more (run_record_type): what the time
+!> loop needs to continue exactly where it stopped (energies, the running contact loads, the
+!> output schedule and the outputs written, the case file's text). Any reader of state files
+!> reads a checkpoint as a state.
 module mpm_state
-    use mpm_kinds, only: wp
+    use mpm_kinds, only: wp, i8
     use mpm_strings, only: int_text, real_text, reals_text
     use mpm_error, only: error_type, fatal_error, exit_other, exit_input
     use mpm_case, only: case_type
@@ -20,7 +25,7 @@ module mpm_state
     use mpm_version, only: mpm_version_string
     implicit none
     private
-    public :: save_state, load_state
+    public :: save_state, load_state, read_run_record, run_record_type, state_particle_count
     public :: state_format, state_format_version
 
     character(len=*), parameter :: state_format = "mpm-geo-state"
@@ -30,10 +35,48 @@ module mpm_state
     real(wp), parameter :: grid_rtol = 1.0e-12_wp
         !! relative tolerance when comparing dx and origin with the case's [-]
 
+    !> What a checkpoint keeps besides the particles: how the run goes on, bit for bit.
+    type :: run_record_type
+        character(len=:), allocatable :: case_file
+            !! case file the run was started with (as given on its command line)
+        character(len=:), allocatable :: case_text
+            !! the JSON text of that case file
+        character(len=:), allocatable :: output_dir
+            !! output folder of the run
+        integer :: images = 1
+            !! images (processes) of the run
+        real(wp) :: dt = 0.0_wp
+            !! time step of the last step [s]
+        real(wp) :: energy(4) = 0.0_wp
+            !! kinetic, strain, potential and damping energy terms of the run [J]
+        real(wp) :: energy_scale = 0.0_wp
+            !! largest energy of the run so far (blow-up guard) [J]
+        real(wp) :: kinetic_previous = 0.0_wp
+            !! kinetic energy of the step before (kinetic damping) [J]
+        real(wp) :: next_output = 0.0_wp
+            !! time of the next particle output [s]
+        real(wp) :: next_history = 0.0_wp
+            !! time of the next line of the energy history [s]
+        real(wp) :: wall = 0.0_wp
+            !! wall-clock time of the run's time loop so far [s]
+        real(wp), allocatable :: output_time(:)
+            !! time of each output written (outputs) [s]
+        integer, allocatable :: output_step(:)
+            !! step of each output written (outputs)
+        integer, allocatable :: output_counts(:, :)
+            !! particles in each image's file of each output (images, outputs)
+        logical, allocatable :: output_id(:)
+            !! the files of each output hold particle ids (outputs)
+        real(wp), allocatable :: face_load(:)
+            !! running normal load of every frictional face node of the whole grid [N s]
+        real(wp), allocatable :: terrain_load(:)
+            !! running normal load of every terrain contact pair [N s]
+    end type run_record_type
+
 contains
 
     !> Write the particle state to `path` (through `path.tmp` and a rename: never half a file).
-    subroutine save_state(path, case, particles, time, step, error)
+    subroutine save_state(path, case, particles, time, step, error, run)
         character(len=*), intent(in) :: path
             !! state file to write; its folder is created when missing
         type(case_type), intent(in) :: case
@@ -46,6 +89,8 @@ contains
             !! time step number
         type(error_type), allocatable, intent(out) :: error
             !! set when the file cannot be written (the message names it)
+        type(run_record_type), intent(in), optional :: run
+            !! makes the state a checkpoint: how the run goes on
 
         character(len=:), allocatable :: folder, temporary
         type(error_type), allocatable :: ignored
@@ -67,7 +112,7 @@ contains
         if (allocated(error)) return
 
         temporary = path//".tmp"
-        call write_state_file(temporary, case, particles, time, step, error)
+        call write_state_file(temporary, case, particles, time, step, error, run)
         if (allocated(error)) then
             call remove_file(temporary, ignored)
             return
@@ -75,13 +120,14 @@ contains
         call rename_file(temporary, path, error)
     end subroutine save_state
 
-    subroutine write_state_file(path, case, particles, time, step, error)
+    subroutine write_state_file(path, case, particles, time, step, error, run)
         character(len=*), intent(in) :: path
         type(case_type), intent(in) :: case
         type(particles_type), intent(in) :: particles
         real(wp), intent(in) :: time
         integer, intent(in) :: step
         type(error_type), allocatable, intent(out) :: error
+        type(run_record_type), intent(in), optional :: run
 
         type(hdf5_location_type) :: file, group
         type(error_type), allocatable :: close_error
@@ -111,8 +157,8 @@ contains
             call hdf5_write_attribute(file, "n", particles%n, error)
             if (allocated(error)) exit steps
             call hdf5_write_attribute(file, "nstress", particles%nstress, error)
-        if (allocated(error)) return
-        call hdf5_write_attribute(file, "nstate", particles%nstate, error)
+            if (allocated(error)) exit steps
+            call hdf5_write_attribute(file, "nstate", particles%nstate, error)
             if (allocated(error)) exit steps
             call hdf5_write_attribute(file, "time", time, error)
             if (allocated(error)) exit steps
@@ -124,6 +170,14 @@ contains
             call hdf5_create_group(file, "particles", group, error)
             if (allocated(error)) exit steps
             call write_particles(group, particles, error)
+            call hdf5_close(group, close_error)
+            if (.not. allocated(error) .and. allocated(close_error)) then
+                call move_alloc(close_error, error)
+            end if
+            if (allocated(error) .or. .not. present(run)) exit steps
+            call hdf5_create_group(file, "run", group, error)
+            if (allocated(error)) exit steps
+            call write_run_record(group, run, error)
             call hdf5_close(group, close_error)
             if (.not. allocated(error) .and. allocated(close_error)) then
                 call move_alloc(close_error, error)
@@ -141,8 +195,10 @@ contains
 
         call hdf5_write_dataset(group, "x", particles%x, error, units="m")
         if (allocated(error)) return
-        call hdf5_write_dataset(group, "u", particles%u, error, units="m")
-        if (allocated(error)) return
+        if (allocated(particles%u)) then
+            call hdf5_write_dataset(group, "u", particles%u, error, units="m")
+            if (allocated(error)) return
+        end if
         call hdf5_write_dataset(group, "v", particles%v, error, units="m/s")
         if (allocated(error)) return
         call hdf5_write_dataset(group, "mass", particles%mass, error, &
@@ -157,9 +213,11 @@ contains
         call hdf5_write_dataset(group, "stress", particles%stress, error, units="Pa", &
             components=voigt_components(particles%dim))
         if (allocated(error)) return
-        call hdf5_write_dataset(group, "strain", particles%strain, error, units="-", &
-            components=voigt_components(particles%dim))
-        if (allocated(error)) return
+        if (allocated(particles%strain)) then
+            call hdf5_write_dataset(group, "strain", particles%strain, error, units="-", &
+                components=voigt_components(particles%dim))
+            if (allocated(error)) return
+        end if
         call hdf5_write_dataset(group, "f", particles%f, error, units="-")
         if (allocated(error)) return
         call hdf5_write_dataset(group, "lp0", particles%lp0, error, units="m")
@@ -176,6 +234,242 @@ contains
             call hdf5_write_dataset(group, "affine", particles%affine, error, units="1/s")
         end if
     end subroutine write_particles
+
+    !> The run group of a checkpoint: sizes as attributes, arrays as datasets (the text of
+    !> the case file as its bytes: an attribute holds at most 64 kB).
+    subroutine write_run_record(group, run, error)
+        type(hdf5_location_type), intent(in) :: group
+        type(run_record_type), intent(in) :: run
+        type(error_type), allocatable, intent(out) :: error
+
+        integer :: i
+
+        call hdf5_write_attribute(group, "case_file", run%case_file, error)
+        if (allocated(error)) return
+        call hdf5_write_attribute(group, "output_dir", run%output_dir, error)
+        if (allocated(error)) return
+        call hdf5_write_attribute(group, "images", run%images, error)
+        if (allocated(error)) return
+        call hdf5_write_attribute(group, "dt", run%dt, error)
+        if (allocated(error)) return
+        call hdf5_write_attribute(group, "energy", run%energy, error)
+        if (allocated(error)) return
+        call hdf5_write_attribute(group, "energy_scale", run%energy_scale, error)
+        if (allocated(error)) return
+        call hdf5_write_attribute(group, "kinetic_previous", run%kinetic_previous, error)
+        if (allocated(error)) return
+        call hdf5_write_attribute(group, "next_output", run%next_output, error)
+        if (allocated(error)) return
+        call hdf5_write_attribute(group, "next_history", run%next_history, error)
+        if (allocated(error)) return
+        call hdf5_write_attribute(group, "wall", run%wall, error)
+        if (allocated(error)) return
+        call hdf5_write_attribute(group, "outputs", size(run%output_time), error)
+        if (allocated(error)) return
+        call hdf5_write_attribute(group, "face_loads", size(run%face_load), error)
+        if (allocated(error)) return
+        call hdf5_write_attribute(group, "terrain_loads", size(run%terrain_load), error)
+        if (allocated(error)) return
+        call hdf5_write_attribute(group, "case_text_bytes", len(run%case_text), error)
+        if (allocated(error)) return
+        call hdf5_write_dataset(group, "case_text", [(iachar(run%case_text(i:i)), &
+            i = 1, len(run%case_text))], error, units="byte")
+        if (allocated(error)) return
+        if (size(run%output_time) > 0) then
+            call hdf5_write_dataset(group, "output_time", run%output_time, error, units="s")
+            if (allocated(error)) return
+            call hdf5_write_dataset(group, "output_step", run%output_step, error, units="-")
+            if (allocated(error)) return
+            call hdf5_write_dataset(group, "output_counts", reshape(run%output_counts, &
+                [size(run%output_counts)]), error, units="-")
+            if (allocated(error)) return
+            call hdf5_write_dataset(group, "output_id", merge(1, 0, run%output_id), error, &
+                units="-")
+            if (allocated(error)) return
+        end if
+        if (size(run%face_load) > 0) then
+            call hdf5_write_dataset(group, "face_load", run%face_load, error, units="N s")
+            if (allocated(error)) return
+        end if
+        if (size(run%terrain_load) > 0) then
+            call hdf5_write_dataset(group, "terrain_load", run%terrain_load, error, units="N s")
+        end if
+    end subroutine write_run_record
+
+    !> Number of particles of a state file (attribute n), -1 when it cannot be read: a
+    !> quick look, before load_state checks the file.
+    integer(i8) function state_particle_count(path)
+        character(len=*), intent(in) :: path
+            !! state file or checkpoint
+
+        type(hdf5_location_type) :: file
+        type(error_type), allocatable :: error, ignored
+        integer :: n
+
+        state_particle_count = -1
+        if (.not. file_exists(path)) return
+        call hdf5_initialize(error)
+        if (allocated(error)) return
+        if (.not. hdf5_is_hdf5_file(path)) return
+        call hdf5_open_file(path, file, error)
+        if (allocated(error)) return
+        if (hdf5_has_attribute(file, "n")) then
+            call hdf5_read_attribute(file, "n", n, error)
+            if (.not. allocated(error)) state_particle_count = n
+        end if
+        call hdf5_close(file, ignored)
+    end function state_particle_count
+
+    !> The run record of a checkpoint (before its case is known: the record holds it).
+    subroutine read_run_record(path, run, error)
+        character(len=*), intent(in) :: path
+            !! checkpoint file
+        type(run_record_type), intent(out) :: run
+            !! the record
+        type(error_type), allocatable, intent(out) :: error
+            !! set (exit_input) when the file is not a checkpoint of mpm-geo
+
+        type(hdf5_location_type) :: file, group
+        type(error_type), allocatable :: close_error
+        character(len=:), allocatable :: format
+        integer :: version
+
+        if (.not. file_exists(path)) then
+            call fatal_error(error, restart_refusal(path, "the file does not exist"), &
+                exit_input)
+            return
+        end if
+        call hdf5_initialize(error)
+        if (allocated(error)) return
+        if (.not. hdf5_is_hdf5_file(path)) then
+            call fatal_error(error, restart_refusal(path, "it is not an HDF5 file"), exit_input)
+            return
+        end if
+        call hdf5_open_file(path, file, error)
+        if (allocated(error)) return
+        steps: block
+            format = ""
+            if (hdf5_has_attribute(file, "format")) then
+                call hdf5_read_attribute(file, "format", format, error)
+                if (allocated(error)) exit steps
+            end if
+            if (format /= state_format) then
+                call fatal_error(error, restart_refusal(path, "it is not an mpm-geo "// &
+                    "checkpoint (not even a state file)"), exit_input)
+                exit steps
+            end if
+            call hdf5_read_attribute(file, "format_version", version, error)
+            if (allocated(error)) exit steps
+            if (version /= state_format_version) then
+                call fatal_error(error, restart_refusal(path, "format_version "// &
+                    int_text(version)//" is not supported (this build reads format_version "// &
+                    int_text(state_format_version)//")"), exit_input)
+                exit steps
+            end if
+            if (.not. hdf5_has_link(file, "run")) then
+                call fatal_error(error, restart_refusal(path, "it is a state file "// &
+                    "(save_state), not a checkpoint: start a new run from it with "// &
+                    "load_state in the case file"), exit_input)
+                exit steps
+            end if
+            call hdf5_open_group(file, "run", group, error)
+            if (allocated(error)) exit steps
+            call read_run_group(group, run, error)
+            call hdf5_close(group, close_error)
+            if (.not. allocated(error) .and. allocated(close_error)) then
+                call move_alloc(close_error, error)
+            end if
+        end block steps
+        call hdf5_close(file, close_error)
+        if (.not. allocated(error) .and. allocated(close_error)) call move_alloc(close_error, error)
+        if (allocated(error)) then
+            if (error%code /= exit_input) error%message = restart_refusal(path, error%message)
+            error%code = exit_input
+        end if
+    end subroutine read_run_record
+
+    subroutine read_run_group(group, run, error)
+        type(hdf5_location_type), intent(in) :: group
+        type(run_record_type), intent(inout) :: run
+        type(error_type), allocatable, intent(out) :: error
+
+        integer :: outputs, faces, terrain, nbytes, i
+        integer, allocatable :: bytes(:), counts(:), ids(:)
+
+        call hdf5_read_attribute(group, "case_file", run%case_file, error)
+        if (allocated(error)) return
+        call hdf5_read_attribute(group, "output_dir", run%output_dir, error)
+        if (allocated(error)) return
+        call hdf5_read_attribute(group, "images", run%images, error)
+        if (allocated(error)) return
+        call hdf5_read_attribute(group, "dt", run%dt, error)
+        if (allocated(error)) return
+        call hdf5_read_attribute(group, "energy", run%energy, error)
+        if (allocated(error)) return
+        call hdf5_read_attribute(group, "energy_scale", run%energy_scale, error)
+        if (allocated(error)) return
+        call hdf5_read_attribute(group, "kinetic_previous", run%kinetic_previous, error)
+        if (allocated(error)) return
+        call hdf5_read_attribute(group, "next_output", run%next_output, error)
+        if (allocated(error)) return
+        call hdf5_read_attribute(group, "next_history", run%next_history, error)
+        if (allocated(error)) return
+        call hdf5_read_attribute(group, "wall", run%wall, error)
+        if (allocated(error)) return
+        call hdf5_read_attribute(group, "outputs", outputs, error)
+        if (allocated(error)) return
+        call hdf5_read_attribute(group, "face_loads", faces, error)
+        if (allocated(error)) return
+        call hdf5_read_attribute(group, "terrain_loads", terrain, error)
+        if (allocated(error)) return
+        if (run%images < 1 .or. outputs < 0 .or. faces < 0 .or. terrain < 0) then
+            call fatal_error(error, "the run record is damaged (images "// &
+                int_text(run%images)//", outputs "//int_text(outputs)//")", exit_input)
+            return
+        end if
+        call hdf5_read_attribute(group, "case_text_bytes", nbytes, error)
+        if (allocated(error)) return
+        if (nbytes < 0) then
+            call fatal_error(error, "the run record is damaged (case_text_bytes "// &
+                int_text(nbytes)//")", exit_input)
+            return
+        end if
+        allocate (bytes(nbytes))
+        allocate (character(len=nbytes) :: run%case_text)
+        call hdf5_read_dataset(group, "case_text", bytes, error)
+        if (allocated(error)) return
+        do i = 1, nbytes
+            run%case_text(i:i) = achar(bytes(i))
+        end do
+        allocate (run%output_time(outputs), run%output_step(outputs), &
+            run%output_counts(run%images, outputs), run%output_id(outputs), &
+            run%face_load(faces), run%terrain_load(terrain))
+        if (outputs > 0) then
+            call hdf5_read_dataset(group, "output_time", run%output_time, error)
+            if (allocated(error)) return
+            call hdf5_read_dataset(group, "output_step", run%output_step, error)
+            if (allocated(error)) return
+            allocate (counts(run%images*outputs), ids(outputs))
+            call hdf5_read_dataset(group, "output_counts", counts, error)
+            if (allocated(error)) return
+            run%output_counts = reshape(counts, [run%images, outputs])
+            call hdf5_read_dataset(group, "output_id", ids, error)
+            if (allocated(error)) return
+            run%output_id = ids /= 0
+        end if
+        if (faces > 0) then
+            call hdf5_read_dataset(group, "face_load", run%face_load, error)
+            if (allocated(error)) return
+        end if
+        if (terrain > 0) call hdf5_read_dataset(group, "terrain_load", run%terrain_load, error)
+    end subroutine read_run_group
+
+    pure function restart_refusal(path, reason) result(message)
+        character(len=*), intent(in) :: path, reason
+        character(len=:), allocatable :: message
+
+        message = "cannot restart from '"//path//"': "//reason
+    end function restart_refusal
 
     !> Read a state file written by save_state, after checking that it fits the case.
     subroutine load_state(path, case, particles, time, step, error, nstate)
@@ -318,8 +612,11 @@ contains
 
         call hdf5_read_dataset(group, "x", particles%x, error)
         if (allocated(error)) return
-        call hdf5_read_dataset(group, "u", particles%u, error)
-        if (allocated(error)) return
+        ! (a checkpoint of a run that keeps no displacement or strain has none: zero)
+        if (hdf5_has_link(group, "u")) then
+            call hdf5_read_dataset(group, "u", particles%u, error)
+            if (allocated(error)) return
+        end if
         call hdf5_read_dataset(group, "v", particles%v, error)
         if (allocated(error)) return
         call hdf5_read_dataset(group, "mass", particles%mass, error)
@@ -330,8 +627,10 @@ contains
         if (allocated(error)) return
         call hdf5_read_dataset(group, "stress", particles%stress, error)
         if (allocated(error)) return
-        call hdf5_read_dataset(group, "strain", particles%strain, error)
-        if (allocated(error)) return
+        if (hdf5_has_link(group, "strain")) then
+            call hdf5_read_dataset(group, "strain", particles%strain, error)
+            if (allocated(error)) return
+        end if
         call hdf5_read_dataset(group, "f", particles%f, error)
         if (allocated(error)) return
         call hdf5_read_dataset(group, "lp0", particles%lp0, error)

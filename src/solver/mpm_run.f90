@@ -2,26 +2,49 @@
 module mpm_run
     use, intrinsic :: iso_fortran_env, only: output_unit
     use mpm_kinds, only: wp, i8
-    use mpm_error, only: error_type, fatal_error, exit_input, exit_other
+    use mpm_error, only: error_type, fatal_error, exit_input, exit_other, exit_numerical, &
+        exit_interrupted
     use mpm_clock, only: wall_time
-    use mpm_system, only: peak_memory_mb
-    use mpm_strings, only: int_text
+    use mpm_system, only: peak_memory_mb, available_memory_bytes
+    use mpm_strings, only: int_text, real_text
+    use mpm_signals, only: catch_stop_signals, release_stop_signals, stop_signal, signal_name
     use mpm_particles, only: particles_type, particle_bytes, pack_particles, rebuild_particles, &
         record_length
     use mpm_case, only: case_type
     use mpm_solver, only: simulation_type, new_simulation, advance, stable_time_step, &
-        compute_energies, has_text, nphases, phase_names, phase_other, phase_output, agree
-    use mpm_parallel, only: image_id, image_count, counts_of_images, gather_on_first
+        compute_energies, has_text, nphases, phase_names, phase_other, phase_output, agree, &
+        contact_loads, resume_simulation
+    use mpm_parallel, only: image_id, image_count, counts_of_images, gather_on_first, &
+        max_over_images
     use mpm_decomposition, only: image_grids
     use mpm_stencil, only: stencil_bytes
     use mpm_grid, only: grid_bytes
     use mpm_output, only: output_writer_type, new_output_writer, write_output, write_index, &
-        remove_outputs, write_terrain
-    use mpm_state, only: save_state
-    use mpm_filesystem, only: make_directory, directory_exists
+        remove_outputs, write_terrain, output_list, resume_output_writer, output_count
+    use mpm_state, only: save_state, run_record_type, state_particle_count
+    use mpm_filesystem, only: make_directory, directory_exists, file_exists, rename_file
+    use mpm_case, only: shape_linear
+    use mpm_bodies, only: count_body_particles
     implicit none
     private
-    public :: run_options_type, run_summary_type, run_case
+    public :: run_options_type, run_summary_type, run_case, memory_estimate, checkpoint_path
+
+    integer, parameter :: request_due = 1
+        !! checkpoint_request: a checkpoint is due (a stop signal adds its number)
+
+    !> A copy of the state after a healthy step, kept by the blow-up guard.
+    type :: snapshot_type
+        logical :: taken = .false.
+            !! a copy was taken
+        type(particles_type) :: particles
+            !! this image's particles
+        real(wp) :: time = 0.0_wp
+            !! simulated time [s]
+        integer(i8) :: step = 0
+            !! steps done
+        type(run_record_type) :: run
+            !! how the run went on from there
+    end type snapshot_type
 
     !> How a run is driven.
     type :: run_options_type
@@ -59,8 +82,18 @@ module mpm_run
 
 contains
 
-    !> Run a case from t = 0 to tend, writing its outputs; `sim` holds the final state.
-    subroutine run_case(case, options, sim, summary, error)
+    !> Run a case from t = 0 (or from a checkpoint) to tend, writing its outputs; `sim` holds
+    !> the final state.
+    !>
+    !> Checkpoints (case key checkpoint, or the command line) are written every N steps and
+    !> every T minutes of wall time, and when SIGTERM or SIGINT arrives; after a signal the run
+    !> stops with exit_interrupted. `restart` continues from a checkpoint: the particles, the
+    !> clock, the energies, the contact loads and the output schedule are those of the
+    !> checkpoint, the outputs continue in its folder, and on one image the rest of the run is
+    !> the same, bit for bit, as one that was never stopped. The blow-up guard keeps a copy
+    !> of the state every guard.snapshot_steps steps and writes it, as a checkpoint named
+    !> last_healthy.h5, when it stops the run.
+    subroutine run_case(case, options, sim, summary, error, restart, run)
         type(case_type), intent(in) :: case
             !! resolved case
         type(run_options_type), intent(in) :: options
@@ -71,18 +104,34 @@ contains
             !! figures of the run
         type(error_type), allocatable, intent(out) :: error
             !! set on any failure
+        character(len=*), intent(in), optional :: restart
+            !! checkpoint to continue from (with `run`)
+        type(run_record_type), intent(in), optional :: run
+            !! the run record of that checkpoint (read_run_record)
 
         type(output_writer_type) :: writer
-        integer :: history_unit, stat
-        integer(i8) :: total
-        logical :: lead, quiet
+        type(snapshot_type) :: snapshot
+        integer :: history_unit, request
+        integer(i8) :: total, first_step
+        logical :: lead, quiet, resumed
         real(wp) :: imbalance
         integer, parameter :: imbalance_steps = 50
         real(wp) :: t_start, t_last_progress, dt, next_output, next_history, eps_t, clock
-        character(len=256) :: msg
+        real(wp) :: wall_before, t_last_checkpoint, first_time
         logical :: written
 
-        call new_simulation(sim, case, error)
+        resumed = present(restart) .and. present(run)
+        call check_memory(case, error, restart)
+        call agree(error)
+        if (allocated(error)) return
+        if (resumed) then
+            call new_simulation(sim, case, error, restart)
+            if (.not. allocated(error)) call resume_simulation(sim, run, error)
+            if (allocated(error)) error%message = "cannot restart from '"//restart//"': "// &
+                error%message
+        else
+            call new_simulation(sim, case, error)
+        end if
         call agree(error)
         if (allocated(error)) return
         ! on several images: image 1 prints, writes the history and the index; every image
@@ -98,34 +147,45 @@ contains
             return
         end if
 
+        eps_t = 1.0e-12_wp*case%tend
+        next_output = huge(1.0_wp)
+        if (case%output_interval > 0.0_wp) next_output = case%output_interval
+        next_history = 0.0_wp
+        wall_before = 0.0_wp
+        if (resumed) then
+            next_output = run%next_output
+            next_history = run%next_history
+            wall_before = run%wall
+        end if
         history_unit = -1
         if (options%write_files) then
-            if (lead) call prepare_output_dir(case, error)
+            if (lead .and. resumed) call resume_output_dir(case, sim%step, error)
+            if (lead .and. .not. resumed) call prepare_output_dir(case, error)
             call agree(error)
             if (allocated(error)) return
             call new_output_writer(writer, case, case%output_dir, error, image_id(), image_count())
-            if (.not. allocated(error) .and. lead) then
-                open (newunit=history_unit, file=case%output_dir//"/history.csv", &
-                    status="replace", action="write", iostat=stat, iomsg=msg)
-                if (stat /= 0) then
-                    call fatal_error(error, case%output_dir//"/history.csv: "//trim(msg), &
-                        exit_other)
-                else
-                    write (history_unit, "(a)") "time,step,kinetic_energy,strain_energy," &
-                        //"potential_energy,damping_work,total"
-                end if
-            end if
+            if (.not. allocated(error) .and. resumed) call resume_output_writer(writer, &
+                run%output_time, run%output_step, run%output_counts, run%output_id, error)
+            if (.not. allocated(error) .and. lead) call open_history(case, resumed, &
+                history_unit, error)
             ! the terrain surface, to open in ParaView beside the particles
-            if (lead .and. allocated(sim%grid%terrain)) call write_terrain(case%output_dir, &
-                sim%grid%terrain%corner, error)
+            if (lead .and. allocated(sim%grid%terrain) .and. .not. allocated(error)) then
+                call write_terrain(case%output_dir, sim%grid%terrain%corner, error)
+            end if
             call agree(error)
             if (allocated(error)) return
-            call write_part(writer, sim, error)
-            if (allocated(error)) return
-            summary%outputs = 1
-            if (lead) call write_history(history_unit, sim)
+            if (.not. resumed) then
+                call write_part(writer, sim, error)
+                if (allocated(error)) return
+                if (lead) call write_history(history_unit, sim)
+            end if
+            summary%outputs = output_count(writer)
         end if
         if (.not. quiet) then
+            if (resumed) then
+                write (output_unit, "(a,i0,a,es12.5,a)") "mpm_geo: restart from '"// &
+                    restart//"' at step ", sim%step, ", t = ", sim%time, " s"
+            end if
             write (output_unit, "(a,i0,a,i0,a)") "mpm_geo: case '"//case%name//"', ", &
                 total, " particles, ", summary%nodes, " nodes"
             if (image_count() > 1) write (output_unit, "(a,i0,a,a,a)") "mpm_geo: ", &
@@ -133,19 +193,27 @@ contains
                 ", cuts at cells "//cuts_text(sim%dec%cuts)
         end if
 
-        eps_t = 1.0e-12_wp*case%tend
-        next_output = huge(1.0_wp)
-        if (case%output_interval > 0.0_wp) next_output = case%output_interval
-        next_history = 0.0_wp
+        first_step = sim%step
+        first_time = sim%time
         t_start = wall_time()
         t_last_progress = t_start
+        t_last_checkpoint = t_start
         imbalance = 0.0_wp
+        if (case%checkpoint_on_signal) call catch_stop_signals()
+        if (case%guard_snapshot_steps > 0) then
+            call take_snapshot(snapshot, sim, writer, next_output, next_history, wall_before)
+        end if
         do while (sim%time < case%tend - eps_t)
             clock = wall_time()
             dt = min(stable_time_step(sim), case%tend - sim%time)
             sim%phase_time(phase_other) = sim%phase_time(phase_other) + (wall_time() - clock)
             call advance(sim, dt, error)
-            if (allocated(error)) exit
+            if (allocated(error)) then
+                if (error%code == exit_numerical .and. options%write_files) then
+                    call save_healthy_state(snapshot, sim%case, error)
+                end if
+                exit
+            end if
             written = .false.
             clock = wall_time()
             if (options%write_files) then
@@ -171,31 +239,63 @@ contains
             if (image_count() > 1 .and. mod(sim%step, int(imbalance_steps, i8)) == 0) then
                 imbalance = load_imbalance(sim%particles%n)
             end if
+            ! checkpoints: by step count, by wall time, and on a stop signal (collective)
+            request = checkpoint_request(case, sim%step, wall_time() - t_last_checkpoint)
+            ! (a run that has just finished needs none)
+            if (request > 0 .and. sim%time < case%tend - eps_t) then
+                clock = wall_time()
+                call write_checkpoint(checkpoint_path(case), sim, writer, next_output, &
+                    next_history, wall_before + (clock - t_start), error)
+                sim%phase_time(phase_output) = sim%phase_time(phase_output) &
+                    + (wall_time() - clock)
+                if (allocated(error)) exit
+                t_last_checkpoint = wall_time()
+                if (request > request_due) then
+                    call fatal_error(error, "stopped by "//signal_name(request - request_due) &
+                        //" at step "//int_text(sim%step)//", t = "//real_text(sim%time)// &
+                        " s; the state is saved in "//checkpoint_path(case)//new_line("a")// &
+                        "continue the run with: mpm_geo --restart "//checkpoint_path(case), &
+                        exit_interrupted)
+                    if (.not. lead) error%message = ""
+                    exit
+                end if
+            end if
+            if (case%guard_snapshot_steps > 0) then
+                if (mod(sim%step, int(case%guard_snapshot_steps, i8)) == 0) call take_snapshot( &
+                    snapshot, sim, writer, next_output, next_history, wall_before + &
+                    (wall_time() - t_start))
+            end if
             if (.not. quiet .and. wall_time() - t_last_progress >= case%progress_seconds) then
                 t_last_progress = wall_time()
-                call print_progress(sim, case%tend, t_last_progress - t_start, imbalance)
+                call print_progress(sim, case%tend, t_last_progress - t_start, imbalance, &
+                    first_step, first_time)
             end if
         end do
+        if (case%checkpoint_on_signal) call release_stop_signals()
         summary%steps = sim%step
         summary%time = sim%time
         summary%wall = wall_time() - t_start
         summary%phase_time = sim%phase_time
         if (summary%wall > 0.0_wp) summary%particle_steps_per_second = &
-            real(total, wp)*real(sim%step, wp)/summary%wall
+            real(total, wp)*real(sim%step - first_step, wp)/summary%wall
         if (history_unit >= 0) close (history_unit)
         if (allocated(error)) then
             ! (an image that does not report the failure has no message)
-            if (options%write_files .and. len(error%message) > 0) error%message = &
+            if (options%write_files .and. len(error%message) > 0 .and. &
+                error%code /= exit_interrupted) error%message = &
                 error%message//new_line("a")//"outputs written so far are in "//case%output_dir
             return
         end if
 
         if (has_text(case%save_state)) then
-            call save_run_state(sim, error)
+            call save_particles(sim%case%save_state, sim%case, sim%particles, sim%time, &
+                sim%step, error)
             if (allocated(error)) return
         end if
-        ! particle arrays and the per-step scratch: stencils, order, cell
+        ! particle arrays, the per-step scratch (stencils, order, cell) and the guard's copy
         summary%bytes_per_particle = particle_bytes(sim%particles) + stencil_bytes(sim%stencils)
+        if (case%guard_snapshot_steps > 0) summary%bytes_per_particle = &
+            summary%bytes_per_particle + particle_bytes(sim%particles)
         summary%bytes_per_node = grid_bytes(sim%grid)
         summary%peak_memory_mb = peak_memory_mb()
         if (.not. quiet) call print_summary(summary, case)
@@ -228,44 +328,175 @@ contains
         call agree(error)
     end subroutine write_part
 
-    !> The state file of the run (collective): on several images, image 1 collects every
-    !> particle, in the order of the ids (the order of one image), and writes the file.
-    subroutine save_run_state(sim, error)
+    !> What the run should do after this step: nothing (0), write a checkpoint (request_due),
+    !> or write one and stop (request_due + the signal number). Collective on several images
+    !> (the wall clocks and the signals of the images differ: the largest request wins).
+    integer function checkpoint_request(case, step, since_last)
+        type(case_type), intent(in) :: case
+            !! the case (checkpoint settings)
+        integer(i8), intent(in) :: step
+            !! steps done
+        real(wp), intent(in) :: since_last
+            !! wall time since the last checkpoint (or the start) [s]
+
+        checkpoint_request = 0
+        if (case%checkpoint_steps > 0) then
+            if (mod(step, int(case%checkpoint_steps, i8)) == 0) checkpoint_request = request_due
+        end if
+        if (case%checkpoint_minutes > 0.0_wp) then
+            if (since_last >= 60.0_wp*case%checkpoint_minutes) checkpoint_request = request_due
+        end if
+        if (stop_signal() /= 0) checkpoint_request = request_due + stop_signal()
+        if (image_count() > 1 .and. (case%checkpoint_minutes > 0.0_wp .or. &
+            case%checkpoint_on_signal)) call max_over_images(checkpoint_request)
+    end function checkpoint_request
+
+    !> The checkpoint file of a case: checkpoint.file, or checkpoint.h5 in the output folder.
+    function checkpoint_path(case) result(path)
+        type(case_type), intent(in) :: case
+            !! the case
+        character(len=:), allocatable :: path
+
+        path = case%output_dir//"/checkpoint.h5"
+        if (allocated(case%checkpoint_file)) then
+            if (len(case%checkpoint_file) > 0) path = case%checkpoint_file
+        end if
+    end function checkpoint_path
+
+    !> The run record of the simulation now (collective: the contact loads are summed).
+    subroutine record_run(sim, writer, next_output, next_history, wall, run)
+        type(simulation_type), intent(in) :: sim
+        type(output_writer_type), intent(in) :: writer
+        real(wp), intent(in) :: next_output, next_history, wall
+        type(run_record_type), intent(out) :: run
+
+        run%case_file = sim%case%file
+        run%case_text = ""
+        if (allocated(sim%case%text)) run%case_text = sim%case%text
+        run%output_dir = sim%case%output_dir
+        run%images = image_count()
+        run%dt = sim%dt
+        run%energy = [sim%energy%kinetic, sim%energy%strain, sim%energy%potential, &
+            sim%energy%damping]
+        run%energy_scale = sim%energy_scale
+        run%kinetic_previous = sim%kinetic_previous
+        run%next_output = next_output
+        run%next_history = next_history
+        run%wall = wall
+        call output_list(writer, run%output_time, run%output_step, run%output_counts, &
+            run%output_id)
+        call contact_loads(sim, run%face_load, run%terrain_load)
+    end subroutine record_run
+
+    !> Write a checkpoint of the run now (collective).
+    subroutine write_checkpoint(path, sim, writer, next_output, next_history, wall, error)
+        character(len=*), intent(in) :: path
+            !! checkpoint file (written through path.tmp and a rename)
         type(simulation_type), intent(in) :: sim
             !! the simulation
+        type(output_writer_type), intent(in) :: writer
+            !! the run's writer (the outputs written so far)
+        real(wp), intent(in) :: next_output, next_history, wall
+            !! output schedule and wall time of the run so far
+        type(error_type), allocatable, intent(out) :: error
+            !! set on every image when the file cannot be written
+
+        type(run_record_type) :: run
+
+        call record_run(sim, writer, next_output, next_history, wall, run)
+        call save_particles(path, sim%case, sim%particles, sim%time, sim%step, error, run)
+    end subroutine write_checkpoint
+
+    !> Keep a copy of the state after a healthy step (collective).
+    subroutine take_snapshot(snapshot, sim, writer, next_output, next_history, wall)
+        type(snapshot_type), intent(inout) :: snapshot
+        type(simulation_type), intent(in) :: sim
+        type(output_writer_type), intent(in) :: writer
+        real(wp), intent(in) :: next_output, next_history, wall
+
+        snapshot%particles = sim%particles
+        snapshot%time = sim%time
+        snapshot%step = sim%step
+        call record_run(sim, writer, next_output, next_history, wall, snapshot%run)
+        snapshot%taken = .true.
+    end subroutine take_snapshot
+
+    !> After the guard stopped the run: write the last copy of a healthy state as a
+    !> checkpoint beside the outputs and say so in the message (collective).
+    subroutine save_healthy_state(snapshot, case, error)
+        type(snapshot_type), intent(in) :: snapshot
+            !! the last healthy copy
+        type(case_type), intent(in) :: case
+            !! the case
+        type(error_type), allocatable, intent(inout) :: error
+            !! the guard's error; its message gets the file's name
+
+        type(error_type), allocatable :: failed
+        character(len=:), allocatable :: path
+
+        if (.not. snapshot%taken) return
+        path = case%output_dir//"/last_healthy.h5"
+        call save_particles(path, case, snapshot%particles, snapshot%time, snapshot%step, &
+            failed, snapshot%run)
+        if (len(error%message) == 0) return
+        if (allocated(failed)) then
+            error%message = error%message//new_line("a")//"the last healthy state could "// &
+                "not be saved: "//failed%message
+        else
+            error%message = error%message//new_line("a")//"the last healthy state (step "// &
+                int_text(snapshot%step)//", t = "//real_text(snapshot%time)//" s) is saved in " &
+                //path//"; look at it, or continue from it with another time step: "// &
+                "mpm_geo CASE.json --restart "//path
+        end if
+    end subroutine save_healthy_state
+
+    !> The particles of the run in a state file (collective): on several images, image 1
+    !> collects every particle, in the order of the ids (the order of one image), and writes
+    !> the file. With `run` the file is a checkpoint.
+    subroutine save_particles(path, case, particles, time, step, error, run)
+        character(len=*), intent(in) :: path
+            !! file to write
+        type(case_type), intent(in) :: case
+            !! the case
+        type(particles_type), intent(in) :: particles
+            !! this image's particles
+        real(wp), intent(in) :: time
+            !! simulated time [s]
+        integer(i8), intent(in) :: step
+            !! steps done
         type(error_type), allocatable, intent(out) :: error
             !! set (on every image) when the state cannot be written
+        type(run_record_type), intent(in), optional :: run
+            !! the run record, for a checkpoint
 
         type(particles_type) :: all
         real(wp), allocatable :: mine(:), records(:), ordered(:)
         integer :: r, q, k, n
 
         if (image_count() == 1) then
-            call save_state(sim%case%save_state, sim%case, sim%particles, sim%time, &
-                int(sim%step), error)
+            call save_state(path, case, particles, time, int(step), error, run)
             return
         end if
-        call pack_particles(sim%particles, [(.true., q = 1, sim%particles%n)], mine)
+        call pack_particles(particles, [(.true., q = 1, particles%n)], mine)
         call gather_on_first(mine, records)
         if (image_id() == 1) then
             ! records in id order (the id is the last value of a record)
-            r = record_length(sim%particles)
+            r = record_length(particles)
             n = size(records)/r
             allocate (ordered(size(records)))
             do q = 1, n
                 k = nint(records(q*r))
                 ordered((k - 1)*r + 1:k*r) = records((q - 1)*r + 1:q*r)
             end do
-            all = sim%particles
+            all = particles
             call rebuild_particles(all, [(.false., q = 1, all%n)], ordered, error)
             if (.not. allocated(error)) then
                 deallocate (all%id)
-                call save_state(sim%case%save_state, sim%case, all, sim%time, int(sim%step), &
-                    error)
+                call save_state(path, case, all, time, int(step), error, run)
             end if
         end if
         call agree(error)
-    end subroutine save_run_state
+    end subroutine save_particles
 
     !> Largest particle count of an image over the mean count (collective).
     real(wp) function load_imbalance(n)
@@ -299,6 +530,170 @@ contains
         end do
     end function cuts_text
 
+    !> The output folder of a run that goes on from a checkpoint: it must be there; the lines
+    !> of the energy history after the checkpoint's step (written before the run stopped)
+    !> are dropped, as the run writes them again.
+    subroutine resume_output_dir(case, step, error)
+        type(case_type), intent(in) :: case
+            !! the case (output folder)
+        integer(i8), intent(in) :: step
+            !! step of the checkpoint
+        type(error_type), allocatable, intent(out) :: error
+            !! set when the folder is missing or the history cannot be rewritten
+
+        character(len=:), allocatable :: path
+        character(len=4096) :: line
+        character(len=256) :: msg
+        integer :: input, output, stat, comma, last
+        integer(i8) :: row_step
+        logical :: keep
+
+        if (.not. directory_exists(case%output_dir)) then
+            call fatal_error(error, "the output folder of the run, '"//case%output_dir// &
+                "', is missing: a restart continues the outputs of the run in its folder", &
+                exit_input)
+            return
+        end if
+        path = case%output_dir//"/history.csv"
+        if (.not. file_exists(path)) return
+        open (newunit=input, file=path, status="old", action="read", iostat=stat, iomsg=msg)
+        if (stat == 0) open (newunit=output, file=path//".tmp", status="replace", &
+            action="write", iostat=stat, iomsg=msg)
+        if (stat /= 0) then
+            call fatal_error(error, path//": "//trim(msg), exit_other)
+            return
+        end if
+        do
+            read (input, "(a)", iostat=stat, iomsg=msg) line
+            if (stat /= 0) exit
+            last = len_trim(line)
+            ! rows are "time,step,...": keep the header and the rows up to the step
+            keep = .true.
+            comma = index(line(1:last), ",")
+            if (comma > 0 .and. verify(line(1:1), "0123456789+-. ") == 0) then
+                read (line(comma + 1:), *, iostat=stat, iomsg=msg) row_step
+                keep = stat /= 0 .or. row_step <= step
+            end if
+            if (keep) write (output, "(a)") line(1:last)
+        end do
+        close (input)
+        close (output)
+        call rename_file(path//".tmp", path, error)
+    end subroutine resume_output_dir
+
+    !> Open the energy history: a new file with its header, or (restart) the file of the run.
+    subroutine open_history(case, resumed, unit, error)
+        type(case_type), intent(in) :: case
+        logical, intent(in) :: resumed
+        integer, intent(out) :: unit
+        type(error_type), allocatable, intent(out) :: error
+
+        integer :: stat
+        character(len=256) :: msg
+
+        if (resumed .and. file_exists(case%output_dir//"/history.csv")) then
+            open (newunit=unit, file=case%output_dir//"/history.csv", status="old", &
+                position="append", action="write", iostat=stat, iomsg=msg)
+        else
+            open (newunit=unit, file=case%output_dir//"/history.csv", status="replace", &
+                action="write", iostat=stat, iomsg=msg)
+            if (stat == 0) write (unit, "(a)") "time,step,kinetic_energy,strain_energy," &
+                //"potential_energy,damping_work,total"
+        end if
+        if (stat /= 0) then
+            unit = -1
+            call fatal_error(error, case%output_dir//"/history.csv: "//trim(msg), exit_other)
+        end if
+    end subroutine open_history
+
+    !> Memory a case needs on this image [bytes], estimated before anything is allocated:
+    !> particles (with the displacement and strain they hold while being created, the
+    !> stencils and order of a step, the guard's copy) and grid nodes (fields and scatter
+    !> buffers). `particles` is the number of particles of the whole case.
+    function memory_estimate(case, particles) result(bytes)
+        type(case_type), intent(in) :: case
+            !! resolved case
+        integer(i8), intent(in) :: particles
+            !! particles of the case
+        real(wp) :: bytes
+            !! estimate [bytes]
+
+        real(wp), parameter :: real_bytes = storage_size(1.0_wp)/8, int_bytes = 4
+        real(wp) :: per_particle, per_node, d, ns, nps, nodes
+
+        d = real(case%dim, wp)
+        ns = merge(4.0_wp, 6.0_wp, case%dim == 2)
+        nps = merge(2.0_wp, 3.0_wp, case%shape == shape_linear)
+        ! x, u, v, lp0, lp; mass, volume, volume0; stress, strain; F; 2 state variables;
+        ! material (+ id on several images)
+        per_particle = real_bytes*(5.0_wp*d + 3.0_wp + 2.0_wp*ns + d*d + 2.0_wp) + int_bytes
+        if (case%apic) per_particle = per_particle + real_bytes*d*d
+        if (image_count() > 1) per_particle = per_particle + int_bytes
+        if (case%guard_snapshot_steps > 0) per_particle = 2.0_wp*per_particle
+        ! stencils: weights and gradients, first node, order, cell
+        per_particle = per_particle + real_bytes*(2.0_wp*nps - 1.0_wp)*d + int_bytes*(d + 2.0_wp)
+        ! nodal fields (mass, momentum, forces, velocity, acceleration; constraints) and the
+        ! scatter buffers (mass, momentum, force per node at least)
+        per_node = real_bytes*(1.0_wp + 5.0_wp*d) + 4.0_wp*d + real_bytes*(2.0_wp*d + 1.0_wp)
+        nodes = product(real(case%ncells(1:case%dim), wp) + 1.0_wp)
+        bytes = (per_particle*real(particles, wp) + per_node*nodes)/real(image_count(), wp)
+    end function memory_estimate
+
+    !> Refuse a case whose memory estimate exceeds what this machine (or the job's memory
+    !> limit) has available, before allocating it.
+    subroutine check_memory(case, error, restart)
+        type(case_type), intent(in) :: case
+            !! resolved case
+        type(error_type), allocatable, intent(out) :: error
+            !! set (exit_input) when the case cannot fit
+        character(len=*), intent(in), optional :: restart
+            !! checkpoint the particles come from
+
+        integer(i8) :: particles, available, n
+        integer :: b
+        real(wp) :: need
+
+        particles = 0
+        if (present(restart)) then
+            particles = max(0_i8, state_particle_count(restart))
+        else if (has_text(case%load_state)) then
+            particles = max(0_i8, state_particle_count(case%load_state))
+        else
+            do b = 1, size(case%bodies)
+                n = count_body_particles(case, b)
+                if (n > 0) particles = particles + n
+            end do
+        end if
+        need = memory_estimate(case, particles)
+        available = available_memory_bytes()
+        if (available < 0 .or. need <= real(available, wp)) return
+        call fatal_error(error, case%file//": the case needs about "//size_text(need)// &
+            " of memory"//trim(merge(" per image", "          ", image_count() > 1))//" ("// &
+            int_text(particles)//" particles and "// &
+            int_text(int(product(real(case%ncells(1:case%dim), wp) + 1.0_wp), i8))// &
+            " grid nodes) but "//size_text(real(available, wp))//" is available; use a "// &
+            "larger domain.dx, fewer particles.ppc, a smaller domain, or more images "// &
+            "(docs/hpc.md); guard.snapshot_steps = 0 saves the guard's copy of the particles", &
+            exit_input)
+        if (image_id() /= 1) error%message = ""
+    end subroutine check_memory
+
+    !> "12.3 GB", "512 MB", ...
+    function size_text(bytes) result(text)
+        real(wp), intent(in) :: bytes
+        character(len=:), allocatable :: text
+
+        character(len=32) :: buf
+
+        if (bytes >= 1.0e9_wp) then
+            write (buf, "(f0.1,a)") bytes/1.0e9_wp, " GB"
+        else
+            write (buf, "(f0.1,a)") bytes/1.0e6_wp, " MB"
+        end if
+        text = trim(buf)
+        if (text(1:1) == ".") text = "0"//text
+    end function size_text
+
     !> Create the output folder; refuse an existing one unless overwriting was asked for.
     subroutine prepare_output_dir(case, error)
         type(case_type), intent(in) :: case
@@ -326,16 +721,20 @@ contains
         end associate
     end subroutine write_history
 
-    subroutine print_progress(sim, tend, elapsed, imbalance)
+    subroutine print_progress(sim, tend, elapsed, imbalance, first_step, first_time)
         type(simulation_type), intent(in) :: sim
         real(wp), intent(in) :: tend, elapsed
         real(wp), intent(in) :: imbalance
             !! largest particle count of an image over the mean (0: one image)
+        integer(i8), intent(in) :: first_step
+            !! step at the start of this process (a restart starts later)
+        real(wp), intent(in) :: first_time
+            !! simulated time at the start of this process [s]
 
         real(wp) :: rate, eta
 
-        rate = real(sim%step, wp)/max(elapsed, 1.0e-9_wp)
-        eta = elapsed*(tend - sim%time)/max(sim%time, tiny(1.0_wp))
+        rate = real(sim%step - first_step, wp)/max(elapsed, 1.0e-9_wp)
+        eta = elapsed*(tend - sim%time)/max(sim%time - first_time, tiny(1.0_wp))
         write (output_unit, "(a,i9,a,es11.4,a,es9.2,a,es10.3,a,f10.1,a,a,a)") "step", sim%step, &
             "  t =", sim%time, " s  dt =", sim%dt, " s  KE =", sim%energy%kinetic, " J ", &
             rate, " steps/s  ETA ", trim(format_seconds(eta)), trim(imbalance_text(imbalance))

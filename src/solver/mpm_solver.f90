@@ -25,7 +25,7 @@ module mpm_solver
     use mpm_shape_factory, only: new_shape
     use mpm_material, only: material_holder_type
     use mpm_material_factory, only: new_materials
-    use mpm_state, only: load_state
+    use mpm_state, only: load_state, run_record_type
     use mpm_stencil, only: stencils_type, compute_stencils
     use mpm_transfer, only: p2g, nodal_velocity, integrate_nodes, g2p, motion_type, &
         report_lost, update_stress
@@ -33,7 +33,7 @@ module mpm_solver
     implicit none
     private
     public :: simulation_type, new_simulation, advance, stable_time_step, energies_type
-    public :: compute_energies, has_text, agree
+    public :: compute_energies, has_text, agree, contact_loads, resume_simulation
     public :: nphases, phase_names, phase_stencils, phase_p2g, phase_nodal, phase_g2p, &
         phase_stress, phase_other, phase_output
 
@@ -106,13 +106,16 @@ contains
 
     !> Build the model of a case: grid, materials, shape function and particles (from the
     !> bodies, or from the state file when the case has load_state).
-    subroutine new_simulation(sim, case, error)
+    subroutine new_simulation(sim, case, error, restart)
         type(simulation_type), intent(out) :: sim
             !! the simulation
         type(case_type), intent(in) :: case
             !! resolved case
         type(error_type), allocatable, intent(out) :: error
             !! set on allocation failure or an incompatible state file
+        character(len=*), intent(in), optional :: restart
+            !! checkpoint to continue from: its particles, time and step (the rest of the
+            !! run record is set by resume_simulation)
 
         real(wp) :: state_time, lightest
         integer :: state_step, i, stat, nstate
@@ -129,7 +132,14 @@ contains
             nstate = max(nstate, sim%materials(i)%m%nstate())
         end do
         call new_shape(sim%shape, case%shape)
-        if (has_text(case%load_state)) then
+        if (present(restart)) then
+            call load_state(restart, case, sim%particles, state_time, state_step, error, nstate)
+            if (allocated(error)) return
+            sim%time = state_time
+            sim%step = state_step
+            call decompose_loaded(sim, error)
+            if (allocated(error)) return
+        else if (has_text(case%load_state)) then
             call load_state(case%load_state, case, sim%particles, state_time, state_step, error, &
                 nstate)
             if (allocated(error)) then
@@ -191,6 +201,52 @@ contains
         sim%kinetic_previous = sim%energy%kinetic
         sim%energy_scale = sim%energy%kinetic
     end subroutine new_simulation
+
+    !> Continue a run from a checkpoint (after new_simulation with `restart`): the energy
+    !> terms, the guard's scale, the last step and the running contact loads, as they were.
+    subroutine resume_simulation(sim, run, error)
+        type(simulation_type), intent(inout) :: sim
+            !! the simulation, particles from the checkpoint
+        type(run_record_type), intent(in) :: run
+            !! the checkpoint's run record
+        type(error_type), allocatable, intent(out) :: error
+            !! set (exit_input) when the loads do not fit the grid
+
+        integer :: c, k
+
+        sim%dt = run%dt
+        sim%energy = energies_type(run%energy(1), run%energy(2), run%energy(3), run%energy(4))
+        sim%energy_scale = run%energy_scale
+        sim%kinetic_previous = run%kinetic_previous
+        k = count(sim%grid%contact_axis(1:sim%grid%ncontacts) == 0)
+        if (size(run%face_load) /= face_node_count(sim) .or. size(run%terrain_load) /= k) then
+            call fatal_error(error, "the contact loads of the checkpoint do not fit the "// &
+                "grid of the case (the boundaries or the terrain changed?)", exit_input)
+            return
+        end if
+        call take_face_loads(sim, run%face_load)
+        k = 0
+        do c = 1, sim%grid%ncontacts
+            if (sim%grid%contact_axis(c) /= 0) cycle
+            k = k + 1
+            sim%grid%contact_load(c) = run%terrain_load(k)
+        end do
+    end subroutine resume_simulation
+
+    !> The running normal loads of the contacts, for a checkpoint (collective): every
+    !> frictional face node of the whole grid (face_loads), and every terrain pair in order.
+    subroutine contact_loads(sim, face_load, terrain_load)
+        type(simulation_type), intent(in) :: sim
+            !! the simulation
+        real(wp), allocatable, intent(out) :: face_load(:)
+            !! loads of the frictional face nodes [N s]
+        real(wp), allocatable, intent(out) :: terrain_load(:)
+            !! loads of the terrain pairs (one image only has terrain) [N s]
+
+        call face_loads(sim, face_load)
+        terrain_load = pack(sim%grid%contact_load(1:sim%grid%ncontacts), &
+            sim%grid%contact_axis(1:sim%grid%ncontacts) == 0)
+    end subroutine contact_loads
 
     !> The grid of this image's part of the decomposition (the whole grid on one image).
     subroutine slab_grid(sim, error)
@@ -313,6 +369,8 @@ contains
         allocate (loads(face_node_count(sim)))
         loads = 0.0_wp
         do c = 1, sim%grid%ncontacts
+            ! (terrain pairs have no face)
+            if (sim%grid%contact_axis(c) == 0) cycle
             if (.not. node_owned(sim%grid, sim%grid%contact_node(c))) cycle
             k = face_node(sim, c)
             loads(k) = sim%grid%contact_load(c)
@@ -330,6 +388,7 @@ contains
         integer :: c
 
         do c = 1, sim%grid%ncontacts
+            if (sim%grid%contact_axis(c) == 0) cycle
             sim%grid%contact_load(c) = loads(face_node(sim, c))
         end do
     end subroutine take_face_loads
@@ -650,7 +709,6 @@ contains
         type(error_type), allocatable, intent(out) :: error
             !! set (exit_numerical) when the run blew up
 
-        real(wp), parameter :: blow_up_factor = 10.0_wp
         integer :: p, worst
         real(wp) :: speed, fastest
         character(len=512) :: msg
@@ -670,7 +728,7 @@ contains
                 return
             end if
             if (ke <= huge(1.0_wp) .and. .not. (sim%energy_scale > 0.0_wp .and. &
-                ke > blow_up_factor*sim%energy_scale)) return
+                ke > sim%case%guard_energy_factor*sim%energy_scale)) return
             ! the particle that shows it: the first with a non-finite velocity or stress,
             ! else the fastest
             worst = 0
@@ -693,9 +751,10 @@ contains
                     " at (", trim(vector_text(particles%x(:, worst))), &
                     ") m has a velocity or stress that is not finite"
             else
-                write (msg, "(a,es10.3,a,es10.3,a,i0,a,a,a,es10.3,a,es10.3,a)") &
+                write (msg, "(a,es10.3,a,g0.4,a,es10.3,a,i0,a,a,a,es10.3,a,es10.3,a)") &
                     "the run became unstable: the kinetic energy ", ke, &
-                    " J is more than 10 times the largest energy of the run so far (", &
+                    " J is more than guard.energy_factor = ", sim%case%guard_energy_factor, &
+                    " times the largest energy of the run so far (", &
                     sim%energy_scale, " J); fastest particle ", particle_number(particles, worst), &
                     " at (", &
                     trim(vector_text(particles%x(:, worst))), ") m, |v| = ", fastest, &

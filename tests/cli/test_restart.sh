@@ -1,0 +1,104 @@
+#!/usr/bin/env bash
+# Checkpoints and restarts (issue 8): a run stopped by SIGTERM writes a checkpoint and exits
+# with code 4; `mpm_geo --restart FILE` (another thread count) and `mpm_geo CASE --restart`
+# continue it, and every output and the energy history are then the same, bit for bit, as
+# those of a run that was never stopped; a damaged or wrong checkpoint is refused with exit
+# code 2; the blow-up guard stops an unstable run with exit code 3 and saves the last healthy
+# state, from which a stable case file continues.
+# Usage: tests/cli/test_restart.sh path/to/mpm_geo   (run from the repository root)
+set -u
+exe=$(realpath "$1")
+python=.venv/bin/python
+case_file=tests/cli/cases/restart_collapse.json
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+passed=0
+failed=0
+ok() { passed=$((passed + 1)); }
+bad() { failed=$((failed + 1)); echo "FAIL [restart] $1"; }
+
+# expect CODE DESCRIPTION -- command...   (stdout+stderr in $tmp/out)
+expect() {
+    local code=$1 what=$2
+    shift 3
+    "$@" > "$tmp/out" 2>&1
+    local rc=$?
+    if [ "$rc" -eq "$code" ]; then ok; else bad "$what: exit code $rc, expected $code"; cat "$tmp/out"; fi
+    if grep -qE "Backtrace|Error termination|Segmentation|SIGSEGV" "$tmp/out"; then
+        bad "$what: output holds a crash report"; cat "$tmp/out"
+    else
+        ok
+    fi
+}
+contains() {
+    if grep -qF -- "$1" "$tmp/out"; then ok; else bad "$2: output lacks '$1'"; cat "$tmp/out"; fi
+}
+identical() {
+    if "$python" tests/cli/compare_identical.py "$1" "$2" > "$tmp/cmp" 2>&1; then ok; else
+        bad "$3"; cat "$tmp/cmp"; fi
+}
+
+# the run that is never stopped
+expect 0 "reference run" -- "$exe" "$case_file" --output "$tmp/a" --quiet
+
+# stopped by SIGTERM once its first checkpoint is there (every 100 steps), as Slurm does at
+# the time limit
+"$exe" "$case_file" --output "$tmp/b" --quiet --checkpoint-steps 100 > "$tmp/b.out" 2>&1 &
+pid=$!
+for _ in $(seq 1 1500); do [ -f "$tmp/b/checkpoint.h5" ] && break; sleep 0.01; done
+kill -TERM "$pid"
+wait "$pid"
+rc=$?
+if [ "$rc" -eq 4 ]; then ok; else bad "SIGTERM: exit code $rc, expected 4"; cat "$tmp/b.out"; fi
+cp "$tmp/b.out" "$tmp/out"
+contains "stopped by SIGTERM" "SIGTERM: message"
+contains "mpm_geo --restart $tmp/b/checkpoint.h5" "SIGTERM: how to continue"
+if [ "$rc" -eq 4 ]; then
+    # a write killed half-way leaves a .tmp beside the last good checkpoint: never read
+    echo "half a file" > "$tmp/b/checkpoint.h5.tmp"
+    OMP_NUM_THREADS=2 expect 0 "restart from the checkpoint (2 threads)" -- \
+        "$exe" --restart "$tmp/b/checkpoint.h5" --quiet
+    identical "$tmp/a" "$tmp/b" "stopped and restarted run = uninterrupted run"
+fi
+
+# checkpoints every 1000 steps to the end; the case continues from its own checkpoint (the
+# last, step 3000): the history lines after it are dropped and written again
+expect 0 "run with checkpoints" -- "$exe" "$case_file" --output "$tmp/c" --quiet \
+    --checkpoint-steps 1000
+expect 0 "restart from the case's checkpoint" -- "$exe" "$case_file" --restart \
+    --output "$tmp/c" --quiet
+identical "$tmp/a" "$tmp/c" "run restarted from its last checkpoint = uninterrupted run"
+
+# refusals: exit code 2, one message naming the file
+expect 2 "missing checkpoint" -- "$exe" --restart "$tmp/none.h5"
+contains "cannot restart from '$tmp/none.h5': the file does not exist" "missing checkpoint"
+expect 2 "damaged checkpoint" -- "$exe" --restart "$tmp/b/checkpoint.h5.tmp"
+contains "not an HDF5 file" "damaged checkpoint"
+expect 2 "an output file is not a checkpoint" -- "$exe" --restart "$tmp/a/particles_000001.h5"
+contains "not an mpm-geo checkpoint" "an output file is not a checkpoint"
+sed "s#\"progress\"#\"save_state\": \"$tmp/state.h5\", \"progress\"#" "$case_file" \
+    | sed 's#"tend": 0.6#"tend": 0.01#' > "$tmp/save.json"
+expect 0 "a state file" -- "$exe" "$tmp/save.json" --output "$tmp/s" --quiet
+expect 2 "a state file is not a checkpoint" -- "$exe" --restart "$tmp/state.h5"
+contains "load_state" "a state file is not a checkpoint: what to do instead"
+expect 2 "--restart cannot move the output folder" -- "$exe" --restart \
+    "$tmp/c/checkpoint.h5" --output "$tmp/elsewhere"
+expect 2 "--restart without a checkpoint or case" -- "$exe" --restart
+expect 2 "bad --checkpoint-steps" -- "$exe" "$case_file" --checkpoint-steps 0
+contains "--checkpoint-steps 0" "bad --checkpoint-steps: names the option"
+expect 2 "bad --checkpoint-minutes" -- "$exe" "$case_file" --checkpoint-minutes nan
+[ ! -e "$tmp/elsewhere" ] && ok || bad "a refused restart wrote an output folder"
+
+# the blow-up guard: exit 3, step, particle, position, and the last healthy state saved
+sed 's#"cfl": 0.4#"cfl": 3.0, "allow_unstable": true#' "$case_file" > "$tmp/unstable.json"
+expect 3 "unstable run" -- "$exe" "$tmp/unstable.json" --output "$tmp/u" --quiet
+contains "became unstable" "unstable run: why"
+contains "particle" "unstable run: which particle"
+contains "the last healthy state (step 0," "unstable run: the healthy state"
+contains "$tmp/u/last_healthy.h5" "unstable run: where the healthy state is"
+expect 0 "continue from the last healthy state with a stable time step" -- \
+    "$exe" "$case_file" --restart "$tmp/u/last_healthy.h5" --quiet
+identical "$tmp/a" "$tmp/u" "restarted from the healthy state = uninterrupted run"
+
+echo "restart tests: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]
