@@ -4,13 +4,16 @@
 !> after writing a checkpoint.
 program mpm_geo_main
     use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
+    use, intrinsic :: ieee_exceptions, only: ieee_overflow, ieee_get_halting_mode, &
+        ieee_set_halting_mode, ieee_set_flag
     use mpm_kinds, only: wp
     use mpm_error, only: error_type, fatal_error, exit_input, exit_interrupted
     use mpm_version, only: mpm_version_string
     use mpm_case, only: case_type, read_case_file, read_case_string, case_summary
     use mpm_run, only: run_options_type, run_summary_type, run_case, checkpoint_path
     use mpm_solver, only: simulation_type
-    use mpm_state, only: run_record_type, read_run_record
+    use mpm_state, only: run_record_type, read_run_record, load_state
+    use mpm_particles, only: particles_type
     use mpm_parallel, only: image_id, image_count, end_images
     use mpm_strings, only: int_text
     implicit none
@@ -44,6 +47,9 @@ program mpm_geo_main
     type(simulation_type) :: sim
     type(command_type) :: cmd
     type(run_record_type) :: run
+    type(particles_type) :: particles
+    real(wp) :: state_time
+    integer :: state_step
     logical :: before_run = .true.
         !! errors so far are the same on every image (arguments, case file)
 
@@ -63,10 +69,19 @@ program mpm_geo_main
     if (cmd%checkpoint_minutes >= 0.0_wp) case%checkpoint_minutes = cmd%checkpoint_minutes
 
     if (cmd%check_only) then
+        ! a checkpoint: its particles must fit the case (grid, materials, domain)
+        if (cmd%restart) then
+            call load_state(cmd%restart_path, case, particles, state_time, state_step, error)
+            if (allocated(error)) then
+                error%message = "cannot restart from '"//cmd%restart_path//"': "// &
+                    error%message
+                call fail(error)
+            end if
+            if (image_id() == 1) write (output_unit, "(a,i0,a)") "mpm_geo: the checkpoint '"// &
+                cmd%restart_path//"' (step ", state_step, ") fits the case"
+        end if
         if (image_id() == 1) then
             write (output_unit, "(a)") case_summary(case)
-            if (cmd%restart) write (output_unit, "(a)") "mpm_geo: the checkpoint '"// &
-                cmd%restart_path//"' fits the case"
             write (output_unit, "(a)") "mpm_geo: "//case%file//" is valid (--check: nothing "// &
                 "was run)"
         end if
@@ -172,6 +187,7 @@ contains
         integer :: i, n, stat
         character(len=:), allocatable :: arg, value
         character(len=256) :: msg
+        logical :: halting
 
         n = command_argument_count()
         i = 0
@@ -220,18 +236,29 @@ contains
                     call set_case_path(cmd, value, error)
                     if (allocated(error)) return
                 case ("--checkpoint-steps")
-                    read (value, *, iostat=stat, iomsg=msg) cmd%checkpoint_steps
-                    if (stat /= 0 .or. cmd%checkpoint_steps < 1 .or. verify(value, &
-                        "0123456789") /= 0) then
+                    ! the characters first: a read accepts more than a count of steps
+                    stat = 1
+                    if (verify(value, "0123456789") == 0) read (value, *, iostat=stat, &
+                        iomsg=msg) cmd%checkpoint_steps
+                    if (stat /= 0) cmd%checkpoint_steps = 0
+                    if (cmd%checkpoint_steps < 1) then
                         call fatal_error(error, "--checkpoint-steps "//value//": must be "// &
                             "a whole number of steps >= 1", exit_input)
                         return
                     end if
                 case ("--checkpoint-minutes")
-                    read (value, *, iostat=stat, iomsg=msg) cmd%checkpoint_minutes
-                    if (stat /= 0 .or. .not. (cmd%checkpoint_minutes > 0.0_wp .and. &
-                        cmd%checkpoint_minutes <= huge(1.0_wp)) .or. verify(value, &
-                        "0123456789.eE+-") /= 0) then
+                    ! (no "nan" or "inf" gets through the characters; an overflow, 1e999,
+                    ! reads as infinity, without the trap of a debug build)
+                    stat = 1
+                    call ieee_get_halting_mode(ieee_overflow, halting)
+                    call ieee_set_halting_mode(ieee_overflow, .false.)
+                    if (verify(value, "0123456789.eE+-") == 0) read (value, *, iostat=stat, &
+                        iomsg=msg) cmd%checkpoint_minutes
+                    call ieee_set_flag(ieee_overflow, .false.)
+                    call ieee_set_halting_mode(ieee_overflow, halting)
+                    if (stat /= 0) cmd%checkpoint_minutes = 0.0_wp
+                    if (.not. (cmd%checkpoint_minutes > 0.0_wp .and. &
+                        cmd%checkpoint_minutes <= huge(1.0_wp))) then
                         call fatal_error(error, "--checkpoint-minutes "//value//": must be "// &
                             "a number of minutes > 0", exit_input)
                         return

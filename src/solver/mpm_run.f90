@@ -6,7 +6,7 @@ module mpm_run
         exit_interrupted
     use mpm_clock, only: wall_time
     use mpm_system, only: peak_memory_mb, available_memory_bytes
-    use mpm_strings, only: int_text, real_text
+    use mpm_strings, only: int_text
     use mpm_signals, only: catch_stop_signals, release_stop_signals, stop_signal, signal_name
     use mpm_particles, only: particles_type, particle_bytes, pack_particles, rebuild_particles, &
         record_length
@@ -252,7 +252,7 @@ contains
                 t_last_checkpoint = wall_time()
                 if (request > request_due) then
                     call fatal_error(error, "stopped by "//signal_name(request - request_due) &
-                        //" at step "//int_text(sim%step)//", t = "//real_text(sim%time)// &
+                        //" at step "//int_text(sim%step)//", t = "//time_text(sim%time)// &
                         " s; the state is saved in "//checkpoint_path(case)//new_line("a")// &
                         "continue the run with: mpm_geo --restart "//checkpoint_path(case), &
                         exit_interrupted)
@@ -344,7 +344,8 @@ contains
             if (mod(step, int(case%checkpoint_steps, i8)) == 0) checkpoint_request = request_due
         end if
         if (case%checkpoint_minutes > 0.0_wp) then
-            if (since_last >= 60.0_wp*case%checkpoint_minutes) checkpoint_request = request_due
+            if (since_last/60.0_wp >= case%checkpoint_minutes) checkpoint_request = &
+                request_due
         end if
         if (stop_signal() /= 0) checkpoint_request = request_due + stop_signal()
         if (image_count() > 1 .and. (case%checkpoint_minutes > 0.0_wp .or. &
@@ -444,7 +445,7 @@ contains
                 "not be saved: "//failed%message
         else
             error%message = error%message//new_line("a")//"the last healthy state (step "// &
-                int_text(snapshot%step)//", t = "//real_text(snapshot%time)//" s) is saved in " &
+                int_text(snapshot%step)//", t = "//time_text(snapshot%time)//" s) is saved in " &
                 //path//"; look at it, or continue from it with another time step: "// &
                 "mpm_geo CASE.json --restart "//path
         end if
@@ -677,6 +678,18 @@ contains
             exit_input)
         if (image_id() /= 1) error%message = ""
     end subroutine check_memory
+
+    !> A simulated time for messages, "2.92534E-02".
+    function time_text(t) result(text)
+        real(wp), intent(in) :: t
+            !! time [s]
+        character(len=:), allocatable :: text
+
+        character(len=16) :: buf
+
+        write (buf, "(es12.5)") t
+        text = trim(adjustl(buf))
+    end function time_text
 
     !> "12.3 GB", "512 MB", ...
     function size_text(bytes) result(text)

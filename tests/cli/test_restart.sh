@@ -87,6 +87,9 @@ expect 2 "--restart without a checkpoint or case" -- "$exe" --restart
 expect 2 "bad --checkpoint-steps" -- "$exe" "$case_file" --checkpoint-steps 0
 contains "--checkpoint-steps 0" "bad --checkpoint-steps: names the option"
 expect 2 "bad --checkpoint-minutes" -- "$exe" "$case_file" --checkpoint-minutes nan
+expect 2 "--checkpoint-minutes beyond a double" -- "$exe" "$case_file" --checkpoint-minutes 1e999
+expect 0 "--checkpoint-minutes at the largest double" -- "$exe" "$case_file" --output "$tmp/m" \
+    --checkpoint-minutes 1e308 --quiet
 [ ! -e "$tmp/elsewhere" ] && ok || bad "a refused restart wrote an output folder"
 
 # the blow-up guard: exit 3, step, particle, position, and the last healthy state saved
