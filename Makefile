@@ -7,6 +7,8 @@ SHELL := /bin/sh
 BUILD_DIR       := build
 DEBUG_DIR       := build-debug
 CAF_DIR         := build-caf
+FUZZ_DIR        := build-fuzz
+FUZZ_SECONDS    := 600
 VENV            := .venv
 PYTHON          := $(VENV)/bin/python
 CASE            := inputs/base_case.json
@@ -17,7 +19,7 @@ PYTEST_DIRS      = $(wildcard postproc/tests tests/python)
 LINT_DIRS        = $(wildcard src app)
 
 .PHONY: help deps deps-paraview deps-test build run test test-fortran test-python check lint \
-        debug test-debug coarray caf-build test-coarray bench study validate clean
+        debug test-debug coarray caf-build test-coarray fuzz bench study validate clean
 
 help:
 	@echo "mpm-geo make targets:"
@@ -32,11 +34,14 @@ help:
 	@echo "                   cafrun -np N $(CAF_DIR)/mpm_geo case.json (docs/hpc.md)"
 	@echo "  make test-coarray  parallel suites of the coarray build on 2 images (skipped with a"
 	@echo "                   message when OpenCoarrays is not available)"
+	@echo "  make fuzz        install AFL++ if missing, build $(FUZZ_DIR)/, fuzz the case reader for"
+	@echo "                   FUZZ_SECONDS=$(FUZZ_SECONDS) s; fails on a crash or hang (docs/testing.md)"
 	@echo "  make check       Fortran linter (fortitude) on src/ and app/; 'make lint' is the same"
 	@echo "  make bench       run the benchmarks (bench/run_bench.sh)"
 	@echo "  make study       accuracy against cost (bench/run_study.sh -> docs/accuracy-vs-cost.md)"
 	@echo "  make validate    run the validation cases (validation/run_all.sh)"
-	@echo "  make clean       remove $(BUILD_DIR)/, $(DEBUG_DIR)/, $(CAF_DIR)/ (outputs/ and $(VENV)/ are kept)"
+	@echo "  make clean       remove $(BUILD_DIR)/, $(DEBUG_DIR)/, $(CAF_DIR)/, $(FUZZ_DIR)/ (outputs/ and $(VENV)/"
+	@echo "                   are kept)"
 
 deps:
 	@bash scripts/install_deps.sh
@@ -121,6 +126,11 @@ test-coarray:
 	    ctest --test-dir $(CAF_DIR) --output-on-failure -j 1; \
 	fi
 
+# Not part of make test: it runs for FUZZ_SECONDS. Findings go to $(FUZZ_DIR)/afl-out/.
+fuzz:
+	@bash scripts/install_deps.sh --with-fuzz
+	FUZZ_BUILD_DIR=$(CURDIR)/$(FUZZ_DIR) bash tests/fuzz/run_fuzz.sh $(FUZZ_SECONDS)
+
 bench: deps
 	@$(MAKE) --no-print-directory build
 	@if [ -f bench/run_bench.sh ]; then \
@@ -143,4 +153,4 @@ validate: deps
 	fi
 
 clean:
-	rm -rf $(BUILD_DIR) $(DEBUG_DIR) $(CAF_DIR)
+	rm -rf $(BUILD_DIR) $(DEBUG_DIR) $(CAF_DIR) $(FUZZ_DIR)

@@ -4,6 +4,7 @@
 #   scripts/install_deps.sh                  compilers, libraries, Python venv
 #   scripts/install_deps.sh --with-paraview  also ParaView's pvbatch (used by the tests)
 #   scripts/install_deps.sh --with-coarray   also OpenCoarrays and Open MPI (make coarray)
+#   scripts/install_deps.sh --with-fuzz      also AFL++ and GCC's plugin headers (make fuzz)
 #
 # System packages come from apt (Debian/Ubuntu); only missing ones are installed, through sudo
 # when not root. Python packages go into .venv/ from postproc/requirements.txt and are only
@@ -12,15 +13,17 @@
 set -euo pipefail
 
 usage() {
-    sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'
+    sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'
 }
 
 with_paraview=0
 with_coarray=0
+with_fuzz=0
 for arg in "$@"; do
     case "$arg" in
         --with-paraview) with_paraview=1 ;;
         --with-coarray) with_coarray=1 ;;
+        --with-fuzz) with_fuzz=1 ;;
         -h | --help) usage; exit 0 ;;
         *) echo "install_deps.sh: unknown option '$arg' (try --help)" >&2; exit 2 ;;
     esac
@@ -38,6 +41,16 @@ fi
 if [ "$with_coarray" = 1 ]; then
     # caf, cafrun and libcaf_openmpi over Open MPI (the coarray build, tests/parallel)
     packages+=(libcoarrays-openmpi-dev libopenmpi-dev openmpi-bin)
+fi
+if [ "$with_fuzz" = 1 ]; then
+    # afl-fuzz, afl-tmin and the AFL++ runtime; the coverage plugin (tests/fuzz/afl_gcc_cov.cc)
+    # is compiled with g++ against the plugin headers of the gfortran in use
+    gcc_major=$(gfortran -dumpversion 2> /dev/null | cut -d. -f1 || true)
+    if [ -z "$gcc_major" ] && command -v apt-cache > /dev/null 2>&1; then
+        gcc_major=$(apt-cache depends gfortran 2> /dev/null |
+            awk '$1 == "Depends:" && $2 ~ /^gfortran-[0-9]+$/ { sub("gfortran-", "", $2); print $2 }')
+    fi
+    packages+=(afl++ g++ "gcc-${gcc_major:-12}-plugin-dev")
 fi
 
 # ---------------------------------------------------------------------------------------------
