@@ -254,8 +254,8 @@ contains
                     call fatal_error(error, "stopped by "//signal_name(request - request_due) &
                         //" at step "//int_text(sim%step)//", t = "//time_text(sim%time)// &
                         " s; the state is saved in "//checkpoint_path(case)//new_line("a")// &
-                        "continue the run with: mpm_geo --restart "//checkpoint_path(case), &
-                        exit_interrupted)
+                        "continue the run with: "//launcher()//"mpm_geo --restart "// &
+                        checkpoint_path(case), exit_interrupted)
                     if (.not. lead) error%message = ""
                     exit
                 end if
@@ -447,7 +447,7 @@ contains
             error%message = error%message//new_line("a")//"the last healthy state (step "// &
                 int_text(snapshot%step)//", t = "//time_text(snapshot%time)//" s) is saved in " &
                 //path//"; look at it, or continue from it with another time step: "// &
-                "mpm_geo CASE.json --restart "//path
+                launcher()//"mpm_geo CASE.json --restart "//path
         end if
     end subroutine save_healthy_state
 
@@ -678,6 +678,15 @@ contains
             exit_input)
         if (image_id() /= 1) error%message = ""
     end subroutine check_memory
+
+    !> How the run was started, for the commands messages suggest: "" on one image,
+    !> "cafrun -np N " on several (a restart needs as many images).
+    function launcher() result(text)
+        character(len=:), allocatable :: text
+
+        text = ""
+        if (image_count() > 1) text = "cafrun -np "//int_text(image_count())//" "
+    end function launcher
 
     !> A simulated time for messages, "2.92534E-02".
     function time_text(t) result(text)

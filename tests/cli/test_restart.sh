@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Checkpoints and restarts (issue 8): a run stopped by SIGTERM writes a checkpoint and exits
-# with code 4; `mpm_geo --restart FILE` (another thread count) and `mpm_geo CASE --restart`
+# Checkpoints and restarts (issue 8): a run stopped by SIGTERM or SIGINT writes a checkpoint
+# and exits with code 4 (not with checkpoint.on_signal = false); `mpm_geo --restart FILE` (another thread count) and `mpm_geo CASE --restart`
 # continue it, and every output and the energy history are then the same, bit for bit, as
 # those of a run that was never stopped; a damaged or wrong checkpoint is refused with exit
 # code 2; the blow-up guard stops an unstable run with exit code 3 and saves the last healthy
@@ -60,6 +60,26 @@ if [ "$rc" -eq 4 ]; then
         "$exe" --restart "$tmp/b/checkpoint.h5" --quiet
     identical "$tmp/a" "$tmp/b" "stopped and restarted run = uninterrupted run"
 fi
+
+# SIGINT (Ctrl-C) too; with checkpoint.on_signal = false the default action ends the run
+"$exe" "$case_file" --output "$tmp/i" --quiet --checkpoint-steps 100 > "$tmp/i.out" 2>&1 &
+pid=$!
+for _ in $(seq 1 1500); do [ -f "$tmp/i/checkpoint.h5" ] && break; sleep 0.01; done
+kill -INT "$pid"
+wait "$pid"
+rc=$?
+cp "$tmp/i.out" "$tmp/out"
+if [ "$rc" -eq 4 ]; then ok; else bad "SIGINT: exit code $rc, expected 4"; cat "$tmp/i.out"; fi
+contains "stopped by SIGINT" "SIGINT: message"
+sed 's#"progress"#"checkpoint": {"on_signal": false}, "progress"#' "$case_file" > "$tmp/nosig.json"
+"$exe" "$tmp/nosig.json" --output "$tmp/n" --quiet > "$tmp/n.out" 2>&1 &
+pid=$!
+for _ in $(seq 1 1500); do [ -f "$tmp/n/particles_000001.h5" ] && break; sleep 0.01; done
+kill -TERM "$pid"
+wait "$pid"
+rc=$?
+if [ "$rc" -eq 143 ] && [ ! -e "$tmp/n/checkpoint.h5" ]; then ok; else
+    bad "on_signal = false: exit code $rc (expected 143, killed by SIGTERM) or a checkpoint"; fi
 
 # checkpoints every 1000 steps to the end; the case continues from its own checkpoint (the
 # last, step 3000): the history lines after it are dropped and written again

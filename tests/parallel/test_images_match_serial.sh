@@ -7,6 +7,8 @@
 #    serial run does;
 #  - failures: a broken case file and a particle lost on one image give the serial exit code
 #    and one message;
+#  - a checkpoint written on 2 images continues on 2 images as the serial run does, and is
+#    refused on 1 image;
 #  - 2 images of 2 threads each (hybrid) give the serial result too;
 #  - ParaView (pvbatch) opens the parts of a run as one time series.
 # usage: test_images_match_serial.sh CAF_MPM_GEO SERIAL_MPM_GEO CAFRUN
@@ -37,6 +39,21 @@ for case in tests/parallel/cases/*.json; do
     "$python" tests/parallel/compare_runs.py "$tmp/$name-serial" "$tmp/$name-images" \
         --min-part "$min_part" || fail "$name: 2 images differ from the serial run"
 done
+
+# Checkpoint and restart on 2 images: the checkpoint gathers every particle in id order with
+# the frictional face loads of the whole grid; the run restarted from it (step 1000 of 1280)
+# on 2 images gives the serial result (to round-off: the particle order within the images
+# is not that of the run before); a restart on another number of images is refused
+echo "--- par_collapse_2d: checkpoint at step 1000 on 2 images, restarted on 2 images"
+par tests/parallel/cases/par_collapse_2d.json --output "$tmp/ckpt" --checkpoint-steps 1000 -q \
+    || fail "run with a checkpoint on 2 images"
+par --restart "$tmp/ckpt/checkpoint.h5" -q || fail "restart on 2 images"
+"$python" tests/parallel/compare_runs.py "$tmp/par_collapse_2d-serial" "$tmp/ckpt" \
+    || fail "a run restarted on 2 images differs from the serial run"
+"$serial_exe" --restart "$tmp/ckpt/checkpoint.h5" -q 2> "$tmp/restart1.err"
+rc=$?
+[ "$rc" -eq 2 ] && grep -q "written by a run on 2 image" "$tmp/restart1.err" \
+    || { fail "a checkpoint of 2 images restarted on 1: exit $rc, expected 2"; cat "$tmp/restart1.err"; }
 
 # Hybrid: 2 images of 2 threads each (threads do not change the bits of an image's sums)
 echo "--- par_collapse_3d on 2 images x 2 threads"
