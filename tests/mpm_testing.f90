@@ -4,10 +4,22 @@
 !> ends with `call finish(suite)`, which prints "N passed, N failed" and stops with exit
 !> code 1 when anything failed, so CTest reports the suite as failed.
 module mpm_testing
+    use, intrinsic :: iso_c_binding, only: c_char, c_ptr, c_null_char, c_associated
     use mpm_kinds, only: wp
     implicit none
     private
     public :: test_suite_type, new_suite, check, check_close, check_contains, finish
+    public :: temporary_folder
+
+    ! allow(assumed-size, assumed-size-character-intent): a C string passed to libc
+    interface
+        function c_mkdtemp(template) bind(c, name="mkdtemp") result(path)
+            import :: c_char, c_ptr
+            character(kind=c_char), intent(inout) :: template(*)
+                !! folder name ending in XXXXXX, null-terminated; the Xs are replaced
+            type(c_ptr) :: path
+        end function c_mkdtemp
+    end interface
 
     !> Counters of one test program.
     type :: test_suite_type
@@ -92,5 +104,31 @@ contains
         if (suite%failed > 0) error stop 1
         if (suite%passed == 0) error stop "no assertion was run"
     end subroutine finish
+
+    !> A new, empty folder with a unique name, $TMPDIR/PREFIX_XXXXXX (or under /tmp).
+    function temporary_folder(prefix) result(path)
+        character(len=*), intent(in) :: prefix
+            !! start of the folder's name
+        character(len=:), allocatable :: path
+            !! the folder created
+
+        character(len=4096) :: base
+        character(kind=c_char) :: template(4200)
+        character(len=:), allocatable :: name
+        integer :: length, stat, i
+
+        call get_environment_variable("TMPDIR", base, length, stat)
+        if (stat /= 0 .or. length == 0) base = "/tmp"
+        name = trim(base)//"/"//prefix//"_XXXXXX"
+        do i = 1, len(name)
+            template(i) = name(i:i)
+        end do
+        template(len(name) + 1) = c_null_char
+        if (.not. c_associated(c_mkdtemp(template))) error stop "mkdtemp failed in "//name
+        path = ""
+        do i = 1, len(name)
+            path = path//template(i)
+        end do
+    end function temporary_folder
 
 end module mpm_testing

@@ -4,7 +4,7 @@
 !> helpers under test), so a mistake in the helpers cannot hide itself. Files go to a fresh
 !> folder under $TMPDIR (default /tmp), deleted at the end unless MPM_TEST_KEEP is set.
 program test_mpm_output
-    use, intrinsic :: iso_c_binding, only: c_char, c_ptr, c_null_char, c_associated, c_int, c_loc
+    use, intrinsic :: iso_c_binding, only: c_char, c_ptr, c_null_char, c_int, c_loc
     use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5fopen_f, h5fclose_f, h5f_acc_rdonly_f, &
         h5dopen_f, h5dclose_f, h5dget_space_f, h5dread_f, h5sget_simple_extent_ndims_f, &
         h5sget_simple_extent_dims_f, h5sclose_f, h5aopen_by_name_f, h5aclose_f, h5aread_f, &
@@ -23,17 +23,11 @@ program test_mpm_output
         remove_file, parent_directory, c_string
     use mpm_hdf5, only: hdf5_location_type, hdf5_open_file, hdf5_write_attribute, hdf5_close
     use mpm_testing, only: test_suite_type, new_suite, check, check_close, check_contains, &
-        finish
+        finish, temporary_folder
     implicit none
 
     ! allow(assumed-size, assumed-size-character-intent): C strings passed to libc
     interface
-        function c_mkdtemp(template) bind(c, name="mkdtemp") result(path)
-            import :: c_char, c_ptr
-            character(kind=c_char), intent(inout) :: template(*)
-            type(c_ptr) :: path
-        end function c_mkdtemp
-
         function c_rmdir(path) bind(c, name="rmdir") result(status)
             import :: c_char, c_int
             character(kind=c_char), intent(in) :: path(*)
@@ -50,7 +44,7 @@ program test_mpm_output
     call new_suite(suite, "mpm_output")
     call h5open_f(hdferr)
     call check(suite, hdferr == 0, "h5open_f")
-    call make_temporary_folder(root)
+    root = temporary_folder("mpm_output_test")
     write (*, "(a)") "temporary folder: "//root
     keep = .false.
     call get_environment_variable("MPM_TEST_KEEP", status=hdferr)
@@ -1083,29 +1077,6 @@ contains
             start = start + found + len(part) - 1
         end do
     end function count_of
-
-    !> A new, empty folder with a unique name under $TMPDIR (or /tmp).
-    subroutine make_temporary_folder(path)
-        character(len=:), allocatable, intent(out) :: path
-
-        character(len=4096) :: base
-        character(kind=c_char) :: template(4200)
-        character(len=:), allocatable :: name
-        integer :: length, stat, i
-
-        call get_environment_variable("TMPDIR", base, length, stat)
-        if (stat /= 0 .or. length == 0) base = "/tmp"
-        name = trim(base)//"/mpm_output_test_XXXXXX"
-        do i = 1, len(name)
-            template(i) = name(i:i)
-        end do
-        template(len(name) + 1) = c_null_char
-        if (.not. c_associated(c_mkdtemp(template))) error stop "mkdtemp failed in "//name
-        path = ""
-        do i = 1, len(name)
-            path = path//template(i)
-        end do
-    end subroutine make_temporary_folder
 
     !> Delete the files this test writes, then the folders, deepest first.
     subroutine delete_tree(root, error)

@@ -8,7 +8,7 @@
 !> raw bytes into a fresh folder under $TMPDIR (default /tmp), deleted at the end unless
 !> MPM_TEST_KEEP is set.
 program test_mpm_stl
-    use, intrinsic :: iso_c_binding, only: c_char, c_ptr, c_null_char, c_associated, c_int
+    use, intrinsic :: iso_c_binding, only: c_char, c_null_char, c_int
     use, intrinsic :: iso_fortran_env, only: int32, real32
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf
     use mpm_kinds, only: wp
@@ -16,18 +16,11 @@ program test_mpm_stl
     use mpm_filesystem, only: remove_file, c_string
     use mpm_stl, only: stl_mesh_type, read_stl, check_closed, enclosed_volume
     use mpm_testing, only: test_suite_type, new_suite, check, check_close, check_contains, &
-        finish
+        finish, temporary_folder
     implicit none
 
     ! allow(assumed-size, assumed-size-character-intent): C strings passed to libc
     interface
-        function c_mkdtemp(template) bind(c, name="mkdtemp") result(path)
-            import :: c_char, c_ptr
-            character(kind=c_char), intent(inout) :: template(*)
-                !! folder name ending in XXXXXX, null-terminated; the Xs are replaced
-            type(c_ptr) :: path
-        end function c_mkdtemp
-
         function c_rmdir(path) bind(c, name="rmdir") result(status)
             import :: c_char, c_int
             character(kind=c_char), intent(in) :: path(*)
@@ -78,7 +71,7 @@ program test_mpm_stl
 
     call new_suite(suite, "mpm_stl")
     nwritten = 0
-    call make_temporary_folder(root)
+    root = temporary_folder("mpm_stl_test")
     write (*, "(a)") "temporary folder: "//root
     call get_environment_variable("MPM_TEST_KEEP", status=stat)
     keep = stat == 0
@@ -705,30 +698,6 @@ contains
     ! ----------------------------------------------------------------------------------------
     ! Temporary folder
     ! ----------------------------------------------------------------------------------------
-
-    !> A new folder $TMPDIR/mpm_stl_test_XXXXXX.
-    subroutine make_temporary_folder(path)
-        character(len=:), allocatable, intent(out) :: path
-            !! the folder created
-
-        character(len=4096) :: base
-        character(kind=c_char) :: template(4200)
-        character(len=:), allocatable :: name
-        integer :: length, stat, i
-
-        call get_environment_variable("TMPDIR", base, length, stat)
-        if (stat /= 0 .or. length == 0) base = "/tmp"
-        name = trim(base)//"/mpm_stl_test_XXXXXX"
-        do i = 1, len(name)
-            template(i) = name(i:i)
-        end do
-        template(len(name) + 1) = c_null_char
-        if (.not. c_associated(c_mkdtemp(template))) error stop "mkdtemp failed in "//name
-        path = ""
-        do i = 1, len(name)
-            path = path//template(i)
-        end do
-    end subroutine make_temporary_folder
 
     !> Delete the files this test wrote, then the folder.
     subroutine delete_files(error)

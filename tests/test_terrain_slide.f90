@@ -16,22 +16,11 @@
 !> test into a temporary folder.
 program test_terrain_slide
     use mpm_kinds, only: wp
-    use mpm_testing, only: test_suite_type, new_suite, check, check_close, finish
+    use mpm_testing, only: test_suite_type, new_suite, check, check_close, finish, temporary_folder
     use mpm_error, only: error_type
     use mpm_case, only: case_type, read_case_string
     use mpm_solver, only: simulation_type, new_simulation, advance, stable_time_step
-    use, intrinsic :: iso_c_binding, only: c_char, c_ptr, c_null_char, c_associated
     implicit none
-
-    ! allow(assumed-size, assumed-size-character-intent): a C string passed to libc
-    interface
-        function c_mkdtemp(template) bind(c, name="mkdtemp") result(path)
-            import :: c_char, c_ptr
-            character(kind=c_char), intent(inout) :: template(*)
-                !! folder name ending in XXXXXX, null-terminated; the Xs are replaced
-            type(c_ptr) :: path
-        end function c_mkdtemp
-    end interface
 
     type(test_suite_type) :: suite
     real(wp), parameter :: g = 9.81_wp, tend = 0.5_wp, floor_y = 0.11_wp
@@ -116,7 +105,7 @@ contains
         character(len=:), allocatable :: dir
         real(wp) :: s, s_plane2, s_plane2000
 
-        dir = temporary_folder()
+        dir = temporary_folder("mpm_terrain_test")
         call write_slope(dir//"/slope_2.stl", 1)
         call write_slope(dir//"/slope_2000.stl", 1000)
         call write_block(dir//"/block.stl")
@@ -257,28 +246,5 @@ contains
             print "(a,a,es11.4)", label, ": s = ", s
         end if
     end subroutine run_tilted
-
-    !> A new empty folder under $TMPDIR (or /tmp).
-    function temporary_folder() result(path)
-        character(len=:), allocatable :: path
-
-        character(len=4096) :: base
-        character(kind=c_char) :: template(4200)
-        character(len=:), allocatable :: name
-        integer :: length, stat, i
-
-        call get_environment_variable("TMPDIR", base, length, stat)
-        if (stat /= 0 .or. length == 0) base = "/tmp"
-        name = trim(base)//"/mpm_terrain_test_XXXXXX"
-        do i = 1, len(name)
-            template(i) = name(i:i)
-        end do
-        template(len(name) + 1) = c_null_char
-        if (.not. c_associated(c_mkdtemp(template))) error stop "mkdtemp failed in "//name
-        path = ""
-        do i = 1, len(name)
-            path = path//template(i)
-        end do
-    end function temporary_folder
 
 end program test_terrain_slide
