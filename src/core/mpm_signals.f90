@@ -2,9 +2,9 @@
 !> before a job's time limit) and SIGINT (Ctrl-C).
 !>
 !> While the requests are caught, the handler only records the signal; the time loop looks
-!> at it after each step, writes a checkpoint and stops cleanly. The handler also gives the
-!> signal back its default action, so a second Ctrl-C (or a second SIGTERM while the
-!> checkpoint is written) ends the process at once; the checkpoint is written to a temporary
+!> at it after each step, writes a checkpoint and stops cleanly. The handler also gives both
+!> signals back their default action, so a second Ctrl-C or SIGTERM (while the checkpoint is
+!> written, say) ends the process at once; the checkpoint is written to a temporary
 !> file and renamed, so the previous one stays readable.
 !>
 !> The C `signal` function is called through iso_c_binding; the signal numbers are those of
@@ -77,8 +77,9 @@ contains
         end select
     end function signal_name
 
-    !> The handler: note the signal and restore the default action (SIG_DFL is a null
-    !> pointer), so that a second one is not caught. Only async-signal-safe work here.
+    !> The handler: note the signal and give both signals their default action (SIG_DFL is a
+    !> null pointer), so that a second one, of either kind, is not caught. Only
+    !> async-signal-safe work here.
     subroutine on_stop_signal(signum) bind(c)
         integer(c_int), value :: signum
             !! the signal
@@ -86,7 +87,8 @@ contains
         type(c_funptr) :: previous
 
         received = signum
-        previous = c_signal(signum, c_null_funptr)
+        previous = c_signal(sigterm, c_null_funptr)
+        previous = c_signal(sigint, c_null_funptr)
     end subroutine on_stop_signal
 
 end module mpm_signals

@@ -22,7 +22,8 @@ module mpm_run
     use mpm_output, only: output_writer_type, new_output_writer, write_output, write_index, &
         remove_outputs, write_terrain, output_list, resume_output_writer, output_count
     use mpm_state, only: save_state, run_record_type, state_particle_count
-    use mpm_filesystem, only: make_directory, directory_exists, file_exists, rename_file
+    use mpm_filesystem, only: make_directory, directory_exists, file_exists, rename_file, &
+        remove_file
     use mpm_case, only: shape_linear
     use mpm_bodies, only: count_body_particles
     implicit none
@@ -112,6 +113,7 @@ contains
         type(output_writer_type) :: writer
         type(snapshot_type) :: snapshot
         integer :: history_unit, request
+        logical :: history_open
         integer(i8) :: total, first_step
         logical :: lead, quiet, resumed
         real(wp) :: imbalance
@@ -157,7 +159,7 @@ contains
             next_history = run%next_history
             wall_before = run%wall
         end if
-        history_unit = -1
+        history_open = .false.
         if (options%write_files) then
             if (lead .and. resumed) call resume_output_dir(case, sim%step, error)
             if (lead .and. .not. resumed) call prepare_output_dir(case, error)
@@ -166,8 +168,10 @@ contains
             call new_output_writer(writer, case, case%output_dir, error, image_id(), image_count())
             if (.not. allocated(error) .and. resumed) call resume_output_writer(writer, &
                 run%output_time, run%output_step, run%output_counts, run%output_id, error)
-            if (.not. allocated(error) .and. lead) call open_history(case, resumed, &
-                history_unit, error)
+            if (.not. allocated(error) .and. lead) then
+                call open_history(case, resumed, history_unit, error)
+                history_open = .not. allocated(error)
+            end if
             ! the terrain surface, to open in ParaView beside the particles
             if (lead .and. allocated(sim%grid%terrain) .and. .not. allocated(error)) then
                 call write_terrain(case%output_dir, sim%grid%terrain%corner, error)
@@ -222,6 +226,8 @@ contains
                     call write_part(writer, sim, error)
                     if (allocated(error)) exit
                     summary%outputs = summary%outputs + 1
+                    ! (the history on disk keeps up with the particle files)
+                    if (history_open) flush (history_unit)
                     do while (next_output <= sim%time + eps_t)
                         next_output = next_output + case%output_interval
                     end do
@@ -244,6 +250,9 @@ contains
             ! (a run that has just finished needs none)
             if (request > 0 .and. sim%time < case%tend - eps_t) then
                 clock = wall_time()
+                ! the history up to the checkpoint is on disk before the checkpoint is: a
+                ! restart keeps those lines and writes the later ones again
+                if (history_open) flush (history_unit)
                 call write_checkpoint(checkpoint_path(case), sim, writer, next_output, &
                     next_history, wall_before + (clock - t_start), error)
                 sim%phase_time(phase_output) = sim%phase_time(phase_output) &
@@ -278,7 +287,7 @@ contains
         summary%phase_time = sim%phase_time
         if (summary%wall > 0.0_wp) summary%particle_steps_per_second = &
             real(total, wp)*real(sim%step - first_step, wp)/summary%wall
-        if (history_unit >= 0) close (history_unit)
+        if (history_open) close (history_unit)
         if (allocated(error)) then
             ! (an image that does not report the failure has no message)
             if (options%write_files .and. len(error%message) > 0 .and. &
@@ -731,6 +740,13 @@ contains
         call make_directory(case%output_dir, error)
         if (allocated(error)) return
         call remove_outputs(case%output_dir, case%name, error)
+        if (allocated(error)) return
+        ! an earlier run's checkpoints would continue that run in this one's folder
+        call remove_file(case%output_dir//"/checkpoint.h5", error)
+        if (.not. allocated(error)) call remove_file(case%output_dir//"/checkpoint.h5.tmp", error)
+        if (.not. allocated(error)) call remove_file(case%output_dir//"/last_healthy.h5", error)
+        if (.not. allocated(error)) call remove_file(case%output_dir//"/last_healthy.h5.tmp", &
+            error)
     end subroutine prepare_output_dir
 
     subroutine write_history(unit, sim)

@@ -123,5 +123,14 @@ expect 0 "continue from the last healthy state with a stable time step" -- \
     "$exe" "$case_file" --restart "$tmp/u/last_healthy.h5" --quiet
 identical "$tmp/a" "$tmp/u" "restarted from the healthy state = uninterrupted run"
 
+# --overwrite starts afresh: the earlier run's checkpoints go with its outputs, so that a
+# restart cannot continue the earlier run in the new one's folder
+expect 0 "a new run over the folder of one with checkpoints" -- "$exe" "$tmp/save.json" \
+    --output "$tmp/c" --overwrite --quiet
+[ ! -e "$tmp/c/checkpoint.h5" ] && ok || bad "--overwrite kept the earlier run's checkpoint"
+expect 0 "a new run over the folder of a run the guard stopped" -- "$exe" "$tmp/save.json" \
+    --output "$tmp/u" --overwrite --quiet
+[ ! -e "$tmp/u/last_healthy.h5" ] && ok || bad "--overwrite kept the earlier run's healthy state"
+
 echo "restart tests: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]
