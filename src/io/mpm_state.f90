@@ -331,41 +331,10 @@ contains
 
         type(hdf5_location_type) :: file, group
         type(error_type), allocatable :: close_error
-        character(len=:), allocatable :: format
-        integer :: version
 
-        if (.not. file_exists(path)) then
-            call fatal_error(error, restart_refusal(path, "the file does not exist"), &
-                exit_input)
-            return
-        end if
-        call hdf5_initialize(error)
-        if (allocated(error)) return
-        if (.not. hdf5_is_hdf5_file(path)) then
-            call fatal_error(error, restart_refusal(path, "it is not an HDF5 file"), exit_input)
-            return
-        end if
-        call hdf5_open_file(path, file, error)
+        call open_state_file(path, restart_refusal(path, ""), file, error)
         if (allocated(error)) return
         steps: block
-            format = ""
-            if (hdf5_has_attribute(file, "format")) then
-                call hdf5_read_attribute(file, "format", format, error)
-                if (allocated(error)) exit steps
-            end if
-            if (format /= state_format) then
-                call fatal_error(error, restart_refusal(path, "it is not an mpm-geo "// &
-                    "checkpoint (not even a state file)"), exit_input)
-                exit steps
-            end if
-            call hdf5_read_attribute(file, "format_version", version, error)
-            if (allocated(error)) exit steps
-            if (version /= state_format_version) then
-                call fatal_error(error, restart_refusal(path, "format_version "// &
-                    int_text(version)//" is not supported (this build reads format_version "// &
-                    int_text(state_format_version)//")"), exit_input)
-                exit steps
-            end if
             if (.not. hdf5_has_link(file, "run")) then
                 call fatal_error(error, restart_refusal(path, "it is a state file "// &
                     "(save_state), not a checkpoint: start a new run from it with "// &
@@ -464,6 +433,57 @@ contains
         if (terrain > 0) call hdf5_read_dataset(group, "terrain_load", run%terrain_load, error)
     end subroutine read_run_group
 
+    !> Open a state file or checkpoint after checking that it is one this build reads: it
+    !> exists, is HDF5, and has the format and format_version of save_state.
+    subroutine open_state_file(path, prefix, file, error)
+        character(len=*), intent(in) :: path
+            !! the file
+        character(len=*), intent(in) :: prefix
+            !! start of every refusal ("cannot load the state file 'PATH': ")
+        type(hdf5_location_type), intent(out) :: file
+            !! the open file (closed again on a refusal)
+        type(error_type), allocatable, intent(out) :: error
+            !! set (exit_input) when the file is refused
+
+        character(len=:), allocatable :: format
+        integer :: version
+        type(error_type), allocatable :: ignored
+
+        if (.not. file_exists(path)) then
+            call fatal_error(error, prefix//"the file does not exist", exit_input)
+            return
+        end if
+        call hdf5_initialize(error)
+        if (allocated(error)) return
+        if (.not. hdf5_is_hdf5_file(path)) then
+            call fatal_error(error, prefix//"it is not an HDF5 file", exit_input)
+            return
+        end if
+        call hdf5_open_file(path, file, error)
+        if (allocated(error)) return
+        steps: block
+            format = ""
+            if (hdf5_has_attribute(file, "format")) then
+                call hdf5_read_attribute(file, "format", format, error)
+                if (allocated(error)) exit steps
+            end if
+            if (format /= state_format) then
+                call fatal_error(error, prefix//"it is not an mpm-geo state file or "// &
+                    "checkpoint (format '"//format//"', expected '"//state_format// &
+                    "'; an output file of a run is neither)", exit_input)
+                exit steps
+            end if
+            call hdf5_read_attribute(file, "format_version", version, error)
+            if (allocated(error)) exit steps
+            if (version /= state_format_version) then
+                call fatal_error(error, prefix//"format_version "//int_text(version)// &
+                    " is not supported (this build reads format_version "// &
+                    int_text(state_format_version)//")", exit_input)
+            end if
+        end block steps
+        if (allocated(error)) call hdf5_close(file, ignored)
+    end subroutine open_state_file
+
     pure function restart_refusal(path, reason) result(message)
         character(len=*), intent(in) :: path, reason
         character(len=:), allocatable :: message
@@ -493,17 +513,7 @@ contains
 
         time = 0.0_wp
         step = 0
-        if (.not. file_exists(path)) then
-            call fatal_error(error, refusal(path, "the file does not exist"), exit_input)
-            return
-        end if
-        call hdf5_initialize(error)
-        if (allocated(error)) return
-        if (.not. hdf5_is_hdf5_file(path)) then
-            call fatal_error(error, refusal(path, "it is not an HDF5 file"), exit_input)
-            return
-        end if
-        call hdf5_open_file(path, file, error)
+        call open_state_file(path, refusal(path, ""), file, error)
         if (allocated(error)) return
         call read_state_file(path, file, case, particles, time, step, error, nstate)
         call hdf5_close(file, close_error)
@@ -525,32 +535,11 @@ contains
         character(len=:), allocatable :: format
         type(text_type), allocatable :: names(:)
         integer, allocatable :: remap(:)
-        integer :: version, dim, n, nstress, file_nstate, case_nstate
+        integer :: dim, n, nstress, file_nstate, case_nstate
         real(wp), allocatable :: state(:, :)
 
         time = 0.0_wp
         step = 0
-        if (.not. hdf5_has_attribute(file, "format")) then
-            call fatal_error(error, refusal(path, "it is not an mpm-geo state file "// &
-                "(no 'format' attribute; an output file of a run is not a state)"), exit_input)
-            return
-        end if
-        call hdf5_read_attribute(file, "format", format, error)
-        if (allocated(error)) return
-        if (format /= state_format) then
-            call fatal_error(error, refusal(path, "it is not an mpm-geo state file "// &
-                "(format '"//format//"', expected '"//state_format//"')"), exit_input)
-            return
-        end if
-        call hdf5_read_attribute(file, "format_version", version, error)
-        if (allocated(error)) return
-        if (version /= state_format_version) then
-            call fatal_error(error, refusal(path, "format_version "//int_text(version)// &
-                " is not supported (this build reads format_version "// &
-                int_text(state_format_version)//")"), exit_input)
-            return
-        end if
-
         call check_grid(path, file, case, dim, error)
         if (allocated(error)) return
         call hdf5_read_attribute(file, "materials", names, error)

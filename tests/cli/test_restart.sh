@@ -116,7 +116,7 @@ contains "cannot restart from '$tmp/none.h5': the file does not exist" "missing 
 expect 2 "damaged checkpoint" -- "$exe" --restart "$tmp/b/checkpoint.h5.tmp"
 contains "not an HDF5 file" "damaged checkpoint"
 expect 2 "an output file is not a checkpoint" -- "$exe" --restart "$tmp/a/particles_000001.h5"
-contains "not an mpm-geo checkpoint" "an output file is not a checkpoint"
+contains "not an mpm-geo state file or checkpoint" "an output file is not a checkpoint"
 sed "s#\"progress\"#\"save_state\": \"$tmp/state.h5\", \"progress\"#" "$case_file" \
     | sed 's#"tend": 0.6#"tend": 0.01#' > "$tmp/save.json"
 expect 0 "a state file" -- "$exe" "$tmp/save.json" --output "$tmp/s" --quiet
