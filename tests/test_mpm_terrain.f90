@@ -17,6 +17,7 @@ program test_mpm_terrain
     call test_closest_point()
     call test_triangulation()
     call test_orientation()
+    call test_ridge_tie()
     call test_section_2d()
     call test_misses_domain()
     call finish(suite)
@@ -117,6 +118,35 @@ contains
         call check(suite, found .and. d > 0.0_wp .and. n(3) > 0.0_wp, &
             "normals turned against gravity: above the plane is the material side")
     end subroutine test_orientation
+
+    !> A point straight above the crest of a symmetric ridge is as far from both slopes: the
+    !> answer is the triangle listed first in the surface (the lower index), in whatever order
+    !> the index lists them, and the query skips no triangle that could be as near.
+    subroutine test_ridge_tie()
+        type(terrain_type) :: ridge, swapped
+        type(error_type), allocatable :: error
+        real(wp) :: corner(3, 3, 2), d1, d2, n1(3), n2(3), x(3)
+        logical :: f1, f2
+
+        ! the slopes x in [0.2, 0.5] rising and [0.5, 0.8] falling, crest along y at x = 0.5
+        corner(:, :, 1) = reshape([0.2_wp, -1.0_wp, 0.4_wp, 0.5_wp, -1.0_wp, 0.55_wp, &
+            0.5_wp, 2.0_wp, 0.55_wp], [3, 3])
+        corner(:, :, 2) = reshape([0.5_wp, -1.0_wp, 0.55_wp, 0.8_wp, -1.0_wp, 0.4_wp, &
+            0.5_wp, 2.0_wp, 0.55_wp], [3, 3])
+        call new_terrain(ridge, corner, [0.0_wp, 0.0_wp, 0.0_wp], [10, 10, 10], 0.1_wp, 3, &
+            0.2_wp, g, error)
+        call check(suite, .not. allocated(error), "ridge indexed")
+        call new_terrain(swapped, corner(:, :, [2, 1]), [0.0_wp, 0.0_wp, 0.0_wp], [10, 10, 10], &
+            0.1_wp, 3, 0.2_wp, g, error)
+        x = [0.5_wp, 0.55_wp, 0.6_wp]
+        call terrain_distance(ridge, x, f1, d1, n1)
+        call terrain_distance(swapped, x, f2, d2, n2)
+        call check(suite, f1 .and. f2, "the crest is within reach")
+        call check_close(suite, d1, 0.05_wp, 1e-12_wp, "distance to the crest")
+        call check(suite, d1 == d2, "the same distance from either surface")
+        call check(suite, n1(1) < 0.0_wp, "a tie goes to triangle 1 (the rising slope)")
+        call check(suite, n2(1) > 0.0_wp, "listed the other way, to the falling slope")
+    end subroutine test_ridge_tie
 
     subroutine test_section_2d()
         type(terrain_type) :: terrain

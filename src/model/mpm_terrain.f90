@@ -22,6 +22,10 @@ module mpm_terrain
             !! (3 coordinates, 3 corners, n) [m]
         real(wp), allocatable :: normal(:, :)
             !! unit normal of each triangle, towards the material (3, n)
+        real(wp), allocatable :: centre(:, :)
+            !! centre of each triangle's bounding sphere (the mean of its corners) (3, n) [m]
+        real(wp), allocatable :: radius(:)
+            !! radius of each triangle's bounding sphere about `centre` (n) [m]
         real(wp) :: origin(3) = 0.0_wp
             !! corner of the index box [m]
         real(wp) :: h = 1.0_wp
@@ -67,9 +71,14 @@ contains
 
         terrain%n = size(corner, 3)
         terrain%corner = corner
-        allocate (terrain%normal(3, terrain%n))
+        allocate (terrain%normal(3, terrain%n), terrain%centre(3, terrain%n), &
+            terrain%radius(terrain%n))
         mean = 0.0_wp
         do t = 1, terrain%n
+            terrain%centre(:, t) = (corner(:, 1, t) + corner(:, 2, t) + corner(:, 3, t))/3.0_wp
+            terrain%radius(t) = max(norm2(corner(:, 1, t) - terrain%centre(:, t)), &
+                norm2(corner(:, 2, t) - terrain%centre(:, t)), &
+                norm2(corner(:, 3, t) - terrain%centre(:, t)))
             e1 = corner(:, 2, t) - corner(:, 1, t)
             e2 = corner(:, 3, t) - corner(:, 1, t)
             cross = [e1(2)*e2(3) - e1(3)*e2(2), e1(3)*e2(1) - e1(1)*e2(3), &
@@ -142,7 +151,82 @@ contains
                 end do
             end do
         end do
+        ! nearest first: a query then finds a close triangle early and skips the far ones
+        do m = 1, ncell
+            call sort_by_distance(terrain, m)
+        end do
     end subroutine new_terrain
+
+    !> Order the triangles of cell m by the distance of their centres from the cell's centre
+    !> (then by index), with a heap sort (a fine surface lists many triangles per cell).
+    subroutine sort_by_distance(terrain, m)
+        type(terrain_type), intent(inout) :: terrain
+            !! the terrain, its list filled
+        integer, intent(in) :: m
+            !! cell
+
+        integer :: lo, n, i, ijk(3), rest
+        real(wp) :: middle(3)
+        real(wp), allocatable :: key(:)
+        integer, allocatable :: item(:)
+
+        lo = terrain%first(m)
+        n = terrain%first(m + 1) - lo
+        if (n < 2) return
+        ijk(1) = mod(m - 1, terrain%ncells(1))
+        ijk(2) = mod((m - 1)/terrain%ncells(1), terrain%ncells(2))
+        ijk(3) = (m - 1)/(terrain%ncells(1)*terrain%ncells(2))
+        middle = terrain%origin + (real(ijk, wp) + 0.5_wp)*terrain%h
+        item = terrain%list(lo:lo + n - 1)
+        allocate (key(n))
+        do i = 1, n
+            key(i) = sum((terrain%centre(:, item(i)) - middle)**2)
+        end do
+        ! heap sort: build a max-heap, then move the largest to the end
+        do i = n/2, 1, -1
+            call sift(i, n)
+        end do
+        do rest = n, 2, -1
+            call swap(1, rest)
+            call sift(1, rest - 1)
+        end do
+        terrain%list(lo:lo + n - 1) = item
+
+    contains
+
+        logical function after(a, b)
+            integer, intent(in) :: a, b
+            after = key(a) > key(b) .or. (key(a) == key(b) .and. item(a) > item(b))
+        end function after
+
+        subroutine swap(a, b)
+            integer, intent(in) :: a, b
+            real(wp) :: k
+            integer :: j
+            k = key(a)
+            key(a) = key(b)
+            key(b) = k
+            j = item(a)
+            item(a) = item(b)
+            item(b) = j
+        end subroutine swap
+
+        subroutine sift(start, last)
+            integer, intent(in) :: start, last
+            integer :: root, child
+            root = start
+            do while (2*root <= last)
+                child = 2*root
+                if (child < last) then
+                    if (after(child + 1, child)) child = child + 1
+                end if
+                if (.not. after(child, root)) return
+                call swap(root, child)
+                root = child
+            end do
+        end subroutine sift
+
+    end subroutine sort_by_distance
 
     !> Cells (0-based, clamped to the box) that the bounding box of triangle t, grown by
     !> reach, overlaps; `inside` is false when it misses the box.
@@ -190,8 +274,10 @@ contains
         real(wp), intent(out) :: n(3)
             !! normal of the nearest triangle, towards the material
 
-        integer :: ijk(3), a, m, q, t
-        real(wp) :: p(3), dist, best
+        integer :: ijk(3), a, m, q, t, nearest
+        real(wp) :: p(3), dist, best, bound
+        real(wp), parameter :: slack = 1.0e-9_wp
+            !! relative margin of the sphere test against rounding [-]
 
         found = .false.
         d = huge(1.0_wp)
@@ -202,13 +288,23 @@ contains
         end do
         m = cell_index(terrain, ijk)
         best = huge(1.0_wp)
+        nearest = huge(1)
         do q = terrain%first(m), terrain%first(m + 1) - 1
             t = terrain%list(q)
+            ! a triangle whose bounding sphere is farther than the nearest so far cannot be
+            ! nearer (nor as near): skipped
+            if (best < huge(1.0_wp)) then
+                bound = best*(1.0_wp + slack) + terrain%radius(t)*(1.0_wp + slack)
+                if (sum((x - terrain%centre(:, t))**2) > bound*bound) cycle
+            end if
             p = closest_point_on_triangle(x, terrain%corner(:, 1, t), terrain%corner(:, 2, t), &
                 terrain%corner(:, 3, t))
             dist = norm2(x - p)
-            if (dist < best) then
+            ! at equal distances (a point over a shared edge) the lowest index wins, whatever
+            ! the order of the list
+            if (dist < best .or. (dist == best .and. t < nearest)) then
                 best = dist
+                nearest = t
                 n = terrain%normal(:, t)
                 d = sign(dist, dot_product(x - p, n))
             end if
