@@ -59,6 +59,7 @@ program test_mpm_case
     call test_material_key_errors()
     call test_newtonian_errors()
     call test_frictional_faces()
+    call test_checkpoint_and_guard()
     call delete_file(state_file)
     call delete_file(case_file)
     call check_neo_hookean_and_unstable()
@@ -379,7 +380,52 @@ contains
         call check_contains(suite, text, "outputs/case, every 0.005 s", "summary: output")
         call check_contains(suite, text, "position displacement velocity", "summary: fields")
         call check_contains(suite, text, "load_state  (none)", "summary: load_state")
+        call check_contains(suite, text, "checkpoint  on SIGTERM/SIGINT, file <output folder>/" &
+            //"checkpoint.h5", "summary: checkpoints by default")
+        call check_contains(suite, text, "guard       kinetic energy above 10 x the largest " &
+            //"so far; healthy copy every 100 steps", "summary: guard by default")
     end subroutine test_summary
+
+    !> `checkpoint` and `guard`: values, defaults, ranges, misspelt keys; the text of the case
+    !> is kept (checkpoints store it).
+    subroutine test_checkpoint_and_guard()
+        type(case_type) :: case
+        character(len=:), allocatable :: text
+
+        text = case_text(extra='"checkpoint": {"every_steps": 250, "every_minutes": 30, ' &
+            //'"file": "ck/run.h5", "on_signal": false}, "guard": {"energy_factor": 50, ' &
+            //'"snapshot_steps": 0}')
+        call read_valid(text, case, "checkpoint and guard")
+        call check(suite, case%checkpoint_steps == 250, "checkpoint.every_steps")
+        call check_close(suite, case%checkpoint_minutes, 30.0_wp, 0.0_wp, &
+            "checkpoint.every_minutes")
+        call check(suite, case%checkpoint_file == "ck/run.h5", "checkpoint.file")
+        call check(suite, .not. case%checkpoint_on_signal, "checkpoint.on_signal")
+        call check_close(suite, case%guard_energy_factor, 50.0_wp, 0.0_wp, "guard.energy_factor")
+        call check(suite, case%guard_snapshot_steps == 0, "guard.snapshot_steps")
+        call check(suite, case%text == text, "the case text is kept")
+        call check_contains(suite, case_summary(case), "checkpoint  every 250 steps, every " &
+            //"30 min, not on signals, file ck/run.h5", "summary: checkpoint")
+        call check_contains(suite, case_summary(case), "no healthy copy", "summary: no copy")
+        call read_valid(case_text(), case, "defaults")
+        call check(suite, case%checkpoint_steps == 0 .and. case%checkpoint_minutes == 0.0_wp &
+            .and. case%checkpoint_on_signal .and. case%checkpoint_file == "", &
+            "checkpoint defaults: none periodic, on signals, default file")
+        call check(suite, case%guard_energy_factor == 10.0_wp .and. &
+            case%guard_snapshot_steps == 100, "guard defaults")
+        call expect_error(case_text(extra='"checkpoint": {"every_steps": 0}'), &
+            [character(len=40) :: "checkpoint.every_steps", ">= 1"], "every_steps 0")
+        call expect_error(case_text(extra='"checkpoint": {"every_minutes": -1}'), &
+            [character(len=40) :: "checkpoint.every_minutes", "> 0"], "every_minutes < 0")
+        call expect_error(case_text(extra='"checkpoint": {"every_step": 10}'), &
+            [character(len=40) :: "every_step", "did you mean 'every_steps'"], "misspelt key")
+        call expect_error(case_text(extra='"checkpoint": {"on_signal": "yes"}'), &
+            [character(len=40) :: "checkpoint.on_signal"], "on_signal not a boolean")
+        call expect_error(case_text(extra='"guard": {"energy_factor": 1}'), &
+            [character(len=40) :: "guard.energy_factor", "> 1"], "energy_factor 1")
+        call expect_error(case_text(extra='"guard": {"snapshot_steps": -5}'), &
+            [character(len=40) :: "guard.snapshot_steps", ">= 0"], "snapshot_steps < 0")
+    end subroutine test_checkpoint_and_guard
 
     subroutine test_key_errors()
         call expect_error(case_text(extra='"nmae": "x"'), &

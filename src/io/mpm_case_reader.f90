@@ -237,7 +237,28 @@ contains
         end if
         text = text//"progress    every "//fmt_real(case%progress_seconds)//" s (wall clock)"//nl
         text = text//"save_state  "//text_or(case%save_state, "(none)", .true.)//nl
-        text = text//"load_state  "//text_or(case%load_state, "(none)", .true.)
+        text = text//"load_state  "//text_or(case%load_state, "(none)", .true.)//nl
+        line = "checkpoint "
+        if (case%checkpoint_steps > 0) line = line//" every "//itoa(case%checkpoint_steps)// &
+            " steps,"
+        if (case%checkpoint_minutes > 0.0_wp) line = line//" every "// &
+            fmt_real(case%checkpoint_minutes)//" min,"
+        if (case%checkpoint_on_signal) then
+            line = line//" on SIGTERM/SIGINT"
+        else
+            line = line//" not on signals"
+        end if
+        line = line//", file "//text_or(case%checkpoint_file, "<output folder>/checkpoint.h5", &
+            .true.)
+        text = text//line//nl
+        line = "guard       kinetic energy above "//fmt_real(case%guard_energy_factor)// &
+            " x the largest so far; "
+        if (case%guard_snapshot_steps > 0) then
+            line = line//"healthy copy every "//itoa(case%guard_snapshot_steps)//" steps"
+        else
+            line = line//"no healthy copy"
+        end if
+        text = text//line
     end procedure case_summary
 
     module procedure case_key_paths

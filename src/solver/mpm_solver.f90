@@ -728,7 +728,7 @@ contains
                 return
             end if
             if (ke <= huge(1.0_wp) .and. .not. (sim%energy_scale > 0.0_wp .and. &
-                ke > sim%case%guard_energy_factor*sim%energy_scale)) return
+                ke/sim%case%guard_energy_factor > sim%energy_scale)) return
             ! the particle that shows it: the first with a non-finite velocity or stress,
             ! else the fastest
             worst = 0
