@@ -26,6 +26,7 @@ module mpm_hdf5
     public :: hdf5_location_type, text_type
     public :: hdf5_initialize, hdf5_is_hdf5_file
     public :: hdf5_create_file, hdf5_open_file, hdf5_create_group, hdf5_open_group, hdf5_close
+    public :: hdf5_close_after
     public :: hdf5_has_attribute, hdf5_has_link
     public :: hdf5_write_dataset, hdf5_read_dataset
     public :: hdf5_write_attribute, hdf5_read_attribute
@@ -226,6 +227,20 @@ contains
                 location%file//"'", exit_other)
         end if
     end subroutine hdf5_close
+
+    !> Close a file or group at the end of work that may have failed: the first error wins,
+    !> so a failure to close is reported only when the work itself went well.
+    subroutine hdf5_close_after(location, error)
+        type(hdf5_location_type), intent(inout) :: location
+            !! file or group to close
+        type(error_type), allocatable, intent(inout) :: error
+            !! the work's error, if any; else the close's
+
+        type(error_type), allocatable :: close_error
+
+        call hdf5_close(location, close_error)
+        if (.not. allocated(error) .and. allocated(close_error)) call move_alloc(close_error, error)
+    end subroutine hdf5_close_after
 
     !> True when the file or group has an attribute of that name.
     logical function hdf5_has_attribute(location, name)

@@ -18,7 +18,7 @@ module mpm_output
     use mpm_particles, only: particles_type
     use mpm_grid, only: grid_type, node_position
     use mpm_hdf5, only: hdf5_location_type, text_type, hdf5_initialize, hdf5_create_file, &
-        hdf5_create_group, hdf5_close, hdf5_write_dataset, hdf5_write_attribute
+        hdf5_create_group, hdf5_close_after, hdf5_write_dataset, hdf5_write_attribute
     use mpm_filesystem, only: directory_exists, rename_file, remove_file, file_exists
     use mpm_version, only: mpm_version_string
     implicit none
@@ -435,7 +435,6 @@ contains
         type(error_type), allocatable, intent(out) :: error
 
         type(hdf5_location_type) :: file
-        type(error_type), allocatable :: close_error
 
         call hdf5_create_file(path, file, error)
         if (allocated(error)) return
@@ -462,8 +461,7 @@ contains
             if (allocated(error)) exit steps
             if (writer%grid) call write_grid_group(file, grid, error)
         end block steps
-        call hdf5_close(file, close_error)
-        if (.not. allocated(error) .and. allocated(close_error)) call move_alloc(close_error, error)
+        call hdf5_close_after(file, error)
     end subroutine write_hdf5_file
 
     !> The /particles group: one row per particle, only the fields the case asks for.
@@ -474,7 +472,6 @@ contains
         type(error_type), allocatable, intent(out) :: error
 
         type(hdf5_location_type) :: group
-        type(error_type), allocatable :: close_error
         character(len=:), allocatable :: components
         real(wp), allocatable :: plastic_strain(:)
 
@@ -531,8 +528,7 @@ contains
                 if (allocated(error)) exit steps
             end if
         end block steps
-        call hdf5_close(group, close_error)
-        if (.not. allocated(error) .and. allocated(close_error)) call move_alloc(close_error, error)
+        call hdf5_close_after(group, error)
     end subroutine write_particles_group
 
     !> The /grid group: node positions, nodal mass and velocity.
@@ -542,7 +538,6 @@ contains
         type(error_type), allocatable, intent(out) :: error
 
         type(hdf5_location_type) :: group
-        type(error_type), allocatable :: close_error
         real(wp), allocatable :: position(:, :)
         integer :: id, stat
         character(len=256) :: message
@@ -567,8 +562,7 @@ contains
             if (allocated(error)) exit steps
             call write_vector(group, "velocity", grid%velocity, "m/s", error)
         end block steps
-        call hdf5_close(group, close_error)
-        if (.not. allocated(error) .and. allocated(close_error)) call move_alloc(close_error, error)
+        call hdf5_close_after(group, error)
     end subroutine write_grid_group
 
     !> The terrain surface of a run, for ParaView: `<dir>/terrain.h5` (/terrain/position, the
@@ -583,7 +577,7 @@ contains
             !! set when a file cannot be written
 
         type(hdf5_location_type) :: file, group
-        type(error_type), allocatable :: close_error, ignored
+        type(error_type), allocatable :: ignored
         real(wp), allocatable :: position(:, :)
         integer :: n, k, unit, stat
         character(len=256) :: message
@@ -599,11 +593,9 @@ contains
             call hdf5_write_dataset(group, "position", position, error, units="m")
             if (.not. allocated(error)) call hdf5_write_dataset(group, "triangles", &
                 [(k, k = 0, 3*n - 1)], error, units="-")
-            call hdf5_close(group, close_error)
+            call hdf5_close_after(group, error)
         end if
-        if (.not. allocated(error) .and. allocated(close_error)) call move_alloc(close_error, error)
-        call hdf5_close(file, close_error)
-        if (.not. allocated(error) .and. allocated(close_error)) call move_alloc(close_error, error)
+        call hdf5_close_after(file, error)
         if (allocated(error)) then
             call remove_file(path//".tmp", ignored)
             return

@@ -18,8 +18,8 @@ module mpm_state
     use mpm_particles, only: particles_type, new_particles, nstress_of
     use mpm_hdf5, only: hdf5_location_type, text_type, hdf5_initialize, hdf5_is_hdf5_file, &
         hdf5_create_file, hdf5_open_file, hdf5_create_group, hdf5_open_group, hdf5_close, &
-        hdf5_has_attribute, hdf5_has_link, hdf5_write_dataset, hdf5_read_dataset, &
-        hdf5_write_attribute, hdf5_read_attribute
+        hdf5_close_after, hdf5_has_attribute, hdf5_has_link, hdf5_write_dataset, &
+        hdf5_read_dataset, hdf5_write_attribute, hdf5_read_attribute
     use mpm_filesystem, only: make_directory, directory_exists, file_exists, rename_file, &
         remove_file, parent_directory
     use mpm_version, only: mpm_version_string
@@ -130,7 +130,6 @@ contains
         type(run_record_type), intent(in), optional :: run
 
         type(hdf5_location_type) :: file, group
-        type(error_type), allocatable :: close_error
         character(len=:), allocatable :: case_name
 
         case_name = ""
@@ -170,21 +169,14 @@ contains
             call hdf5_create_group(file, "particles", group, error)
             if (allocated(error)) exit steps
             call write_particles(group, particles, error)
-            call hdf5_close(group, close_error)
-            if (.not. allocated(error) .and. allocated(close_error)) then
-                call move_alloc(close_error, error)
-            end if
+            call hdf5_close_after(group, error)
             if (allocated(error) .or. .not. present(run)) exit steps
             call hdf5_create_group(file, "run", group, error)
             if (allocated(error)) exit steps
             call write_run_record(group, run, error)
-            call hdf5_close(group, close_error)
-            if (.not. allocated(error) .and. allocated(close_error)) then
-                call move_alloc(close_error, error)
-            end if
+            call hdf5_close_after(group, error)
         end block steps
-        call hdf5_close(file, close_error)
-        if (.not. allocated(error) .and. allocated(close_error)) call move_alloc(close_error, error)
+        call hdf5_close_after(file, error)
     end subroutine write_state_file
 
     !> Every array of particles_type, raw, under the component's own name.
@@ -330,7 +322,6 @@ contains
             !! set (exit_input) when the file is not a checkpoint of mpm-geo
 
         type(hdf5_location_type) :: file, group
-        type(error_type), allocatable :: close_error
 
         call open_state_file(path, restart_refusal(path, ""), file, error)
         if (allocated(error)) return
@@ -344,13 +335,9 @@ contains
             call hdf5_open_group(file, "run", group, error)
             if (allocated(error)) exit steps
             call read_run_group(group, run, error)
-            call hdf5_close(group, close_error)
-            if (.not. allocated(error) .and. allocated(close_error)) then
-                call move_alloc(close_error, error)
-            end if
+            call hdf5_close_after(group, error)
         end block steps
-        call hdf5_close(file, close_error)
-        if (.not. allocated(error) .and. allocated(close_error)) call move_alloc(close_error, error)
+        call hdf5_close_after(file, error)
         if (allocated(error)) then
             if (error%code /= exit_input) error%message = restart_refusal(path, error%message)
             error%code = exit_input
@@ -509,15 +496,13 @@ contains
             !! material state variables the case needs per particle (default 0)
 
         type(hdf5_location_type) :: file
-        type(error_type), allocatable :: close_error
 
         time = 0.0_wp
         step = 0
         call open_state_file(path, refusal(path, ""), file, error)
         if (allocated(error)) return
         call read_state_file(path, file, case, particles, time, step, error, nstate)
-        call hdf5_close(file, close_error)
-        if (.not. allocated(error) .and. allocated(close_error)) call move_alloc(close_error, error)
+        call hdf5_close_after(file, error)
     end subroutine load_state
 
     subroutine read_state_file(path, file, case, particles, time, step, error, nstate)
@@ -531,7 +516,6 @@ contains
         integer, intent(in), optional :: nstate
 
         type(hdf5_location_type) :: group
-        type(error_type), allocatable :: close_error
         character(len=:), allocatable :: format
         type(text_type), allocatable :: names(:)
         integer, allocatable :: remap(:)
@@ -585,8 +569,7 @@ contains
             allocate (particles%affine(dim, dim, n))
             call hdf5_read_dataset(group, "affine", particles%affine, error)
         end if
-        call hdf5_close(group, close_error)
-        if (.not. allocated(error) .and. allocated(close_error)) call move_alloc(close_error, error)
+        call hdf5_close_after(group, error)
         if (allocated(error)) return
 
         call apply_remap(path, remap, particles, error)
