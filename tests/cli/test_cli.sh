@@ -6,28 +6,9 @@ set -u
 exe=$(realpath "$1")
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-passed=0
-failed=0
-ok() { passed=$((passed + 1)); }
-bad() { failed=$((failed + 1)); echo "FAIL [cli] $1"; }
-
-# expect CODE DESCRIPTION -- command...   (stdout+stderr in $tmp/out)
-expect() {
-    local code=$1 what=$2
-    shift 3
-    "$@" > "$tmp/out" 2>&1
-    local rc=$?
-    if [ "$rc" -eq "$code" ]; then ok; else bad "$what: exit code $rc, expected $code"; cat "$tmp/out"; fi
-    # one clear message, never a crash report
-    if grep -qE "Backtrace|Error termination|Segmentation|SIGSEGV" "$tmp/out"; then
-        bad "$what: output holds a crash report"; cat "$tmp/out"
-    else
-        ok
-    fi
-}
-contains() {
-    if grep -qF -- "$1" "$tmp/out"; then ok; else bad "$2: output lacks '$1'"; cat "$tmp/out"; fi
-}
+label=cli
+# shellcheck source=tests/cli/lib.sh
+. tests/cli/lib.sh
 
 cat > "$tmp/small.json" <<'JSON'
 {

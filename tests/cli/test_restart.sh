@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Checkpoints and restarts (issue 8): a run stopped by SIGTERM or SIGINT writes a checkpoint
-# and exits with code 4 (not with checkpoint.on_signal = false); `mpm_geo --restart FILE` (another thread count) and `mpm_geo CASE --restart`
-# continue it, and every output and the energy history are then the same, bit for bit, as
+# and exits with code 4 (not with checkpoint.on_signal = false); `mpm_geo --restart FILE`
+# (another thread count) and `mpm_geo CASE --restart` continue it, and every output and the energy history are then the same, bit for bit, as
 # those of a run that was never stopped; a damaged or wrong checkpoint is refused with exit
 # code 2; the blow-up guard stops an unstable run with exit code 3 and saves the last healthy
 # state, from which a stable case file continues.
@@ -12,30 +12,24 @@ python=.venv/bin/python
 case_file=tests/cli/cases/restart_collapse.json
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-passed=0
-failed=0
-ok() { passed=$((passed + 1)); }
-bad() { failed=$((failed + 1)); echo "FAIL [restart] $1"; }
-
-# expect CODE DESCRIPTION -- command...   (stdout+stderr in $tmp/out)
-expect() {
-    local code=$1 what=$2
-    shift 3
-    "$@" > "$tmp/out" 2>&1
-    local rc=$?
-    if [ "$rc" -eq "$code" ]; then ok; else bad "$what: exit code $rc, expected $code"; cat "$tmp/out"; fi
-    if grep -qE "Backtrace|Error termination|Segmentation|SIGSEGV" "$tmp/out"; then
-        bad "$what: output holds a crash report"; cat "$tmp/out"
-    else
-        ok
-    fi
-}
-contains() {
-    if grep -qF -- "$1" "$tmp/out"; then ok; else bad "$2: output lacks '$1'"; cat "$tmp/out"; fi
-}
+label=restart
+# shellcheck source=tests/cli/lib.sh
+. tests/cli/lib.sh
 identical() {
     if "$python" tests/cli/compare_identical.py "$1" "$2" > "$tmp/cmp" 2>&1; then ok; else
         bad "$3"; cat "$tmp/cmp"; fi
+}
+# signal_run SIGNAL FILE -- command...: start the command, send it SIGNAL once FILE exists;
+# its exit code in $rc, its output in $tmp/out
+signal_run() {
+    local signal=$1 file=$2 pid
+    shift 3
+    "$@" > "$tmp/out" 2>&1 &
+    pid=$!
+    for _ in $(seq 1 1500); do [ -f "$file" ] && break; sleep 0.01; done
+    kill -"$signal" "$pid"
+    wait "$pid"
+    rc=$?
 }
 
 # the run that is never stopped
@@ -43,14 +37,9 @@ expect 0 "reference run" -- "$exe" "$case_file" --output "$tmp/a" --quiet
 
 # stopped by SIGTERM once its first checkpoint is there (every 100 steps), as Slurm does at
 # the time limit
-"$exe" "$case_file" --output "$tmp/b" --quiet --checkpoint-steps 100 > "$tmp/b.out" 2>&1 &
-pid=$!
-for _ in $(seq 1 1500); do [ -f "$tmp/b/checkpoint.h5" ] && break; sleep 0.01; done
-kill -TERM "$pid"
-wait "$pid"
-rc=$?
-if [ "$rc" -eq 4 ]; then ok; else bad "SIGTERM: exit code $rc, expected 4"; cat "$tmp/b.out"; fi
-cp "$tmp/b.out" "$tmp/out"
+signal_run TERM "$tmp/b/checkpoint.h5" -- "$exe" "$case_file" --output "$tmp/b" --quiet \
+    --checkpoint-steps 100
+if [ "$rc" -eq 4 ]; then ok; else bad "SIGTERM: exit code $rc, expected 4"; cat "$tmp/out"; fi
 contains "stopped by SIGTERM" "SIGTERM: message"
 contains "mpm_geo --restart $tmp/b/checkpoint.h5" "SIGTERM: how to continue"
 if [ "$rc" -eq 4 ]; then
@@ -62,22 +51,13 @@ if [ "$rc" -eq 4 ]; then
 fi
 
 # SIGINT (Ctrl-C) too; with checkpoint.on_signal = false the default action ends the run
-"$exe" "$case_file" --output "$tmp/i" --quiet --checkpoint-steps 100 > "$tmp/i.out" 2>&1 &
-pid=$!
-for _ in $(seq 1 1500); do [ -f "$tmp/i/checkpoint.h5" ] && break; sleep 0.01; done
-kill -INT "$pid"
-wait "$pid"
-rc=$?
-cp "$tmp/i.out" "$tmp/out"
-if [ "$rc" -eq 4 ]; then ok; else bad "SIGINT: exit code $rc, expected 4"; cat "$tmp/i.out"; fi
+signal_run INT "$tmp/i/checkpoint.h5" -- "$exe" "$case_file" --output "$tmp/i" --quiet \
+    --checkpoint-steps 100
+if [ "$rc" -eq 4 ]; then ok; else bad "SIGINT: exit code $rc, expected 4"; cat "$tmp/out"; fi
 contains "stopped by SIGINT" "SIGINT: message"
 sed 's#"progress"#"checkpoint": {"on_signal": false}, "progress"#' "$case_file" > "$tmp/nosig.json"
-"$exe" "$tmp/nosig.json" --output "$tmp/n" --quiet > "$tmp/n.out" 2>&1 &
-pid=$!
-for _ in $(seq 1 1500); do [ -f "$tmp/n/particles_000001.h5" ] && break; sleep 0.01; done
-kill -TERM "$pid"
-wait "$pid"
-rc=$?
+signal_run TERM "$tmp/n/particles_000001.h5" -- "$exe" "$tmp/nosig.json" --output "$tmp/n" \
+    --quiet
 if [ "$rc" -eq 143 ] && [ ! -e "$tmp/n/checkpoint.h5" ]; then ok; else
     bad "on_signal = false: exit code $rc (expected 143, killed by SIGTERM) or a checkpoint"; fi
 
