@@ -4,7 +4,7 @@
 !> checked; the rest of the code reads settings only from it. The reader itself (JSON keys,
 !> strict checks, messages) lives in the submodule `mpm_case_reader`.
 module mpm_case
-    use mpm_kinds, only: wp
+    use mpm_kinds, only: wp, i8
     use mpm_error, only: error_type
     implicit none
     private
@@ -143,6 +143,8 @@ module mpm_case
         real(wp), allocatable :: triangle(:, :, :)
             !! corners (coordinate, corner 1..3, triangle) of the closed surface after scale and
             !! offset; not allocated for a box [m]
+        integer(i8) :: particles = -1
+            !! particles the body holds, counted by the reader (-1: not counted)
     end type body_spec_type
 
     !> Every setting of a run, resolved and checked.

@@ -170,14 +170,14 @@ contains
             else
                 total = 0
                 do b = 1, size(case%bodies)
-                    total = total + body_particle_count(case, b)
+                    total = total + body_particles(case, b)
                 end do
                 text = text//"bodies      "//itoa(size(case%bodies))//", "//itoa(total) &
                     //" particles"//nl
             end if
             do b = 1, size(case%bodies)
                 associate (body => case%bodies(b))
-                    count = body_particle_count(case, b)
+                    count = body_particles(case, b)
                     line = '  "'//text_or(body%name, "?")//'"'
                     if (allocated(case%materials)) then
                         if (body%material >= 1 .and. body%material <= size(case%materials)) then
@@ -1061,7 +1061,7 @@ contains
             end associate
             call check_body_box(case, i, src, error)
             if (allocated(error)) return
-            total = total + body_particle_count(case, i)
+            total = total + case%bodies(i)%particles
         end do
         if (total > huge(1)) then
             call input_error(error, src, "the bodies hold "//itoa(total)//" particles, more " &
@@ -1139,8 +1139,8 @@ contains
     !> Geometric checks of body `i`: a proper box, inside the domain, holding particles and
     !> overlapping none of the bodies before it.
     subroutine check_body_box(case, i, src, error)
-        type(case_type), intent(in) :: case
-            !! case with bodies 1..i read
+        type(case_type), intent(inout) :: case
+            !! case with bodies 1..i read; body i gets its particle count
         integer, intent(in) :: i
             !! body to check
         character(len=*), intent(in) :: src
@@ -1194,6 +1194,7 @@ contains
                     //"fill the closed surface '"//body%file//"' with particles", exit_other)
                 return
             end if
+            case%bodies(i)%particles = count
             if (count == 0) then
                 call input_error(error, src, label//": "//what//" holds no particle (with ppc = " &
                     //itoa(case%ppc)//" particles sit at origin + (i + (k - 0.5)/ppc) dx, " &
@@ -2088,6 +2089,17 @@ contains
 
         count = count_body_particles(case, b)
     end function body_particle_count
+
+    !> Particles of body b: the reader's count, or counted now for a case made in code.
+    integer(i8) function body_particles(case, b)
+        type(case_type), intent(in) :: case
+            !! case
+        integer, intent(in) :: b
+            !! body index
+
+        body_particles = case%bodies(b)%particles
+        if (body_particles < 0) body_particles = body_particle_count(case, b)
+    end function body_particles
 
     !> Index of the material called `name`, 0 when there is none.
     pure integer function material_index(materials, name)

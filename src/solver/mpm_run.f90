@@ -669,8 +669,10 @@ contains
         else if (has_text(case%load_state)) then
             particles = max(0_i8, state_particle_count(case%load_state))
         else
+            ! (the reader counted them; a case made in code is counted here)
             do b = 1, size(case%bodies)
-                n = count_body_particles(case, b)
+                n = case%bodies(b)%particles
+                if (n < 0) n = count_body_particles(case, b)
                 if (n > 0) particles = particles + n
             end do
         end if
