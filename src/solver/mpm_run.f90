@@ -120,7 +120,7 @@ contains
         integer, parameter :: imbalance_steps = 50
         real(wp) :: t_start, t_last_progress, dt, next_output, next_history, eps_t, clock
         real(wp) :: wall_before, t_last_checkpoint, first_time
-        logical :: written
+        logical :: written, copies
 
         resumed = present(restart) .and. present(run)
         call check_memory(case, error, restart)
@@ -204,9 +204,10 @@ contains
         t_last_checkpoint = t_start
         imbalance = 0.0_wp
         if (case%checkpoint_on_signal) call catch_stop_signals()
-        if (case%guard_snapshot_steps > 0) then
-            call take_snapshot(snapshot, sim, writer, next_output, next_history, wall_before)
-        end if
+        ! the guard's copy is only written beside the outputs: no files, no copy
+        copies = case%guard_snapshot_steps > 0 .and. options%write_files
+        if (copies) call take_snapshot(snapshot, sim, writer, next_output, next_history, &
+            wall_before)
         do while (sim%time < case%tend - eps_t)
             clock = wall_time()
             dt = min(stable_time_step(sim), case%tend - sim%time)
@@ -269,7 +270,7 @@ contains
                     exit
                 end if
             end if
-            if (case%guard_snapshot_steps > 0) then
+            if (copies) then
                 if (mod(sim%step, int(case%guard_snapshot_steps, i8)) == 0) call take_snapshot( &
                     snapshot, sim, writer, next_output, next_history, wall_before + &
                     (wall_time() - t_start))
@@ -303,7 +304,7 @@ contains
         end if
         ! particle arrays, the per-step scratch (stencils, order, cell) and the guard's copy
         summary%bytes_per_particle = particle_bytes(sim%particles) + stencil_bytes(sim%stencils)
-        if (case%guard_snapshot_steps > 0) summary%bytes_per_particle = &
+        if (copies) summary%bytes_per_particle = &
             summary%bytes_per_particle + particle_bytes(sim%particles)
         summary%bytes_per_node = grid_bytes(sim%grid)
         summary%peak_memory_mb = peak_memory_mb()
