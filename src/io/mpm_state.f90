@@ -436,6 +436,10 @@ contains
         integer :: version
         type(error_type), allocatable :: ignored
 
+        if (directory_exists(path)) then
+            call fatal_error(error, prefix//"it is a folder, not a file", exit_input)
+            return
+        end if
         if (.not. file_exists(path)) then
             call fatal_error(error, prefix//"the file does not exist", exit_input)
             return

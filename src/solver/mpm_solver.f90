@@ -287,10 +287,13 @@ contains
         end if
         call read_stl(sim%case%contact_file, mesh, error, sim%case%contact_scale, &
             sim%case%contact_offset, key="contact.file")
-        if (allocated(error)) return
+        if (allocated(error)) then
+            error%message = sim%case%file//": "//error%message
+            return
+        end if
         call add_terrain(sim%grid, mesh%vertex, sim%case%contact_mu, sim%case%gravity, error)
-        if (allocated(error)) error%message = 'contact.file = "'//sim%case%contact_file// &
-            '": '//error%message
+        if (allocated(error)) error%message = sim%case%file//': contact.file = "'// &
+            sim%case%contact_file//'": '//error%message
     end subroutine terrain_contact
 
     !> Move the cuts when the particle counts of the images drift apart (a flow that travels
