@@ -75,6 +75,10 @@ contains
             print "(a)", error%message
             return
         end if
+        ! the nodes within two cells of the floor (rows y = 0.08 .. 0.14 of 61 nodes, the
+        ! column on the x max face of the domain too) are the terrain pairs
+        call check(suite, count(sim%grid%terrain_pair > 0) == 4*61, label// &
+            ": the nodes within two cells of the floor, and only they, are terrain pairs")
         do while (sim%time < tend)
             call advance(sim, min(stable_time_step(sim), tend - sim%time), error)
             if (allocated(error)) then

@@ -19,7 +19,7 @@ module mpm_hdf5
         h5tget_class_f, h5tis_variable_str_f, h5tclose_f, h5t_fortran_s1, h5t_str_nullpad_f, &
         h5t_string_f, h5kind_to_type, h5_real_kind, h5_integer_kind, h5iis_valid_f, &
         h5t_native_double
-    use mpm_kinds, only: wp
+    use mpm_kinds, only: wp, i8
     use mpm_error, only: error_type, fatal_error, exit_other, exit_input
     implicit none
     private
@@ -53,12 +53,12 @@ module mpm_hdf5
     !> `call hdf5_write_dataset(group, name, values, error [, units=] [, components=])`;
     !> `units` and `components` become string attributes of the dataset.
     interface hdf5_write_dataset
-        module procedure write_real_1d, write_real_2d, write_real_3d, write_int_1d
+        module procedure write_real_1d, write_real_2d, write_real_3d, write_int_1d, write_i8_1d
     end interface hdf5_write_dataset
 
     !> Read a dataset into an allocated array whose shape the dataset must have.
     interface hdf5_read_dataset
-        module procedure read_real_1d, read_real_2d, read_real_3d, read_int_1d
+        module procedure read_real_1d, read_real_2d, read_real_3d, read_int_1d, read_i8_1d
     end interface hdf5_read_dataset
 
     !> Write an attribute on a file or group (replacing an existing one of the same name):
@@ -334,6 +334,21 @@ contains
             int(shape(values), hsize_t), error, units, components)
     end subroutine write_int_1d
 
+    subroutine write_i8_1d(location, name, values, error, units, components)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        integer(i8), intent(in), target, contiguous :: values(:)
+        type(error_type), allocatable, intent(out) :: error
+        character(len=*), intent(in), optional :: units, components
+
+        type(c_ptr) :: buffer
+
+        buffer = c_null_ptr
+        if (size(values) > 0) buffer = c_loc(values)
+        call write_data(location, name, h5kind_to_type(kind(values), h5_integer_kind), buffer, &
+            int(shape(values), hsize_t), error, units, components)
+    end subroutine write_i8_1d
+
     !> Create a dataset of Fortran shape `dims`, write `buffer` in one call, add attributes.
     subroutine write_data(location, name, type_id, buffer, dims, error, units, components)
         type(hdf5_location_type), intent(in) :: location
@@ -440,6 +455,20 @@ contains
         call read_data(location, name, h5kind_to_type(kind(values), h5_integer_kind), buffer, &
             int(shape(values), hsize_t), error)
     end subroutine read_int_1d
+
+    subroutine read_i8_1d(location, name, values, error)
+        type(hdf5_location_type), intent(in) :: location
+        character(len=*), intent(in) :: name
+        integer(i8), intent(inout), target, contiguous :: values(:)
+        type(error_type), allocatable, intent(out) :: error
+
+        type(c_ptr) :: buffer
+
+        buffer = c_null_ptr
+        if (size(values) > 0) buffer = c_loc(values)
+        call read_data(location, name, h5kind_to_type(kind(values), h5_integer_kind), buffer, &
+            int(shape(values), hsize_t), error)
+    end subroutine read_i8_1d
 
     !> Read a whole dataset after checking that its shape is the Fortran shape `dims`.
     subroutine read_data(location, name, type_id, buffer, dims, error)

@@ -69,8 +69,11 @@ module mpm_state
             !! the files of each output hold particle ids (outputs)
         real(wp), allocatable :: face_load(:)
             !! running normal load of every frictional face node of the whole grid [N s]
+        integer(i8), allocatable :: terrain_node(:)
+            !! node of the whole grid (1-based linear index) of every terrain contact pair,
+            !! ascending
         real(wp), allocatable :: terrain_load(:)
-            !! running normal load of every terrain contact pair [N s]
+            !! running normal load of each terrain contact pair of terrain_node [N s]
     end type run_record_type
 
 contains
@@ -284,6 +287,8 @@ contains
             if (allocated(error)) return
         end if
         if (size(run%terrain_load) > 0) then
+            call hdf5_write_dataset(group, "terrain_node", run%terrain_node, error, units="-")
+            if (allocated(error)) return
             call hdf5_write_dataset(group, "terrain_load", run%terrain_load, error, units="N s")
         end if
     end subroutine write_run_record
@@ -399,7 +404,7 @@ contains
         end do
         allocate (run%output_time(outputs), run%output_step(outputs), &
             run%output_counts(run%images, outputs), run%output_id(outputs), &
-            run%face_load(faces), run%terrain_load(terrain))
+            run%face_load(faces), run%terrain_node(terrain), run%terrain_load(terrain))
         if (outputs > 0) then
             call hdf5_read_dataset(group, "output_time", run%output_time, error)
             if (allocated(error)) return
@@ -417,7 +422,11 @@ contains
             call hdf5_read_dataset(group, "face_load", run%face_load, error)
             if (allocated(error)) return
         end if
-        if (terrain > 0) call hdf5_read_dataset(group, "terrain_load", run%terrain_load, error)
+        if (terrain > 0) then
+            call hdf5_read_dataset(group, "terrain_node", run%terrain_node, error)
+            if (allocated(error)) return
+            call hdf5_read_dataset(group, "terrain_load", run%terrain_load, error)
+        end if
     end subroutine read_run_group
 
     !> Open a state file or checkpoint after checking that it is one this build reads: it

@@ -221,7 +221,11 @@ contains
     !> surface becomes a contact pair (after the pairs of the frictional faces) whose normal
     !> is that of the nearest triangle, into the terrain; P2G sets its gap from the particles
     !> and the nodal update applies it like a frictional face.
-    subroutine add_terrain(grid, corner, mu, gravity, error)
+    !>
+    !> On one image's slab (`offset`), the node positions are those of the whole grid
+    !> (`global_origin` + dx (ijk + offset)), so that two images sharing a node give it the
+    !> same pair, normal and bits; `allow_empty` then accepts a surface that misses the slab.
+    subroutine add_terrain(grid, corner, mu, gravity, error, global_origin, offset, allow_empty)
         type(grid_type), intent(inout) :: grid
             !! grid made by new_grid
         real(wp), intent(in) :: corner(:, :, :)
@@ -232,18 +236,32 @@ contains
             !! gravity: the material is on the surface's side against it [m/s2]
         type(error_type), allocatable, intent(out) :: error
             !! set when the surface misses the grid or memory cannot be allocated
+        real(wp), intent(in), optional :: global_origin(3)
+            !! origin of the whole grid (default: this grid's) [m]
+        integer, intent(in), optional :: offset(3)
+            !! node coordinates of this grid's node (0, 0, 0) in the whole grid (default 0)
+        logical, intent(in), optional :: allow_empty
+            !! no error when the surface misses this grid (one image's slab)
 
-        integer :: id, c, nold, nnew, stat, d
-        real(wp) :: x(3), dist, n(3)
+        integer :: id, c, nold, nnew, stat, d, box(3), shift(3)
+        real(wp) :: x(3), dist, n(3), base(3)
         logical :: found
         integer, allocatable :: node(:), axis(:)
         real(wp), allocatable :: normal(:), dir(:, :), friction(:), gap(:), load(:)
         character(len=256) :: msg
 
         d = grid%dim
+        base = grid%origin
+        if (present(global_origin)) base = global_origin
+        shift = 0
+        if (present(offset)) shift = offset
+        ! the index covers the cells and one more layer at the upper ends, so that the last
+        ! nodes (on the upper faces of the box) are inside it too
+        box = grid%ncells
+        box(1:d) = box(1:d) + 1
         allocate (grid%terrain)
-        call new_terrain(grid%terrain, corner, grid%origin, grid%ncells, grid%dx, d, &
-            2.0_wp*grid%dx, gravity, error)
+        call new_terrain(grid%terrain, corner, grid%origin, box, grid%dx, d, &
+            2.0_wp*grid%dx, gravity, error, allow_empty)
         if (allocated(error)) return
         allocate (grid%terrain_pair(grid%nnodes), stat=stat, errmsg=msg)
         if (stat /= 0) then
@@ -254,8 +272,7 @@ contains
         grid%terrain_pair = 0
         nnew = 0
         do id = 1, grid%nnodes
-            x = node_position(grid, id)
-            if (d == 2) x(3) = 0.0_wp
+            x = terrain_node_position(id)
             call terrain_distance(grid%terrain, x, found, dist, n)
             if (found) nnew = nnew + 1
         end do
@@ -275,8 +292,7 @@ contains
         friction(1:nold) = grid%contact_mu
         c = nold
         do id = 1, grid%nnodes
-            x = node_position(grid, id)
-            if (d == 2) x(3) = 0.0_wp
+            x = terrain_node_position(id)
             call terrain_distance(grid%terrain, x, found, dist, n)
             if (.not. found) cycle
             c = c + 1
@@ -297,6 +313,23 @@ contains
         call move_alloc(gap, grid%contact_gap)
         call move_alloc(load, grid%contact_load)
         grid%ncontacts = nold + nnew
+
+    contains
+
+        !> Position of node id from the whole grid's origin (z = 0 in 2D).
+        function terrain_node_position(id) result(x)
+            integer, intent(in) :: id
+            real(wp) :: x(3)
+
+            integer :: a, ijk(3)
+
+            do a = 1, 3
+                ijk(a) = node_layer(grid, id, a)
+            end do
+            x = base + grid%dx*real(ijk + shift, wp)
+            if (d == 2) x(3) = 0.0_wp
+        end function terrain_node_position
+
     end subroutine add_terrain
 
     !> Linear index of node (i, j, k), 0-based per direction.

@@ -43,7 +43,8 @@ module mpm_terrain
 contains
 
     !> Orient and index a surface over a box of cells.
-    subroutine new_terrain(terrain, corner, origin, ncells, h, dim, reach, gravity, error)
+    subroutine new_terrain(terrain, corner, origin, ncells, h, dim, reach, gravity, error, &
+        allow_empty)
         type(terrain_type), intent(out) :: terrain
             !! the terrain
         real(wp), intent(in) :: corner(:, :, :)
@@ -62,6 +63,9 @@ contains
             !! gravity: the normals point against it (no change when it is zero) [m/s2]
         type(error_type), allocatable, intent(out) :: error
             !! set when the surface misses the box or memory cannot be allocated
+        logical, intent(in), optional :: allow_empty
+            !! a surface that misses the box is no error (the box of one image's slab: the
+            !! caller decides over the images); the index is then empty
 
         integer :: t, k, lo(3), hi(3), i, j, m, ncell, stat
         integer, allocatable :: count(:)
@@ -122,7 +126,7 @@ contains
                 end do
             end do
         end do
-        if (sum(int(count, 8)) == 0) then
+        if (sum(int(count, 8)) == 0 .and. .not. optional_true(allow_empty)) then
             call fatal_error(error, "the terrain surface does not come within reach of the "// &
                 "domain: no triangle is nearer than one cell to it (check the units, "// &
                 "contact.scale and contact.offset)", exit_input)
@@ -252,6 +256,12 @@ contains
         end do
         inside = .true.
     end subroutine cell_range
+
+    pure logical function optional_true(flag)
+        logical, intent(in), optional :: flag
+        optional_true = .false.
+        if (present(flag)) optional_true = flag
+    end function optional_true
 
     pure integer function cell_index(terrain, ijk)
         type(terrain_type), intent(in) :: terrain

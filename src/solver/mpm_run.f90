@@ -396,7 +396,7 @@ contains
         run%wall = wall
         call output_list(writer, run%output_time, run%output_step, run%output_counts, &
             run%output_id)
-        call contact_loads(sim, run%face_load, run%terrain_load)
+        call contact_loads(sim, run%face_load, run%terrain_node, run%terrain_load)
     end subroutine record_run
 
     !> Write a checkpoint of the run now (collective).

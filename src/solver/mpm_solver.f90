@@ -26,6 +26,8 @@ module mpm_solver
     use mpm_material, only: material_holder_type
     use mpm_material_factory, only: new_materials
     use mpm_state, only: load_state, run_record_type
+    use mpm_contact_loads, only: face_loads, take_face_loads, face_node_count, terrain_loads, &
+        take_terrain_loads
     use mpm_stencil, only: stencils_type, compute_stencils
     use mpm_transfer, only: p2g, nodal_velocity, integrate_nodes, g2p, motion_type, &
         report_lost, update_stress
@@ -100,6 +102,9 @@ module mpm_solver
             !! largest kinetic + strain + damping + |potential| energy so far (blow-up guard) [J]
         real(wp) :: kinetic_previous = 0.0_wp
             !! kinetic energy of the previous step (kinetic damping) [J]
+        real(wp), allocatable :: terrain_corner(:, :, :)
+            !! (3, 3, triangles) corners of the terrain surface as read (contact.type =
+            !! "terrain_stl"): each new slab grid indexes it again
     end type simulation_type
 
 contains
@@ -204,6 +209,7 @@ contains
 
     !> Continue a run from a checkpoint (after new_simulation with `restart`): the energy
     !> terms, the guard's scale, the last step and the running contact loads, as they were.
+    !> Collective.
     subroutine resume_simulation(sim, run, error)
         type(simulation_type), intent(inout) :: sim
             !! the simulation, particles from the checkpoint
@@ -212,40 +218,43 @@ contains
         type(error_type), allocatable, intent(out) :: error
             !! set (exit_input) when the loads do not fit the grid
 
-        integer :: c, k
+        integer(i8), allocatable :: node(:)
+        real(wp), allocatable :: load(:)
+        logical :: complete
 
         sim%dt = run%dt
         sim%energy = energies_type(run%energy(1), run%energy(2), run%energy(3), run%energy(4))
         sim%energy_scale = run%energy_scale
         sim%kinetic_previous = run%kinetic_previous
-        k = count(sim%grid%contact_axis(1:sim%grid%ncontacts) == 0)
-        if (size(run%face_load) /= face_node_count(sim) .or. size(run%terrain_load) /= k) then
+        ! the terrain pairs of this grid, to compare with the checkpoint's
+        call terrain_loads(sim%case, sim%grid, sim%dec, node, load)
+        complete = size(node) == size(run%terrain_node)
+        if (complete) complete = all(node == run%terrain_node)
+        if (size(run%face_load) /= face_node_count(sim%case) .or. .not. complete) then
             call fatal_error(error, "the contact loads of the checkpoint do not fit the "// &
                 "grid of the case (the boundaries or the terrain changed?)", exit_input)
             return
         end if
-        call take_face_loads(sim, run%face_load)
-        k = 0
-        do c = 1, sim%grid%ncontacts
-            if (sim%grid%contact_axis(c) /= 0) cycle
-            k = k + 1
-            sim%grid%contact_load(c) = run%terrain_load(k)
-        end do
+        call take_face_loads(sim%case, sim%grid, sim%dec, run%face_load)
+        call take_terrain_loads(sim%case, sim%grid, sim%dec, run%terrain_node, &
+            run%terrain_load, complete)
     end subroutine resume_simulation
 
     !> The running normal loads of the contacts, for a checkpoint (collective): every
-    !> frictional face node of the whole grid (face_loads), and every terrain pair in order.
-    subroutine contact_loads(sim, face_load, terrain_load)
+    !> frictional face node of the whole grid (face_loads), and every terrain pair by node
+    !> of the whole grid (terrain_loads).
+    subroutine contact_loads(sim, face_load, terrain_node, terrain_load)
         type(simulation_type), intent(in) :: sim
             !! the simulation
         real(wp), allocatable, intent(out) :: face_load(:)
             !! loads of the frictional face nodes [N s]
+        integer(i8), allocatable, intent(out) :: terrain_node(:)
+            !! node of each terrain pair in the whole grid, ascending
         real(wp), allocatable, intent(out) :: terrain_load(:)
-            !! loads of the terrain pairs (one image only has terrain) [N s]
+            !! loads of the terrain pairs [N s]
 
-        call face_loads(sim, face_load)
-        terrain_load = pack(sim%grid%contact_load(1:sim%grid%ncontacts), &
-            sim%grid%contact_axis(1:sim%grid%ncontacts) == 0)
+        call face_loads(sim%case, sim%grid, sim%dec, face_load)
+        call terrain_loads(sim%case, sim%grid, sim%dec, terrain_node, terrain_load)
     end subroutine contact_loads
 
     !> The grid of this image's part of the decomposition (the whole grid on one image).
@@ -270,7 +279,8 @@ contains
         sim%grid%contact_time = 5.0_wp*sim%case%dx/max(maxval(sim%wave_speed), tiny(1.0_wp))
     end subroutine slab_grid
 
-    !> Frictional contact with the terrain surface of contact.file.
+    !> Frictional contact with the terrain surface of contact.file (read once, kept for the
+    !> grids of later cuts). Collective.
     subroutine terrain_contact(sim, error)
         type(simulation_type), intent(inout) :: sim
             !! the simulation, with its grid
@@ -279,30 +289,61 @@ contains
 
         type(stl_mesh_type) :: mesh
 
-        if (image_count() > 1) then
-            call fatal_error(error, sim%case%file//': contact.type = "terrain_stl" runs on '// &
-                "one image in this version (the running contact loads of the terrain do not "// &
-                "follow moving cuts yet): run it without cafrun, with threads", exit_input)
-            return
-        end if
         call read_stl(sim%case%contact_file, mesh, error, sim%case%contact_scale, &
             sim%case%contact_offset, key="contact.file")
         if (allocated(error)) then
             error%message = sim%case%file//": "//error%message
             return
         end if
-        call add_terrain(sim%grid, mesh%vertex, sim%case%contact_mu, sim%case%gravity, error)
-        if (allocated(error)) error%message = sim%case%file//': contact.file = "'// &
-            sim%case%contact_file//'": '//error%message
+        call move_alloc(mesh%vertex, sim%terrain_corner)
+        call slab_terrain(sim, error)
     end subroutine terrain_contact
+
+    !> The terrain pairs of this image's grid: nodes placed as in the whole grid, so that
+    !> the images sharing a node give it the same pair; the surface must come within reach
+    !> of some image's slab. Collective.
+    subroutine slab_terrain(sim, error)
+        type(simulation_type), intent(inout) :: sim
+            !! the simulation, its grid just made by slab_grid
+        type(error_type), allocatable, intent(out) :: error
+            !! set when the surface misses the domain or memory cannot be allocated
+
+        integer :: offset(3), near
+
+        offset = 0
+        if (sim%dec%axis > 0) offset(sim%dec%axis) = sim%dec%node_lo
+        call add_terrain(sim%grid, sim%terrain_corner, sim%case%contact_mu, sim%case%gravity, &
+            error, global_origin=sim%case%origin, offset=offset, &
+            allow_empty=image_count() > 1)
+        if (image_count() > 1) then
+            call agree(error)
+            if (.not. allocated(error)) then
+                ! the surface misses the domain when it misses every slab (one message)
+                near = 0
+                if (size(sim%grid%terrain%list) > 0) near = 1
+                call max_over_images(near)
+                if (near == 0) then
+                    call fatal_error(error, "the terrain surface does not come within "// &
+                        "reach of the domain: no triangle is nearer than one cell to it "// &
+                        "(check the units, contact.scale and contact.offset)", exit_input)
+                    if (image_id() /= 1) error%message = ""
+                end if
+            end if
+        end if
+        if (allocated(error)) then
+            if (len(error%message) > 0) error%message = sim%case%file//': contact.file = "'// &
+                sim%case%contact_file//'": '//error%message
+        end if
+    end subroutine slab_terrain
 
     !> Move the cuts when the particle counts of the images drift apart (a flow that travels
     !> into other slabs): every `rebalance_steps` steps the particles per cell layer are
     !> summed over the images, and when the busiest image holds more than
     !> `rebalance_threshold` times the mean, the cuts are set again as at the start. The
     !> particles then go to their new images (neighbour by neighbour), each image builds the
-    !> grid of its new slab, and the running contact loads of the frictional faces (the only
-    !> nodal state kept from step to step) follow their nodes. Collective.
+    !> grid of its new slab (and its terrain pairs), and the running contact loads of the
+    !> frictional faces and the terrain (the only nodal state kept from step to step) follow
+    !> their nodes. Collective.
     subroutine rebalance(sim, error)
         type(simulation_type), intent(inout) :: sim
             !! the simulation after a step
@@ -311,9 +352,11 @@ contains
 
         integer(i8), allocatable :: histogram(:)
         type(decomposition_type) :: dec
-        real(wp), allocatable :: loads(:)
+        real(wp), allocatable :: loads(:), terrain_load(:)
+        integer(i8), allocatable :: terrain_node(:)
         real(wp) :: small_mass, imbalance
         integer :: axis, p, c, k, misplaced
+        logical :: complete
 
         if (sim%dec%axis == 0 .or. mod(sim%step, int(rebalance_steps, i8)) /= 0) return
         axis = sim%dec%axis
@@ -334,7 +377,8 @@ contains
         call new_decomposition(dec, sim%case, sim%dec%images, sim%dec%me, histogram, error)
         if (allocated(error)) return
         if (all(dec%cuts == sim%dec%cuts)) return
-        call face_loads(sim, loads)
+        call face_loads(sim%case, sim%grid, sim%dec, loads)
+        call terrain_loads(sim%case, sim%grid, sim%dec, terrain_node, terrain_load)
         sim%dec = dec
         ! the particles to their new slabs: one neighbour per pass
         do
@@ -353,101 +397,23 @@ contains
         call slab_grid(sim, error)
         call agree(error)
         if (allocated(error)) return
+        if (allocated(sim%terrain_corner)) then
+            call slab_terrain(sim, error)
+            if (allocated(error)) return
+        end if
         sim%grid%small_mass = small_mass
-        call take_face_loads(sim, loads)
+        call take_face_loads(sim%case, sim%grid, sim%dec, loads)
+        call take_terrain_loads(sim%case, sim%grid, sim%dec, terrain_node, terrain_load, &
+            complete)
+        if (.not. complete) then
+            call fatal_error(error, "internal error: a terrain contact pair of the new cuts "// &
+                "had no load before them")
+        end if
+        call agree(error)
+        if (allocated(error)) return
         ! the stencil tables follow the new grid
         sim%stencils = stencils_type()
     end subroutine rebalance
-
-    !> The running normal loads of the frictional faces, by node of the whole grid's faces
-    !> (faces in axis then side order), each node given by the image that owns it.
-    subroutine face_loads(sim, loads)
-        type(simulation_type), intent(in) :: sim
-            !! the simulation
-        real(wp), allocatable, intent(out) :: loads(:)
-            !! loads of every frictional face node [N s]
-
-        integer :: c, k
-
-        allocate (loads(face_node_count(sim)))
-        loads = 0.0_wp
-        do c = 1, sim%grid%ncontacts
-            ! (terrain pairs have no face)
-            if (sim%grid%contact_axis(c) == 0) cycle
-            if (.not. node_owned(sim%grid, sim%grid%contact_node(c))) cycle
-            k = face_node(sim, c)
-            loads(k) = sim%grid%contact_load(c)
-        end do
-        call sum_over_images(loads)
-    end subroutine face_loads
-
-    !> Set the running normal loads of this image's frictional face nodes from face_loads.
-    subroutine take_face_loads(sim, loads)
-        type(simulation_type), intent(inout) :: sim
-            !! the simulation, on its new grid
-        real(wp), intent(in) :: loads(:)
-            !! face_loads of the grid before
-
-        integer :: c
-
-        do c = 1, sim%grid%ncontacts
-            if (sim%grid%contact_axis(c) == 0) cycle
-            sim%grid%contact_load(c) = loads(face_node(sim, c))
-        end do
-    end subroutine take_face_loads
-
-    !> Number of nodes of the frictional faces of the whole grid.
-    integer function face_node_count(sim)
-        type(simulation_type), intent(in) :: sim
-
-        integer :: a, side, nn(3)
-
-        nn = 1
-        nn(1:sim%case%dim) = sim%case%ncells(1:sim%case%dim) + 1
-        face_node_count = 0
-        do a = 1, sim%case%dim
-            do side = 1, 2
-                if (sim%case%bc(side, a) == bc_frictional) face_node_count = &
-                    face_node_count + product(nn)/nn(a)
-            end do
-        end do
-    end function face_node_count
-
-    !> Index among the whole grid's frictional face nodes (face_loads) of contact pair c of
-    !> this image's grid.
-    integer function face_node(sim, c)
-        type(simulation_type), intent(in) :: sim
-        integer, intent(in) :: c
-            !! contact pair
-
-        integer :: a, side, b, nn(3), ijk(3), stride, face, s
-
-        nn = 1
-        nn(1:sim%case%dim) = sim%case%ncells(1:sim%case%dim) + 1
-        do b = 1, 3
-            ijk(b) = node_layer(sim%grid, sim%grid%contact_node(c), b)
-        end do
-        if (sim%dec%axis > 0) ijk(sim%dec%axis) = ijk(sim%dec%axis) + sim%dec%node_lo
-        a = sim%grid%contact_axis(c)
-        side = merge(1, 2, sim%grid%contact_normal(c) < 0.0_wp)
-        ! faces before this one
-        face_node = 0
-        do b = 1, sim%case%dim
-            do s = 1, 2
-                if (b == a .and. s == side) exit
-                if (sim%case%bc(s, b) == bc_frictional) face_node = face_node + product(nn)/nn(b)
-            end do
-            if (b == a) exit
-        end do
-        face = 1
-        stride = 1
-        do b = 1, 3
-            if (b == a) cycle
-            face = face + ijk(b)*stride
-            stride = stride*nn(b)
-        end do
-        face_node = face_node + face
-    end function face_node
 
     !> Cut the grid among the images by the particles the bodies will hold.
     subroutine decompose_bodies(sim, error)

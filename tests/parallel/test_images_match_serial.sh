@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
 # Runs on 2 images against the serial build (CTest in the coarray build, make test-coarray):
 #  - each case of tests/parallel/cases/ (2D and 3D, particles crossing the cut, an image that
-#    starts empty, cuts that move with the particles): particle count, ids and masses
-#    exactly, positions, velocities and stresses to round-off (compare_runs.py);
+#    starts empty, cuts that move with the particles, blocks sliding on an STL terrain across
+#    the cut): particle count, ids and masses exactly, positions, velocities and stresses to
+#    round-off (compare_runs.py);
 #  - a state saved on 2 images continues serially, and a serial state on 2 images, as the
 #    serial run does;
-#  - failures: a broken case file and a particle lost on one image give the serial exit code
-#    and one message;
-#  - a checkpoint written on 2 images continues on 2 images as the serial run does, and is
-#    refused on 1 image;
+#  - failures: a broken case file, a particle lost on one image and an STL terrain that misses
+#    every slab give the serial exit code and one message;
+#  - a checkpoint written on 2 images continues on 2 images as the serial run does (also with
+#    the running loads of an STL terrain), and is refused on 1 image;
 #  - 2 images of 2 threads each (hybrid) give the serial result too;
 #  - ParaView (pvbatch) opens the parts of a run as one time series.
 # usage: test_images_match_serial.sh CAF_MPM_GEO SERIAL_MPM_GEO CAFRUN
@@ -36,6 +37,9 @@ for case in tests/parallel/cases/*.json; do
     # the block starts on image 1 and slides into image 2's slab: the cuts follow it
     min_part=0
     [ "$name" = par_block_moves_2d ] && min_part=4
+    # blocks sliding on an STL terrain from the cut into image 2's slab: the terrain pairs of
+    # the new slabs take the running loads of their nodes
+    case "$name" in par_terrain_slide_*) min_part=40 ;; esac
     "$python" tests/parallel/compare_runs.py "$tmp/$name-serial" "$tmp/$name-images" \
         --min-part "$min_part" || fail "$name: 2 images differ from the serial run"
 done
@@ -54,6 +58,15 @@ par --restart "$tmp/ckpt/checkpoint.h5" -q || fail "restart on 2 images"
 rc=$?
 [ "$rc" -eq 2 ] && grep -q "written by a run on 2 image" "$tmp/restart1.err" \
     || { fail "a checkpoint of 2 images restarted on 1: exit $rc, expected 2"; cat "$tmp/restart1.err"; }
+
+# The running loads of an STL terrain contact in a checkpoint of 2 images (by node of the
+# whole grid: the restart cuts the grid anew): step 2400 of 2512, after the cuts moved
+echo "--- par_terrain_slide_2d: checkpoint at step 2400 on 2 images, restarted on 2 images"
+par tests/parallel/cases/par_terrain_slide_2d.json --output "$tmp/tckpt" --checkpoint-steps 400 \
+    -q || fail "terrain run with checkpoints on 2 images"
+par --restart "$tmp/tckpt/checkpoint.h5" -q || fail "terrain restart on 2 images"
+"$python" tests/parallel/compare_runs.py "$tmp/par_terrain_slide_2d-serial" "$tmp/tckpt" \
+    || fail "a terrain run restarted on 2 images differs from the serial run"
 
 # Hybrid: 2 images of 2 threads each (threads do not change the bits of an image's sums)
 echo "--- par_collapse_3d on 2 images x 2 threads"
@@ -156,6 +169,16 @@ c["time"]["tend"] = 1.0
 json.dump(c, open(sys.argv[1], "w"))
 EOF
 expect_failure "particle lost on one image" "$tmp/lost.json"
+"$python" - "$tmp/far.json" <<'EOF'
+import json, sys
+c = json.load(open("tests/parallel/cases/par_terrain_slide_2d.json"))
+c["name"] = "far"
+c["contact"]["offset"] = [0.0, 5.0, 0.0]
+json.dump(c, open(sys.argv[1], "w"))
+EOF
+expect_failure "STL terrain far from every slab" "$tmp/far.json"
+grep -q "does not come within reach of the domain" "$tmp/images.err" \
+    || fail "STL terrain far from every slab: the message does not say why"
 
 if [ "$failed" -gt 0 ]; then
     echo "$failed check(s) failed"
