@@ -4,15 +4,19 @@
 !> cut are on both images, and each holds the sums of its own particles only. After each
 !> scatter the images trade those layers and add the neighbour's part, so both hold the
 !> whole sum (a + b on one and b + a on the other: the same bits) and their nodal updates
-!> agree. A node outside this image's box of touched nodes takes nothing: its particles do
-!> not read it, and nodes outside the box stay zero (mpm_grid).
+!> agree. Before the first scatter of a step the images also trade the part of their box of
+!> touched nodes that lies in the shared layers (halo_box): each image's box then holds every
+!> shared node that a particle of either image touches, so both images hold the same values
+!> at each shared node, also one that only the neighbour's particles touch (the running
+!> contact loads of such a node, and the energy sums of the image that owns it, need them).
+!> Nodes outside the box take nothing and stay zero (mpm_transfer's fold).
 module mpm_halo
     use mpm_kinds, only: wp
     use mpm_grid, only: grid_type, node_layer
     use mpm_parallel, only: exchange_neighbours
     implicit none
     private
-    public :: halo_sum, halo_contact_gaps
+    public :: halo_sum, halo_contact_gaps, halo_box
 
     integer, parameter :: shared_layers = 3
         !! node layers shared at a cut
@@ -120,6 +124,75 @@ contains
         end function rows
 
     end subroutine halo_sum
+
+    !> Grow this image's box of touched nodes (0-based node coordinates, lo > hi along an axis
+    !> when empty) by the shared nodes its neighbours' particles touch. Collective.
+    subroutine halo_box(grid, lo, hi)
+        type(grid_type), intent(in) :: grid
+            !! this image's grid
+        integer, intent(inout) :: lo(3), hi(3)
+            !! box of the nodes this image's particles touch; on return the box that also
+            !! holds the shared nodes the neighbours' particles touch
+
+        integer :: n, a
+        real(wp), allocatable :: send_lo(:), send_hi(:), recv_lo(:), recv_hi(:)
+
+        if (grid%halo_axis == 0) return
+        a = grid%halo_axis
+        n = grid%nn(a)
+        ! the part of the box in each side's shared layers, counted from the side's first
+        ! shared layer along the cut axis (the neighbour's numbering of the same layers)
+        send_lo = side_part(0, shared_layers - 1, grid%halo_left > 0)
+        send_hi = side_part(n - shared_layers, n - 1, grid%halo_right > 0)
+        call exchange_neighbours(grid%halo_left, grid%halo_right, send_lo, send_hi, recv_lo, &
+            recv_hi)
+        call take(recv_lo, 0)
+        call take(recv_hi, n - shared_layers)
+
+    contains
+
+        function side_part(l0, l1, neighbour) result(buf)
+            integer, intent(in) :: l0, l1
+            logical, intent(in) :: neighbour
+            real(wp), allocatable :: buf(:)
+
+            integer :: plo(3), phi(3)
+
+            if (.not. neighbour) then
+                allocate (buf(0))
+                return
+            end if
+            plo = lo
+            phi = hi
+            plo(a) = max(lo(a), l0) - l0
+            phi(a) = min(hi(a), l1) - l0
+            buf = real([plo, phi], wp)
+        end function side_part
+
+        subroutine take(buf, first)
+            real(wp), intent(in) :: buf(:)
+            integer, intent(in) :: first
+                !! this image's layer of the side's first shared layer
+
+            integer :: rlo(3), rhi(3), d
+
+            if (size(buf) /= 6) return
+            rlo = nint(buf(1:3))
+            rhi = nint(buf(4:6))
+            rlo(a) = rlo(a) + first
+            rhi(a) = rhi(a) + first
+            d = grid%dim
+            if (any(rhi(1:d) < rlo(1:d))) return
+            if (any(hi(1:d) < lo(1:d))) then
+                lo = rlo
+                hi = rhi
+            else
+                lo = min(lo, rlo)
+                hi = max(hi, rhi)
+            end if
+        end subroutine take
+
+    end subroutine halo_box
 
     !> The gap between the material and a frictional face at a shared node is the smaller of
     !> the two images' gaps (P2G sets it from the particles of this image).

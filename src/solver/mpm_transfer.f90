@@ -19,7 +19,7 @@ module mpm_transfer
     use mpm_strings, only: vector_text
     use mpm_error, only: error_type, fatal_error, exit_numerical
     use mpm_grid, only: grid_type, contact_index, node_owned
-    use mpm_halo, only: halo_sum, halo_contact_gaps
+    use mpm_halo, only: halo_sum, halo_contact_gaps, halo_box
     use mpm_terrain, only: terrain_distance
     use mpm_particles, only: particles_type, particle_number
     use mpm_stencil, only: stencils_type, particle_nodes, max_nodes, axis_derivatives
@@ -214,7 +214,8 @@ contains
         logical, intent(in), optional :: only_momentum
             !! set the momentum only, from rows 1 : dim (the MUSL remap)
 
-        integer :: layer, id, k, b, rows, dim, lo(3), hi(3), j, x, y, z, first, last
+        integer :: layer, id, k, b, rows, dim, lo(3), hi(3), j, x, y, z, first, last, &
+            box_lo(3), box_hi(3)
         real(wp) :: total(10)
         logical :: momentum, row_inside, inside
 
@@ -225,11 +226,15 @@ contains
         if (mass_rows .and. .not. momentum) then
             ! grid work only where the material is: this pass writes the box of nodes it
             ! touches and zeroes every field of the nodes of the last box that it does not
-            ! touch; the nodal loops then cover its box
-            lo = max(0, min(stc%box_lo, grid%active_lo))
-            hi = min(grid%nn - 1, max(stc%box_hi, grid%active_hi))
-            grid%active_lo = stc%box_lo
-            grid%active_hi = stc%box_hi
+            ! touch; the nodal loops then cover its box (on several images, also the shared
+            ! nodes the neighbours' particles touch: halo_box)
+            box_lo = stc%box_lo
+            box_hi = stc%box_hi
+            call halo_box(grid, box_lo, box_hi)
+            lo = max(0, min(box_lo, grid%active_lo))
+            hi = min(grid%nn - 1, max(box_hi, grid%active_hi))
+            grid%active_lo = box_lo
+            grid%active_hi = box_hi
         else
             lo = grid%active_lo
             hi = grid%active_hi

@@ -3,14 +3,15 @@
 #  - each case of tests/parallel/cases/ (2D and 3D, particles crossing the cut, an image that
 #    starts empty, cuts that move with the particles, blocks sliding on an STL terrain across
 #    the cut): particle count, ids and masses exactly, positions, velocities and stresses to
-#    round-off (compare_runs.py);
+#    round-off, the energy history column by column (compare_runs.py);
 #  - a state saved on 2 images continues serially, and a serial state on 2 images, as the
 #    serial run does;
 #  - failures: a broken case file, a particle lost on one image and an STL terrain that misses
 #    every slab give the serial exit code and one message;
 #  - a checkpoint written on 2 images continues on 2 images as the serial run does (also with
 #    the running loads of an STL terrain), and is refused on 1 image;
-#  - 2 images of 2 threads each (hybrid) give the serial result too;
+#  - 3 images (one with neighbours on both sides, one that starts empty) and 2 images of 2
+#    threads each (hybrid) give the serial result too;
 #  - ParaView (pvbatch) opens the parts of a run as one time series.
 # usage: test_images_match_serial.sh CAF_MPM_GEO SERIAL_MPM_GEO CAFRUN
 set -uo pipefail
@@ -42,6 +43,18 @@ for case in tests/parallel/cases/*.json; do
     case "$name" in par_terrain_slide_*) min_part=40 ;; esac
     "$python" tests/parallel/compare_runs.py "$tmp/$name-serial" "$tmp/$name-images" \
         --min-part "$min_part" || fail "$name: 2 images differ from the serial run"
+done
+
+# 3 images (more than the cores: --oversubscribe): the middle image has a neighbour on each
+# side and a slab of 3 cells, the last one starts without particles; the nodes a neighbour's
+# particles touch are in both images' boxes, so the frictional floor's running loads and the
+# energy sums agree with the serial run
+for name in par_collapse_3d par_terrain_slide_3d; do
+    echo "--- $name on 3 images"
+    "$cafrun" -np 3 --oversubscribe "$caf_exe" "tests/parallel/cases/$name.json" \
+        --output "$tmp/$name-3images" -q || { fail "$name: run on 3 images"; continue; }
+    "$python" tests/parallel/compare_runs.py "$tmp/$name-serial" "$tmp/$name-3images" --images 3 \
+        || fail "$name: 3 images differ from the serial run"
 done
 
 # Checkpoint and restart on 2 images: the checkpoint gathers every particle in id order with
