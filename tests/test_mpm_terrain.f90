@@ -1,11 +1,12 @@
 !> The terrain surface (mpm_terrain): nearest points on a triangle, signed distances and
 !> normals through the cell index, independence of the triangulation (a tilted plane of 2 or
-!> 2 000 triangles), the orientation against gravity, the 2D section, and the refusal of a
-!> surface that misses the domain.
+!> 2 000 triangles), the orientation against gravity, the 2D section, the refusal of a
+!> surface that misses the domain, and the pruned query of the index against every triangle.
 program test_mpm_terrain
     use mpm_kinds, only: wp
     use mpm_testing, only: test_suite_type, new_suite, check, check_close, finish
     use mpm_error, only: error_type, exit_input
+    use mpm_strings, only: int_text
     use mpm_terrain, only: terrain_type, new_terrain, terrain_distance, &
         closest_point_on_triangle
     implicit none
@@ -20,6 +21,7 @@ program test_mpm_terrain
     call test_ridge_tie()
     call test_section_2d()
     call test_misses_domain()
+    call test_against_all_triangles()
     call finish(suite)
 
 contains
@@ -182,5 +184,77 @@ contains
             index(error%message, "does not come within reach of the domain") > 0, &
             "refusal: input error that says why")
     end subroutine test_misses_domain
+
+    !> The index query skips triangles by bounds (the list order, the plane and circle of
+    !> each triangle): on a bumpy surface, 4 000 points above, below and beside it find what
+    !> a search of every triangle finds (the same bits; ties to the lowest index).
+    subroutine test_against_all_triangles()
+        integer, parameter :: m = 24
+        type(terrain_type) :: terrain
+        type(error_type), allocatable :: error
+        real(wp), allocatable :: corner(:, :, :)
+        real(wp) :: x(3), d, n(3), q(3), dist, best, d_all, n_all(3), reach
+        integer :: i, j, t, k, nearest, wrong, found_count
+        logical :: found
+
+        allocate (corner(3, 3, 2*m*m))
+        t = 0
+        do j = 0, m - 1
+            do i = 0, m - 1
+                t = t + 1
+                corner(:, :, t) = reshape([bump(i, j, m), bump(i + 1, j, m), &
+                    bump(i + 1, j + 1, m)], [3, 3])
+                t = t + 1
+                corner(:, :, t) = reshape([bump(i, j, m), bump(i + 1, j + 1, m), &
+                    bump(i, j + 1, m)], [3, 3])
+            end do
+        end do
+        reach = 0.2_wp
+        call new_terrain(terrain, corner, [0.0_wp, 0.0_wp, 0.0_wp], [10, 10, 10], 0.1_wp, 3, &
+            reach, g, error)
+        call check(suite, .not. allocated(error), "bumpy surface indexed")
+        if (allocated(error)) return
+        wrong = 0
+        found_count = 0
+        do k = 1, 4000
+            ! a quasi-random point in the box (golden-ratio sequences)
+            x = [modulo(0.6180339887_wp*k, 1.0_wp), modulo(0.7548776662_wp*k, 1.0_wp), &
+                modulo(0.5698402910_wp*k, 1.0_wp)]
+            call terrain_distance(terrain, x, found, d, n)
+            best = huge(1.0_wp)
+            nearest = 0
+            do t = 1, terrain%n
+                q = closest_point_on_triangle(x, terrain%corner(:, 1, t), &
+                    terrain%corner(:, 2, t), terrain%corner(:, 3, t))
+                dist = norm2(x - q)
+                if (dist < best) then
+                    best = dist
+                    nearest = t
+                    n_all = terrain%normal(:, t)
+                    d_all = sign(dist, dot_product(x - q, n_all))
+                end if
+            end do
+            if (found .neqv. best <= reach) then
+                wrong = wrong + 1
+            else if (found) then
+                found_count = found_count + 1
+                if (d /= d_all .or. any(n /= n_all)) wrong = wrong + 1
+            end if
+        end do
+        call check(suite, wrong == 0, "indexed queries = search of every triangle ("// &
+            "points within reach: "//int_text(found_count)//")")
+        call check(suite, found_count > 1000, "many of the points are within reach")
+
+
+    end subroutine test_against_all_triangles
+
+    !> Corner (i, j) of an m x m raster: z = 0.5 + 0.1 sin(7x) cos(5y) over [0, 1]^2.
+    pure function bump(i, j, m) result(c)
+        integer, intent(in) :: i, j, m
+        real(wp) :: c(3)
+        c(1) = real(i, wp)/m
+        c(2) = real(j, wp)/m
+        c(3) = 0.5_wp + 0.1_wp*sin(7.0_wp*c(1))*cos(5.0_wp*c(2))
+    end function bump
 
 end program test_mpm_terrain

@@ -37,7 +37,12 @@ module mpm_terrain
         integer, allocatable :: first(:)
             !! (cells + 1) start of each cell's triangles in `list` (CSR)
         integer, allocatable :: list(:)
-            !! triangles of the cells, cell after cell
+            !! triangles of the cells, cell after cell, each cell's nearest first
+        real(wp), allocatable :: list_distance(:)
+            !! distance from the cell's centre to the centre of each triangle of `list`
+            !! (ascending within a cell) [m]
+        real(wp), allocatable :: cell_radius(:)
+            !! largest bounding-sphere radius of the triangles of each cell [m]
     end type terrain_type
 
 contains
@@ -136,7 +141,9 @@ contains
         do m = 1, ncell
             terrain%first(m + 1) = terrain%first(m) + count(m)
         end do
-        allocate (terrain%list(terrain%first(ncell + 1) - 1), stat=stat, errmsg=msg)
+        allocate (terrain%list(terrain%first(ncell + 1) - 1), &
+            terrain%list_distance(terrain%first(ncell + 1) - 1), terrain%cell_radius(ncell), &
+            stat=stat, errmsg=msg)
         if (stat /= 0) then
             call fatal_error(error, "cannot allocate the terrain index: "//trim(msg), exit_other)
             return
@@ -155,9 +162,15 @@ contains
                 end do
             end do
         end do
-        ! nearest first: a query then finds a close triangle early and skips the far ones
+        ! nearest first: a query then finds a close triangle early and stops at the first
+        ! triangle that cannot be nearer
         do m = 1, ncell
             call sort_by_distance(terrain, m)
+            terrain%cell_radius(m) = 0.0_wp
+            do k = terrain%first(m), terrain%first(m + 1) - 1
+                terrain%cell_radius(m) = max(terrain%cell_radius(m), &
+                    terrain%radius(terrain%list(k)))
+            end do
         end do
     end subroutine new_terrain
 
@@ -176,7 +189,7 @@ contains
 
         lo = terrain%first(m)
         n = terrain%first(m + 1) - lo
-        if (n < 2) return
+        if (n < 1) return
         ijk(1) = mod(m - 1, terrain%ncells(1))
         ijk(2) = mod((m - 1)/terrain%ncells(1), terrain%ncells(2))
         ijk(3) = (m - 1)/(terrain%ncells(1)*terrain%ncells(2))
@@ -195,6 +208,7 @@ contains
             call sift(1, rest - 1)
         end do
         terrain%list(lo:lo + n - 1) = item
+        terrain%list_distance(lo:lo + n - 1) = sqrt(key)
 
     contains
 
@@ -285,7 +299,7 @@ contains
             !! normal of the nearest triangle, towards the material
 
         integer :: ijk(3), a, m, q, t, nearest
-        real(wp) :: p(3), dist, best, bound
+        real(wp) :: p(3), dist, best, bound, off, lower, v(3), h, rho
         real(wp), parameter :: slack = 1.0e-9_wp
             !! relative margin of the sphere test against rounding [-]
 
@@ -299,13 +313,26 @@ contains
         m = cell_index(terrain, ijk)
         best = huge(1.0_wp)
         nearest = huge(1)
+        ! distance from x to the cell's centre: a triangle of the cell whose centre is at c
+        ! from the cell's centre is at least c - off - cell_radius from x
+        off = norm2(x - (terrain%origin + (real(ijk, wp) + 0.5_wp)*terrain%h))
         do q = terrain%first(m), terrain%first(m + 1) - 1
             t = terrain%list(q)
-            ! a triangle whose bounding sphere is farther than the nearest so far cannot be
-            ! nearer (nor as near): skipped
             if (best < huge(1.0_wp)) then
-                bound = best*(1.0_wp + slack) + terrain%radius(t)*(1.0_wp + slack)
-                if (sum((x - terrain%centre(:, t))**2) > bound*bound) cycle
+                ! the list is ordered by c: once that bound is beyond the nearest so far, no
+                ! later triangle can be nearer (nor as near)
+                lower = terrain%list_distance(q) - off - terrain%cell_radius(m)
+                if (lower > best + slack*(terrain%list_distance(q) + off + &
+                    terrain%cell_radius(m) + best)) exit
+                ! the triangle lies in its plane within radius r of its centre c: its distance
+                ! from x is at least sqrt(h^2 + max(0, rho - r)^2), h the height of x over
+                ! the plane and rho the distance of x's foot on the plane from c; a triangle
+                ! that cannot be nearer than the nearest so far (nor as near) is skipped
+                v = x - terrain%centre(:, t)
+                h = dot_product(v, terrain%normal(:, t))
+                rho = sqrt(max(0.0_wp, sum(v*v) - h*h))
+                bound = best + slack*(norm2(v) + terrain%radius(t) + best)
+                if (h*h + max(0.0_wp, rho - terrain%radius(t))**2 > bound*bound) cycle
             end if
             p = closest_point_on_triangle(x, terrain%corner(:, 1, t), terrain%corner(:, 2, t), &
                 terrain%corner(:, 3, t))
