@@ -109,7 +109,8 @@ contains
     !> Send a buffer to each neighbour and receive theirs (images along a line: `left` and
     !> `right` are this image -1 and +1, or 0 at the ends of the line; a neighbour's `right`
     !> must be this image and the other way round).
-    subroutine exchange_neighbours(left, right, send_left, send_right, recv_left, recv_right)
+    subroutine exchange_neighbours(left, right, send_left, send_right, recv_left, recv_right, &
+        most)
         integer, intent(in) :: left
             !! image on the left, 0 for none
         integer, intent(in) :: right
@@ -122,6 +123,9 @@ contains
             !! what the left neighbour sent (empty without one)
         real(wp), allocatable, intent(out) :: recv_right(:)
             !! what the right neighbour sent (empty without one)
+        integer, intent(in), optional :: most
+            !! the most values any image sends, the same number on every image (a small
+            !! fixed message): the images then need not agree on the inbox size first
 
         integer :: need, n
         integer, allocatable :: partners(:)
@@ -130,8 +134,13 @@ contains
             allocate (recv_left(0), recv_right(0))
             return
         end if
-        need = max(1, size(send_left), size(send_right))
-        call co_max(need)
+        if (present(most)) then
+            ! the same on every image: no reduction needed to agree on the inbox size
+            need = max(1, most)
+        else
+            need = max(1, size(send_left), size(send_right))
+            call co_max(need)
+        end if
         if (need > capacity) then
             ! collective: every image takes the same decision from the same numbers
             if (allocated(inbox)) deallocate (inbox)

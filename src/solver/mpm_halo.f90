@@ -145,7 +145,7 @@ contains
         send_lo = side_part(0, shared_layers - 1, grid%halo_left > 0)
         send_hi = side_part(n - shared_layers, n - 1, grid%halo_right > 0)
         call exchange_neighbours(grid%halo_left, grid%halo_right, send_lo, send_hi, recv_lo, &
-            recv_hi)
+            recv_hi, most=6)
         call take(recv_lo, 0)
         call take(recv_hi, n - shared_layers)
 
