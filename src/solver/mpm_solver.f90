@@ -12,8 +12,8 @@ module mpm_solver
     use mpm_strings, only: vector_text
     use mpm_error, only: error_type, fatal_error, exit_numerical, exit_input
     use mpm_case, only: case_type, scheme_usf, scheme_usl, scheme_musl, damping_kinetic, &
-        p_wave_speed, viscous_time_step, field_strain, field_displacement, bc_frictional
-    use mpm_grid, only: grid_type, new_grid, add_terrain, node_owned, node_layer
+        p_wave_speed, viscous_time_step, field_strain, field_displacement
+    use mpm_grid, only: grid_type, new_grid, add_terrain
     use mpm_stl, only: stl_mesh_type, read_stl
     use mpm_particles, only: particles_type, pack_particles, rebuild_particles, particle_number
     use mpm_bodies, only: create_particles, body_cell_histogram
