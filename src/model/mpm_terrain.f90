@@ -294,12 +294,12 @@ contains
         logical, intent(out) :: found
             !! a triangle is within reach
         real(wp), intent(out) :: d
-            !! signed distance [m]
+            !! signed distance [m] (when found)
         real(wp), intent(out) :: n(3)
-            !! normal of the nearest triangle, towards the material
+            !! normal of the nearest triangle, towards the material (when found)
 
         integer :: ijk(3), a, m, q, t, nearest
-        real(wp) :: p(3), dist, best, bound, off, lower, v(3), h, rho
+        real(wp) :: p(3), dist, best, bound, off, lower, v(3), h, rho, limit
         real(wp), parameter :: slack = 1.0e-9_wp
             !! relative margin of the sphere test against rounding [-]
 
@@ -318,22 +318,22 @@ contains
         off = norm2(x - (terrain%origin + (real(ijk, wp) + 0.5_wp)*terrain%h))
         do q = terrain%first(m), terrain%first(m + 1) - 1
             t = terrain%list(q)
-            if (best < huge(1.0_wp)) then
-                ! the list is ordered by c: once that bound is beyond the nearest so far, no
-                ! later triangle can be nearer (nor as near)
-                lower = terrain%list_distance(q) - off - terrain%cell_radius(m)
-                if (lower > best + slack*(terrain%list_distance(q) + off + &
-                    terrain%cell_radius(m) + best)) exit
-                ! the triangle lies in its plane within radius r of its centre c: its distance
-                ! from x is at least sqrt(h^2 + max(0, rho - r)^2), h the height of x over
-                ! the plane and rho the distance of x's foot on the plane from c; a triangle
-                ! that cannot be nearer than the nearest so far (nor as near) is skipped
-                v = x - terrain%centre(:, t)
-                h = dot_product(v, terrain%normal(:, t))
-                rho = sqrt(max(0.0_wp, sum(v*v) - h*h))
-                bound = best + slack*(norm2(v) + terrain%radius(t) + best)
-                if (h*h + max(0.0_wp, rho - terrain%radius(t))**2 > bound*bound) cycle
-            end if
+            ! only a triangle within reach counts, and then only one as near as the nearest
+            ! so far: a triangle that cannot be nearer than `limit` is no candidate
+            limit = min(best, terrain%reach)
+            ! the list is ordered by c: once the bound of the list's order is beyond the
+            ! limit, no later triangle is a candidate
+            lower = terrain%list_distance(q) - off - terrain%cell_radius(m)
+            if (lower > limit + slack*(terrain%list_distance(q) + off + &
+                terrain%cell_radius(m) + limit)) exit
+            ! the triangle lies in its plane within radius r of its centre c: its distance
+            ! from x is at least sqrt(h^2 + max(0, rho - r)^2), h the height of x over the
+            ! plane and rho the distance of x's foot on the plane from c
+            v = x - terrain%centre(:, t)
+            h = dot_product(v, terrain%normal(:, t))
+            rho = sqrt(max(0.0_wp, sum(v*v) - h*h))
+            bound = limit + slack*(norm2(v) + terrain%radius(t) + limit)
+            if (h*h + max(0.0_wp, rho - terrain%radius(t))**2 > bound*bound) cycle
             p = closest_point_on_triangle(x, terrain%corner(:, 1, t), terrain%corner(:, 2, t), &
                 terrain%corner(:, 3, t))
             dist = norm2(x - p)
