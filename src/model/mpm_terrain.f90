@@ -12,7 +12,13 @@ module mpm_terrain
     use mpm_error, only: error_type, fatal_error, exit_input, exit_other
     implicit none
     private
-    public :: terrain_type, new_terrain, terrain_distance, closest_point_on_triangle
+    public :: terrain_type, new_terrain, terrain_distance, closest_point_on_triangle, &
+        terrain_misses_domain
+
+    character(len=*), parameter :: terrain_misses_domain = "the terrain surface does not "// &
+        "come within reach of the domain: no triangle is nearer than one cell to it (check "// &
+        "the units, contact.scale and contact.offset)"
+        !! refusal of a surface that misses the grid (by new_terrain, or over the images)
 
     !> The surface and its cell index.
     type :: terrain_type
@@ -132,9 +138,7 @@ contains
             end do
         end do
         if (sum(int(count, 8)) == 0 .and. .not. optional_true(allow_empty)) then
-            call fatal_error(error, "the terrain surface does not come within reach of the "// &
-                "domain: no triangle is nearer than one cell to it (check the units, "// &
-                "contact.scale and contact.offset)", exit_input)
+            call fatal_error(error, terrain_misses_domain, exit_input)
             return
         end if
         terrain%first(1) = 1
@@ -332,7 +336,7 @@ contains
             v = x - terrain%centre(:, t)
             h = dot_product(v, terrain%normal(:, t))
             rho = sqrt(max(0.0_wp, sum(v*v) - h*h))
-            bound = limit + slack*(norm2(v) + terrain%radius(t) + limit)
+            bound = limit + slack*(rho + abs(h) + terrain%radius(t) + limit)
             if (h*h + max(0.0_wp, rho - terrain%radius(t))**2 > bound*bound) cycle
             p = closest_point_on_triangle(x, terrain%corner(:, 1, t), terrain%corner(:, 2, t), &
                 terrain%corner(:, 3, t))

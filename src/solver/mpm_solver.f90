@@ -15,6 +15,7 @@ module mpm_solver
         p_wave_speed, viscous_time_step, field_strain, field_displacement
     use mpm_grid, only: grid_type, new_grid, add_terrain
     use mpm_stl, only: stl_mesh_type, read_stl
+    use mpm_terrain, only: terrain_misses_domain
     use mpm_particles, only: particles_type, pack_particles, rebuild_particles, particle_number
     use mpm_bodies, only: create_particles, body_cell_histogram
     use mpm_decomposition, only: decomposition_type, new_decomposition, cut_axis, local_case, &
@@ -323,9 +324,7 @@ contains
                 if (size(sim%grid%terrain%list) > 0) near = 1
                 call max_over_images(near)
                 if (near == 0) then
-                    call fatal_error(error, "the terrain surface does not come within "// &
-                        "reach of the domain: no triangle is nearer than one cell to it "// &
-                        "(check the units, contact.scale and contact.offset)", exit_input)
+                    call fatal_error(error, terrain_misses_domain, exit_input)
                     if (image_id() /= 1) error%message = ""
                 end if
             end if
