@@ -105,26 +105,15 @@ expect 0 "3D run" -- "$exe" "$tmp/cube.json" --output "$tmp/cube" --quiet
 [ -s "$tmp/cube/cube.xdmf" ] && [ -s "$tmp/cube/particles_000002.h5" ] && ok || bad "3D run outputs"
 
 # STL terrain contact: the run writes the terrain beside the particles; bad STL input refused
-cat > "$tmp/floor.json" <<JSON
-{
-  "name": "floor",
-  "domain": {"nx": 20, "ny": 10, "dx": 0.02},
-  "particles": {"ppc": 2},
-  "materials": [{"name": "m", "type": "linear_elastic", "E": 1e7, "nu": 0.3, "rho": 2000}],
-  "bodies": [{"name": "block", "material": "m", "min": [0.1, 0.11], "max": [0.2, 0.15]}],
-  "gravity": [0, -9.81],
-  "contact": {"type": "terrain_stl", "mu": 0.4, "file": "$(pwd)/tests/data/stl/floor_2000.stl"},
-  "time": {"tend": 0.02, "cfl": 0.5}
-}
-JSON
+cp tests/cli/cases/terrain_block.json "$tmp/floor.json"
 expect 0 "run with an STL terrain" -- "$exe" "$tmp/floor.json" --output "$tmp/floor" --quiet
 [ -s "$tmp/floor/terrain.xdmf" ] && [ -s "$tmp/floor/terrain.h5" ] && ok \
     || bad "the terrain is written beside the particles"
 printf 'solid x\n  facet normal 0 0 1\n    outer loop\n      vertex 0 0 0\n' > "$tmp/cut.stl"
-sed "s#$(pwd)/tests/data/stl/floor_2000.stl#$tmp/cut.stl#" "$tmp/floor.json" > "$tmp/cut.json"
+sed "s#tests/data/stl/floor_2000.stl#$tmp/cut.stl#" "$tmp/floor.json" > "$tmp/cut.json"
 expect 2 "truncated STL terrain" -- "$exe" "$tmp/cut.json" --output "$tmp/cut" --quiet
 contains "contact.file" "truncated STL terrain: the message names the key"
-sed 's#"mu": 0.4, "file"#"mu": 0.4, "offset": [0, 100, 0], "file"#' "$tmp/floor.json" > "$tmp/far.json"
+sed 's#"mu": 0.2, "file"#"mu": 0.2, "offset": [0, 100, 0], "file"#' "$tmp/floor.json" > "$tmp/far.json"
 expect 2 "STL terrain far from the domain" -- "$exe" "$tmp/far.json" --output "$tmp/far" --quiet
 contains "does not come within reach of the domain" "STL terrain far from the domain: why"
 

@@ -70,22 +70,10 @@ expect 0 "restart from the case's checkpoint" -- "$exe" "$case_file" --restart \
 identical "$tmp/a" "$tmp/c" "run restarted from its last checkpoint = uninterrupted run"
 
 # the running loads of an STL terrain contact are kept too: a block sliding on a terrain floor
-# under tilted gravity, restarted from its last checkpoint (step 600 of ~820)
-cat > "$tmp/terrain.json" <<JSON
-{
-  "name": "terrain_restart",
-  "domain": {"nx": 20, "ny": 10, "dx": 0.02},
-  "particles": {"ppc": 2},
-  "materials": [{"name": "m", "type": "linear_elastic", "E": 1e7, "nu": 0.3, "rho": 2000}],
-  "bodies": [{"name": "block", "material": "m", "min": [0.1, 0.11], "max": [0.2, 0.15]}],
-  "gravity": [3.0, -9.81],
-  "contact": {"type": "terrain_stl", "mu": 0.2, "file": "$(pwd)/tests/data/stl/floor_2000.stl"},
-  "time": {"tend": 0.1, "cfl": 0.5},
-  "output": {"interval": 0.02}
-}
-JSON
-expect 0 "terrain reference run" -- "$exe" "$tmp/terrain.json" --output "$tmp/ta" --quiet
-expect 0 "terrain run with checkpoints" -- "$exe" "$tmp/terrain.json" --output "$tmp/tb" \
+# under tilted gravity (tests/cli/cases/terrain_block.json), restarted from its last checkpoint (step 600 of ~820)
+terrain_case=tests/cli/cases/terrain_block.json
+expect 0 "terrain reference run" -- "$exe" "$terrain_case" --output "$tmp/ta" --quiet
+expect 0 "terrain run with checkpoints" -- "$exe" "$terrain_case" --output "$tmp/tb" \
     --quiet --checkpoint-steps 300
 expect 0 "terrain run restarted" -- "$exe" --restart "$tmp/tb/checkpoint.h5" --quiet
 identical "$tmp/ta" "$tmp/tb" "terrain run restarted from its last checkpoint = uninterrupted run"
