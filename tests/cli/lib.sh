@@ -25,3 +25,27 @@ expect() {
 contains() {
     if grep -qF -- "$1" "$tmp/out"; then ok; else bad "$2: output lacks '$1'"; cat "$tmp/out"; fi
 }
+
+# need_python MODULE...: sets `python` to the tests' interpreter ($MPM_PYTHON, which CTest sets
+# from the one found at configure time; .venv/bin/python when run by hand) and checks that it
+# imports the modules. When it cannot, the script ends with exit code 77, which CTest reports
+# as skipped, and says why; with MPM_STRICT_TESTS=1 (make test) that is a failure instead, so
+# a run of the whole suite never passes by skipping.
+need_python() {
+    python=${MPM_PYTHON:-.venv/bin/python}
+    local why="" modules
+    modules=$(IFS=,; echo "$*")
+    if [ -z "$python" ] || ! command -v "$python" > /dev/null 2>&1; then
+        why="no Python interpreter (MPM_PYTHON='$python')"
+    elif ! "$python" -c "import $modules" > /dev/null 2>&1; then
+        why="$python cannot import $*"
+    fi
+    [ -z "$why" ] && return 0
+    if [ "${MPM_STRICT_TESTS:-0}" = 1 ]; then
+        echo "FAIL [$label] $why (make deps sets up .venv)"
+        exit 1
+    fi
+    echo "SKIP [$label] $why: make deps sets up .venv, or configure with" \
+        "-DMPM_TEST_PYTHON=/path/to/python that has $*"
+    exit 77
+}

@@ -11,12 +11,10 @@ if [ $# -ne 1 ]; then
     exit 2
 fi
 exe=$(realpath "$1")
-python=.venv/bin/python
-if [ ! -x "$python" ]; then
-    echo "skip: $python not found (make deps creates it);" \
-        "the Bui coarse check needs numpy, h5py and matplotlib"
-    exit 0
-fi
+label=bui_coarse
+# shellcheck source=tests/cli/lib.sh
+. tests/cli/lib.sh
+need_python numpy h5py matplotlib
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 "$python" validation/bui2008/check.py --coarse --quiet --exe "$exe" \

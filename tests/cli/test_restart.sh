@@ -8,13 +8,13 @@
 # Usage: tests/cli/test_restart.sh path/to/mpm_geo   (run from the repository root)
 set -u
 exe=$(realpath "$1")
-python=.venv/bin/python
 case_file=tests/cli/cases/restart_collapse.json
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 label=restart
 # shellcheck source=tests/cli/lib.sh
 . tests/cli/lib.sh
+need_python numpy h5py
 identical() {
     if "$python" tests/cli/compare_identical.py "$1" "$2" > "$tmp/cmp" 2>&1; then ok; else
         bad "$3"; cat "$tmp/cmp"; fi

@@ -19,9 +19,11 @@ cd "$(dirname "$0")/../.."
 caf_exe=$1
 serial_exe=$2
 cafrun=$3
-python=.venv/bin/python
 [ -x "$serial_exe" ] || { echo "FAIL: serial build $serial_exe not found (make build)"; exit 1; }
-[ -x "$python" ] || { echo "FAIL: $python not found (make deps)"; exit 1; }
+label=images
+# shellcheck source=tests/cli/lib.sh
+. tests/cli/lib.sh
+need_python numpy h5py
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 failed=0
