@@ -4,7 +4,8 @@ Run from the repository root with ``PYTHONPATH=postproc .venv/bin/python -m mpm_
 docs/postproc.md describes every command.
 Exit codes: 0 success; 1 the run or a file cannot answer (missing or unreadable, a field or
 component it does not hold, no output at the requested time, an exact field that is not finite
-there); 2 bad command line (unknown command or option, an invalid --exact expression).
+there); 2 bad command line (unknown command or option, an invalid --exact expression, a --time
+before the first or after the last output of the run).
 """
 
 import argparse
@@ -17,7 +18,8 @@ from . import __version__
 from .energy import energy_drift, plot_energy
 from .errors import (FIELD_UNITS, NORMS, WEIGHTS, ExpressionError, compile_expression,
                      particle_error)
-from .io import component_names, list_outputs, load_history, load_particles, output_at
+from .io import (TimeOutsideRunError, component_names, list_outputs, load_history,
+                 load_particles, output_at)
 from .profiles import (bin_edges, free_surface, height_at_wall, load_reference_profile,
                        max_height, particle_half_size, rms_height_difference, toe_position)
 
@@ -244,7 +246,8 @@ def _positive(text):
 def _profile_options(parser):
     parser.add_argument("run_dir", metavar="RUN_DIR", help="run directory or particles_*.h5 file")
     parser.add_argument("--time", type=float, default=None,
-                        help="time [s]; the nearest output is used (default: the last one)")
+                        help="time [s]; the nearest output is used (default: the last "
+                             "one); a time outside the run's outputs is an error")
     parser.add_argument("--reference", default=None,
                         help="two-column file x [m], height [m] of a measured free surface")
     parser.add_argument("--min-height", type=float, default=0.0,
@@ -261,8 +264,9 @@ def _profile_options(parser):
 def build_parser():
     parser = argparse.ArgumentParser(
         prog="python -m mpm_post", description="Summarise and plot mpm-geo run outputs.",
-        epilog="Exit codes: 0 success, 1 the run or a file cannot answer, 2 bad command line "
-               "or --exact expression. 'COMMAND --help' for each command; docs/postproc.md.")
+        epilog="Exit codes: 0 success, 1 the run or a file cannot answer, 2 bad command line, "
+               "--exact expression or a --time outside the run's outputs. 'COMMAND --help' "
+               "for each command; docs/postproc.md.")
     parser.add_argument("--version", action="version", version=f"mpm_post {__version__}")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
     commands.required = True
@@ -281,7 +285,8 @@ def build_parser():
     field.add_argument("run_dir", metavar="RUN_DIR", help="run directory or particles_*.h5 file")
     field.add_argument("--field", default="stress", help="dataset name (default: stress)")
     field.add_argument("--time", type=float, default=None,
-                       help="time [s]; the nearest output is used (default: the last one)")
+                       help="time [s]; the nearest output is used (default: the last "
+                            "one); a time outside the run's outputs is an error")
     field.set_defaults(func=cmd_field)
 
     profile = commands.add_parser(
@@ -375,7 +380,7 @@ def main(argv=None, out=None):
     args = build_parser().parse_args(_join_expression_values(argv))
     try:
         return args.func(args, out)
-    except ExpressionError as exc:
+    except (ExpressionError, TimeOutsideRunError) as exc:
         print(f"mpm_post: error: {exc}", file=sys.stderr)
         return 2
     except (OSError, ValueError, KeyError) as exc:

@@ -97,6 +97,19 @@ def test_field_scalar_and_vector(make_run, capsys):
     assert list(stats_rows(out)) == ["x", "y", "z"]
 
 
+@pytest.mark.parametrize("time,side", [("7", "after the last"), ("-1", "before the first")])
+def test_field_time_outside_the_run(make_run, capsys, time, side):
+    """A run that ends at t = 1 has no answer for t = 7: exit code 2, the times it has."""
+    run_dir = make_run(times=(0.0, 0.5, 1.0))
+    code, out, err = run(["field", str(run_dir), "--field", "stress", "--time", time], capsys)
+    assert code == 2
+    assert out == ""
+    assert err.count("\n") == 1     # one line, no traceback
+    assert err.startswith(f"mpm_post: error: no output at time {time} s in {run_dir}: it is "
+                          f"{side} output (the outputs run from 0 to 1 s; output times [s]: "
+                          "0 0.5 1)")
+
+
 def test_field_unknown(make_run, capsys):
     code, _, err = run(["field", str(make_run()), "--field", "pressure"], capsys)
     assert code == 1
