@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
-from .energy import energy_drift, plot_energy
+from .energy import describe_drift, energy_balance, energy_unit, plot_run_energy
 from .errors import (FIELD_UNITS, NORMS, WEIGHTS, ExpressionError, compile_expression,
                      particle_error)
 from .io import (TimeOutsideRunError, component_names, list_outputs, load_history,
@@ -56,18 +56,23 @@ def cmd_summary(args, out):
     if history["time"].size == 0:
         print("history: empty", file=out)
         return 0
+    unit = energy_unit(last["dimension"] if outputs else 0)
     if "kinetic_energy" in history:
-        print(f"final kinetic energy [J]: {history['kinetic_energy'][-1]:.6e}", file=out)
-    print(f"energy drift: {energy_drift(history):.3e}", file=out)
+        print(f"final kinetic energy [{unit}]: {history['kinetic_energy'][-1]:.6e}", file=out)
+    if "total" in history:
+        print(f"energy drift: {describe_drift(energy_balance(history), unit)}", file=out)
+    else:
+        print(f"energy drift: not available (history.csv has no 'total' column; columns: "
+              f"{', '.join(history)})", file=out)
     return 0
 
 
 def cmd_energy(args, out):
-    history = load_history(args.run_dir)
-    if history["time"].size == 0:
-        raise ValueError(f"history of {args.run_dir} is empty: nothing to plot")
-    path = plot_energy(history, args.out)
+    """``energy`` and ``plot energy``: the one energy figure (energy.plot_run_energy)."""
+    path, drift = plot_run_energy(args.run_dir, args.out)
     print(f"wrote {path}", file=out)
+    if drift is not None:
+        print(f"energy drift: {drift}", file=out)
     return 0
 
 
@@ -190,19 +195,6 @@ def cmd_plot_profile(args, out):
     return 0
 
 
-def cmd_plot_energy(args, out):
-    history = load_history(args.run_dir)
-    if history["time"].size == 0:
-        raise ValueError(f"history of {args.run_dir} is empty: nothing to plot")
-    try:
-        title = f"{Path(args.run_dir).name}: energy drift {energy_drift(history):.2e}"
-    except (KeyError, ValueError):
-        title = Path(args.run_dir).name
-    path = plot_energy(history, args.out, title=title)
-    print(f"wrote {path}", file=out)
-    return 0
-
-
 def cmd_plot_convergence(args, out):
     from .plots import load_convergence, plot_convergence
 
@@ -261,6 +253,14 @@ def _profile_options(parser):
                         help="particle half-size [m] (default: from the particle volumes)")
 
 
+def _energy_options(parser):
+    """``energy`` and ``plot energy``: one command under two names."""
+    parser.add_argument("run_dir", metavar="RUN_DIR", help="run directory or history.csv")
+    parser.add_argument("--out", default="figs/energy.png",
+                        help="image file to write (default: figs/energy.png)")
+    parser.set_defaults(func=cmd_energy)
+
+
 def build_parser():
     parser = argparse.ArgumentParser(
         prog="python -m mpm_post", description="Summarise and plot mpm-geo run outputs.",
@@ -275,11 +275,8 @@ def build_parser():
     summary.add_argument("run_dir", metavar="RUN_DIR", help="run directory, e.g. outputs/base_case")
     summary.set_defaults(func=cmd_summary)
 
-    energy = commands.add_parser("energy", help="plot the energy history")
-    energy.add_argument("run_dir", metavar="RUN_DIR")
-    energy.add_argument("--out", default="figs/energy.png",
-                        help="image file to write (default: figs/energy.png)")
-    energy.set_defaults(func=cmd_energy)
+    _energy_options(commands.add_parser(
+        "energy", help="plot the energy history (the same figure as 'plot energy')"))
 
     field = commands.add_parser("field", help="min/max/mean of one particle field")
     field.add_argument("run_dir", metavar="RUN_DIR", help="run directory or particles_*.h5 file")
@@ -331,11 +328,7 @@ def build_parser():
                               help="image file to write (default: figs/profile.png)")
     profile_figure.set_defaults(func=cmd_plot_profile)
 
-    energy_figure = plots.add_parser("energy", help="energy balance from history.csv")
-    energy_figure.add_argument("run_dir", metavar="RUN_DIR", help="run directory or history.csv")
-    energy_figure.add_argument("--out", default="figs/energy.png",
-                              help="image file to write (default: figs/energy.png)")
-    energy_figure.set_defaults(func=cmd_plot_energy)
+    _energy_options(plots.add_parser("energy", help="energy balance from history.csv"))
 
     for name, func, table, default, helptext in [
             ("convergence", cmd_plot_convergence, "h,error[,label]", "figs/convergence.png",
