@@ -8,6 +8,9 @@ particles_NNNNNN.h5
     ``volume`` (n) [m^3]; optional group ``/grid`` with ``position``, ``mass``, ``velocity``.
 history.csv
     header ``time,step,kinetic_energy,strain_energy,potential_energy,damping_work,total``.
+terrain.h5 (runs with a terrain_stl contact)
+    ``/terrain/position`` (3 n, 3) [m], the 3 corners of each of the n triangles, and
+    ``/terrain/triangles`` (3 n), their 0-based indices.
 """
 
 import re
@@ -19,6 +22,7 @@ import numpy as np
 
 OUTPUT_PATTERN = re.compile(r"particles_(\d{6})\.h5")
 HISTORY_FILE = "history.csv"
+TERRAIN_FILE = "terrain.h5"
 # Column labels of the particle fields (docs/output.md): Voigt order for stress and strain.
 STRESS_COMPONENTS = {4: ["xx", "yy", "zz", "xy"], 6: ["xx", "yy", "zz", "xy", "yz", "zx"]}
 VECTOR_COMPONENTS = ["x", "y", "z"]
@@ -261,3 +265,27 @@ def load_history(run_dir):
     if "time" not in table.dtype.names:
         raise ValueError(f"{path}: no 'time' column (columns: {', '.join(table.dtype.names)})")
     return {name: np.asarray(table[name], dtype=float) for name in table.dtype.names}
+
+
+def load_terrain(run_dir):
+    """The terrain surface of a run, or None when it has none (no ``terrain.h5``).
+
+    ``run_dir``: a run directory, or a file in one (a ``particles_NNNNNN.h5``). Returns the
+    corners of the triangles as an (n, 3, 3) array [m]: triangle, corner, x y z.
+    """
+    path = Path(run_dir)
+    folder = path if path.is_dir() else path.parent
+    path = folder / TERRAIN_FILE
+    if not path.is_file():
+        return None
+    with h5py.File(path, "r") as h5file:
+        for name in ("position", "triangles"):
+            if f"terrain/{name}" not in h5file:
+                raise ValueError(f"{path}: dataset /terrain/{name} is missing")
+        position = np.asarray(h5file["terrain/position"][()], dtype=float)
+        triangles = np.asarray(h5file["terrain/triangles"][()], dtype=np.int64).reshape(-1)
+    if position.ndim != 2 or position.shape[1] != 3 or triangles.size % 3 != 0 or \
+            np.any(triangles < 0) or np.any(triangles >= position.shape[0]):
+        raise ValueError(f"{path}: /terrain/position {position.shape} and /terrain/triangles "
+                         f"({triangles.size}) do not describe triangles")
+    return position[triangles].reshape(-1, 3, 3)
