@@ -535,12 +535,14 @@ def test_cli_profile_3d_above_the_terrain(tmp_path, capsys):
     def ground(x):
         return 0.2 + 0.1 * x
 
-    run_dir = write_3d_run(tmp_path / "slide", [(0.0, layer_3d(1.0, 1.5, 0.04, ground)),
-                                                (1.0, layer_3d(2.0, 2.6, 0.03, ground))],
-                           terrain=corners)
+    beyond = np.array([[4.5, 1.0, 0.7]])      # thrown past the terrain's edge (x = 4 m)
+    run_dir = write_3d_run(tmp_path / "slide", [
+        (0.0, layer_3d(1.0, 1.5, 0.04, ground)),
+        (1.0, np.concatenate([layer_3d(2.0, 2.6, 0.03, ground), beyond]))], terrain=corners)
     code = main(["profile", str(run_dir)])
     out, err = capsys.readouterr()
     assert code == 0, err
+    assert "left out: 1 particles beyond the terrain (no floor under them)\n" in out
     assert "heights above: the terrain (terrain.h5), straight below each particle" in out
     assert "toe [m]: 2.6\n" in out
     assert ("height at wall: does not apply (no particle within 0.01 m of the wall x = 0 m "
