@@ -8,7 +8,7 @@ shared by the validation scripts (validation/<case>/check.py) in ``mpm_post.vali
 imported on demand, so that reading outputs does not load matplotlib.
 """
 
-from .energy import energy_drift, plot_energy
+from .energy import describe_drift, energy_balance, plot_energy, plot_run_energy
 from .errors import (ErrorNorms, ExpressionError, compile_expression, error_norms,
                      exact_values, field_component, particle_error)
 from .io import list_outputs, load_grid, load_history, load_particles, output_at
@@ -19,7 +19,8 @@ __all__ = [
     "ErrorNorms",
     "ExpressionError",
     "compile_expression",
-    "energy_drift",
+    "describe_drift",
+    "energy_balance",
     "error_norms",
     "exact_values",
     "failure_surface",
@@ -35,6 +36,7 @@ __all__ = [
     "output_at",
     "particle_error",
     "plot_energy",
+    "plot_run_energy",
     "rms_height_difference",
     "slip_angle",
     "toe_position",

@@ -4,7 +4,8 @@ Run from the repository root with ``PYTHONPATH=postproc .venv/bin/python -m mpm_
 docs/postproc.md describes every command.
 Exit codes: 0 success; 1 the run or a file cannot answer (missing or unreadable, a field or
 component it does not hold, no output at the requested time, an exact field that is not finite
-there); 2 bad command line (unknown command or option, an invalid --exact expression).
+there); 2 bad command line (unknown command or option, an invalid --exact expression, a --time
+before the first or after the last output of the run).
 """
 
 import argparse
@@ -14,12 +15,14 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
-from .energy import energy_drift, plot_energy
+from .energy import describe_drift, energy_balance, energy_unit, plot_run_energy
 from .errors import (FIELD_UNITS, NORMS, WEIGHTS, ExpressionError, compile_expression,
                      particle_error)
-from .io import component_names, list_outputs, load_history, load_particles, output_at
-from .profiles import (bin_edges, free_surface, height_at_wall, load_reference_profile,
-                       max_height, particle_half_size, rms_height_difference, toe_position)
+from .io import (TimeOutsideRunError, component_names, list_outputs, load_history,
+                 load_particles, load_terrain, output_at)
+from .profiles import (height_at_wall, load_reference_profile, max_height, particle_half_size,
+                       particle_size, rms_height_difference, surface_profile, terrain_height,
+                       toe_position)
 
 NORM_LABELS = {"l1": "L1", "l2": "L2", "linf": "Linf"}
 
@@ -54,18 +57,23 @@ def cmd_summary(args, out):
     if history["time"].size == 0:
         print("history: empty", file=out)
         return 0
+    unit = energy_unit(last["dimension"] if outputs else 0)
     if "kinetic_energy" in history:
-        print(f"final kinetic energy [J]: {history['kinetic_energy'][-1]:.6e}", file=out)
-    print(f"energy drift: {energy_drift(history):.3e}", file=out)
+        print(f"final kinetic energy [{unit}]: {history['kinetic_energy'][-1]:.6e}", file=out)
+    if "total" in history:
+        print(f"energy drift: {describe_drift(energy_balance(history), unit)}", file=out)
+    else:
+        print(f"energy drift: not available (history.csv has no 'total' column; columns: "
+              f"{', '.join(history)})", file=out)
     return 0
 
 
 def cmd_energy(args, out):
-    history = load_history(args.run_dir)
-    if history["time"].size == 0:
-        raise ValueError(f"history of {args.run_dir} is empty: nothing to plot")
-    path = plot_energy(history, args.out)
+    """``energy`` and ``plot energy``: the one energy figure (energy.plot_run_energy)."""
+    path, drift = plot_run_energy(args.run_dir, args.out)
     print(f"wrote {path}", file=out)
+    if drift is not None:
+        print(f"energy drift: {drift}", file=out)
     return 0
 
 
@@ -88,60 +96,117 @@ def cmd_field(args, out):
     return 0
 
 
-def _deposit(args, data):
-    """Particle x, vertical coordinate and half-size [m] of an output, for the profile commands.
+def _first_output(args, data):
+    """The first output of the run ``data`` belongs to; ``data`` itself for a single file."""
+    if Path(args.run_dir).is_file():
+        return data
+    outputs = list_outputs(args.run_dir)
+    if not outputs or outputs[0][0] >= data["time"]:
+        return data
+    return load_particles(outputs[0][1])
 
-    The deposit runs along x; the vertical is y in 2D and z in 3D (docs/output.md).
+
+def _half_sizes(args, data):
+    """Particle half-sizes [m] of an output: --half-size, or from the particle volumes."""
+    if args.half_size is not None:
+        return np.full(data["position"].shape[0], args.half_size)
+    if "volume" in data:
+        return particle_half_size(data["volume"], data["dimension"] or 2)
+    raise ValueError(f"{data['path']} has no particle volume: give --half-size")
+
+
+def _floor(args, first):
+    """(floor, description): floor(position, top) is the floor under each particle [m].
+
+    The vertical is y in 2D and z in 3D (docs/output.md). --floor names it; else in 3D the
+    terrain of the run when it has one (terrain.h5), or the lowest particle bottom of the first
+    output; in 2D y = 0.
+    """
+    dim = first["dimension"] or 2
+    axis = "y" if dim == 2 else "z"
+    if args.floor is not None:
+        return (lambda position, top: np.full(position.shape[0], args.floor),
+                f"{axis} = {args.floor:g} m (--floor)")
+    if dim == 3:
+        corners = load_terrain(args.run_dir)
+        if corners is not None:
+            return (lambda position, top: terrain_height(position[:, 0], position[:, 1],
+                                                         corners, below=top),
+                    "the terrain (terrain.h5), straight below each particle")
+        if first["position"].shape[0]:
+            bottom = float(np.min(first["position"][:, 2] - _half_sizes(args, first)))
+            return (lambda position, top: np.full(position.shape[0], bottom),
+                    f"z = {bottom:.6g} m, the lowest particle bottom at t = {first['time']:g} s "
+                    "(--floor to change)")
+    return (lambda position, top: np.zeros(position.shape[0]),
+            f"{axis} = 0 (--floor to change)")
+
+
+def _deposit(args, data, floor):
+    """Particle x, height above the floor and half-size [m] of an output, for the profiles.
+
+    The deposit runs along x. Returns ``(x, height, half, left_out)``: ``left_out`` particles
+    have no floor under them (beyond the terrain in plan view) and are not in the arrays.
     """
     dim = data["dimension"] or 2
     position = data["position"]
-    x, y = position[:, 0], position[:, 1 if dim == 2 else 2]
-    if x.size == 0:
+    if position.shape[0] == 0:
         raise ValueError(f"{data['path']} holds no particle")
-    if args.half_size is not None:
-        half = np.full(x.size, args.half_size)
-    elif "volume" in data:
-        half = particle_half_size(data["volume"], dim)
-    else:
-        raise ValueError(f"{data['path']} has no particle volume: give --half-size")
-    return x, y, half
+    half = _half_sizes(args, data)
+    vertical = position[:, 1 if dim == 2 else 2]
+    height = vertical - floor(position, vertical + half)
+    kept = np.isfinite(height)
+    if not np.any(kept):
+        raise ValueError(f"{data['path']}: no particle lies above the terrain")
+    return position[kept, 0], height[kept], half[kept], int(np.count_nonzero(~kept))
 
 
 def _surface(args, x, y, half):
-    """The free surface (bin centres, heights) [m] from the wall to the furthest particle."""
-    width = args.bin_width if args.bin_width else 2.0 * float(np.median(half))
-    edges = bin_edges(min(args.wall, float(np.min(x - half))), float(np.max(x + half)), width)
-    return free_surface(x, y, half, edges)
+    """The free surface (bin centres, heights, bin width) [m] from the wall to the furthest
+    particle, on bins no narrower than the particle size."""
+    return surface_profile(x, y, half, min(args.wall, float(np.min(x - half))),
+                           float(np.max(x + half)), args.bin_width)
 
 
-def _initial_toe(args, data):
-    """(time, toe) of the first output of the run, or None for a single file or output."""
-    outputs = list_outputs(args.run_dir) if not Path(args.run_dir).is_file() else []
-    if len(outputs) < 2 or outputs[0][0] >= data["time"]:
-        return None
-    first = load_particles(outputs[0][1])
-    x, y, half = _deposit(args, first)
-    return first["time"], toe_position(x, y, half, min_height=args.min_height)
+def _profile_inputs(args):
+    """The output of --time, its first output, the floor and the deposit of the output."""
+    data = load_particles(args.run_dir, time=args.time)
+    first = _first_output(args, data)
+    floor, datum = _floor(args, first)
+    return data, first, floor, datum, _deposit(args, data, floor)
 
 
 def cmd_profile(args, out):
-    data = load_particles(args.run_dir, time=args.time)
-    x, y, half = _deposit(args, data)
+    data, first, floor, datum, (x, y, half, left_out) = _profile_inputs(args)
     toe = toe_position(x, y, half, min_height=args.min_height)
-    wall = height_at_wall(x, y, half, x_wall=args.wall)
     print(f"profile at time {data['time']:g} s (step {data['step']}), {x.size} particles, "
           f"file {data['path']}", file=out)
+    print(f"heights above: {datum}", file=out)
+    if left_out:
+        print(f"left out: {left_out} particles beyond the terrain (no floor under them)",
+              file=out)
     print(f"toe [m]: {toe:.6g}", file=out)
-    print(f"height at wall [m]: {wall:.6g}", file=out)
+    # The wall holds the deposit only when the mass started against it: a slide that starts
+    # away from x = --wall has no height at the wall, which a 0 would misreport.
+    x0, y0, half0, _ = _deposit(args, first, floor)
+    reach = particle_size(half0)
+    if float(np.min(x0 - half0)) <= args.wall + reach:
+        print(f"height at wall [m]: {height_at_wall(x, y, half, x_wall=args.wall):.6g}",
+              file=out)
+    else:
+        print(f"height at wall: does not apply (no particle within {reach:.3g} m of the wall "
+              f"x = {args.wall:g} m at t = {first['time']:g} s; --wall X names another)",
+              file=out)
     print(f"max height [m]: {max_height(x, y, half, x_max=toe):.6g}", file=out)
-    initial = _initial_toe(args, data)
-    if initial is not None:
-        print(f"runout from t = {initial[0]:g} s [m]: {toe - initial[1]:.6g} "
-              f"(toe then {initial[1]:.6g})", file=out)
+    if first is not data:
+        toe0 = toe_position(x0, y0, half0, min_height=args.min_height)
+        print(f"runout from t = {first['time']:g} s [m]: {toe - toe0:.6g} "
+              f"(toe then {toe0:.6g})", file=out)
     if args.reference:
-        centres, height = _surface(args, x, y, half)
+        centres, height, width = _surface(args, x, y, half)
         x_ref, h_ref = load_reference_profile(args.reference)
         rms, max_abs = rms_height_difference(centres, height, x_ref, h_ref)
+        print(f"free surface: {centres.size} bins of {width:.3g} m", file=out)
         print(f"reference: {args.reference} ({x_ref.size} points)", file=out)
         print(f"reference toe [m]: {float(np.max(x_ref)):.6g}", file=out)
         print(f"RMS height difference [m]: {rms:.6g}", file=out)
@@ -173,9 +238,8 @@ def cmd_error(args, out):
 def cmd_plot_profile(args, out):
     from .plots import plot_profile
 
-    data = load_particles(args.run_dir, time=args.time)
-    x, y, half = _deposit(args, data)
-    centres, height = _surface(args, x, y, half)
+    data, _, _, datum, (x, y, half, _) = _profile_inputs(args)
+    centres, height, _ = _surface(args, x, y, half)
     toe = toe_position(x, y, half, min_height=args.min_height)
     reference, title = None, f"t = {data['time']:g} s: toe {toe:.4g} m"
     if args.reference:
@@ -183,20 +247,7 @@ def cmd_plot_profile(args, out):
         rms, _ = rms_height_difference(centres, height, *reference)
         title += f", RMS height difference {rms:.3g} m"
     path = plot_profile(args.out, centres, height, reference=reference, particles=(x, y),
-                        toe=toe, title=title)
-    print(f"wrote {path}", file=out)
-    return 0
-
-
-def cmd_plot_energy(args, out):
-    history = load_history(args.run_dir)
-    if history["time"].size == 0:
-        raise ValueError(f"history of {args.run_dir} is empty: nothing to plot")
-    try:
-        title = f"{Path(args.run_dir).name}: energy drift {energy_drift(history):.2e}"
-    except (KeyError, ValueError):
-        title = Path(args.run_dir).name
-    path = plot_energy(history, args.out, title=title)
+                        toe=toe, title=f"{title}\nheights above {datum}")
     print(f"wrote {path}", file=out)
     return 0
 
@@ -244,7 +295,8 @@ def _positive(text):
 def _profile_options(parser):
     parser.add_argument("run_dir", metavar="RUN_DIR", help="run directory or particles_*.h5 file")
     parser.add_argument("--time", type=float, default=None,
-                        help="time [s]; the nearest output is used (default: the last one)")
+                        help="time [s]; the nearest output is used (default: the last "
+                             "one); a time outside the run's outputs is an error")
     parser.add_argument("--reference", default=None,
                         help="two-column file x [m], height [m] of a measured free surface")
     parser.add_argument("--min-height", type=float, default=0.0,
@@ -252,17 +304,31 @@ def _profile_options(parser):
                              "(default 0)")
     parser.add_argument("--wall", type=float, default=0.0,
                         help="x of the wall the deposit rests against [m] (default 0)")
-    parser.add_argument("--bin-width", type=float, default=None,
-                        help="bin width of the free surface [m] (default: the particle size)")
+    parser.add_argument("--bin-width", type=_positive, default=None,
+                        help="bin width of the free surface [m] (default and least: the "
+                             "particle size)")
+    parser.add_argument("--floor", type=float, default=None,
+                        help="vertical coordinate [m] the heights are measured from (default: "
+                             "y = 0 in 2D; in 3D the terrain, or the lowest particle bottom at "
+                             "the first output)")
     parser.add_argument("--half-size", type=float, default=None,
                         help="particle half-size [m] (default: from the particle volumes)")
+
+
+def _energy_options(parser):
+    """``energy`` and ``plot energy``: one command under two names."""
+    parser.add_argument("run_dir", metavar="RUN_DIR", help="run directory or history.csv")
+    parser.add_argument("--out", default="figs/energy.png",
+                        help="image file to write (default: figs/energy.png)")
+    parser.set_defaults(func=cmd_energy)
 
 
 def build_parser():
     parser = argparse.ArgumentParser(
         prog="python -m mpm_post", description="Summarise and plot mpm-geo run outputs.",
-        epilog="Exit codes: 0 success, 1 the run or a file cannot answer, 2 bad command line "
-               "or --exact expression. 'COMMAND --help' for each command; docs/postproc.md.")
+        epilog="Exit codes: 0 success, 1 the run or a file cannot answer, 2 bad command line, "
+               "--exact expression or a --time outside the run's outputs. 'COMMAND --help' "
+               "for each command; docs/postproc.md.")
     parser.add_argument("--version", action="version", version=f"mpm_post {__version__}")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
     commands.required = True
@@ -271,17 +337,15 @@ def build_parser():
     summary.add_argument("run_dir", metavar="RUN_DIR", help="run directory, e.g. outputs/base_case")
     summary.set_defaults(func=cmd_summary)
 
-    energy = commands.add_parser("energy", help="plot the energy history")
-    energy.add_argument("run_dir", metavar="RUN_DIR")
-    energy.add_argument("--out", default="figs/energy.png",
-                        help="image file to write (default: figs/energy.png)")
-    energy.set_defaults(func=cmd_energy)
+    _energy_options(commands.add_parser(
+        "energy", help="plot the energy history (the same figure as 'plot energy')"))
 
     field = commands.add_parser("field", help="min/max/mean of one particle field")
     field.add_argument("run_dir", metavar="RUN_DIR", help="run directory or particles_*.h5 file")
     field.add_argument("--field", default="stress", help="dataset name (default: stress)")
     field.add_argument("--time", type=float, default=None,
-                       help="time [s]; the nearest output is used (default: the last one)")
+                       help="time [s]; the nearest output is used (default: the last "
+                            "one); a time outside the run's outputs is an error")
     field.set_defaults(func=cmd_field)
 
     profile = commands.add_parser(
@@ -326,11 +390,7 @@ def build_parser():
                               help="image file to write (default: figs/profile.png)")
     profile_figure.set_defaults(func=cmd_plot_profile)
 
-    energy_figure = plots.add_parser("energy", help="energy balance from history.csv")
-    energy_figure.add_argument("run_dir", metavar="RUN_DIR", help="run directory or history.csv")
-    energy_figure.add_argument("--out", default="figs/energy.png",
-                              help="image file to write (default: figs/energy.png)")
-    energy_figure.set_defaults(func=cmd_plot_energy)
+    _energy_options(plots.add_parser("energy", help="energy balance from history.csv"))
 
     for name, func, table, default, helptext in [
             ("convergence", cmd_plot_convergence, "h,error[,label]", "figs/convergence.png",
@@ -375,7 +435,7 @@ def main(argv=None, out=None):
     args = build_parser().parse_args(_join_expression_values(argv))
     try:
         return args.func(args, out)
-    except ExpressionError as exc:
+    except (ExpressionError, TimeOutsideRunError) as exc:
         print(f"mpm_post: error: {exc}", file=sys.stderr)
         return 2
     except (OSError, ValueError, KeyError) as exc:

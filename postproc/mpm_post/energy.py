@@ -1,8 +1,15 @@
-"""Energy balance of a run, from the dict returned by load_history."""
+"""Energy balance of a run, from the dict returned by load_history (history.csv).
+
+One definition of the energy drift (energy_balance, describe_drift) and one energy figure
+(plot_run_energy) for every command that shows them: ``summary``, ``energy``, ``plot energy``.
+"""
 
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
+
+from .io import list_outputs, load_history, load_particles
 
 # Columns of history.csv [J] (per unit thickness in 2D) and their labels in plots.
 ENERGY_TERMS = {
@@ -14,30 +21,137 @@ ENERGY_TERMS = {
 }
 
 
+# Columns of history.csv that are not energies.
+NOT_ENERGY = ("time", "step")
+
+
+def energy_columns(history):
+    """(column, label) of the energy terms of a history to plot, in the header's names.
+
+    The known terms (ENERGY_TERMS) first in that order, then any other column of the header
+    but time and step under its own name, so that a term added to history.csv is shown too.
+    """
+    known = [(name, label) for name, label in ENERGY_TERMS.items() if name in history]
+    other = [(name, name.replace("_", " ")) for name in history
+             if name not in ENERGY_TERMS and name not in NOT_ENERGY]
+    return known + other
+
+
 def _column(history, name):
     if name not in history:
         raise KeyError(f"history has no '{name}' column (columns: {', '.join(history)})")
     return np.asarray(history[name], dtype=float)
 
 
-def energy_drift(history):
-    """Largest change of the total energy, relative to the largest kinetic + strain energy.
+class EnergyBalance(NamedTuple):
+    """The energy balance of a run between its first and its last history line.
 
-    ``max |total - total[0]| / max(max(kinetic_energy + strain_energy), tiny)``: 0 for an exactly
-    conserving run; a dimensionless number comparable between runs of different sizes.
+    ``drift`` [J]: total at the end - total at the start, the energy the run does not account
+    for (0 for an exactly conserving run; > 0 energy was created). ``gravity_work`` [J]: the
+    work of gravity over the run, potential energy at the start - at the end (nan without a
+    ``potential_energy`` column). ``start``, ``end`` [s]: the times of the two lines.
+    All energies per metre of thickness [J/m] in 2D.
+    """
+
+    drift: float
+    gravity_work: float
+    start: float
+    end: float
+
+    @property
+    def drift_of_gravity_work(self):
+        """drift / gravity_work [-], nan when gravity did no positive work."""
+        if not self.gravity_work > 0.0:
+            return float("nan")
+        return self.drift / self.gravity_work
+
+
+def energy_balance(history):
+    """The EnergyBalance of a history (the dict of load_history).
+
+    The columns are found by their names in the header (``time``, ``total``,
+    ``potential_energy``), wherever they stand; ``potential_energy`` may be missing.
     """
     total = _column(history, "total")
+    time = _column(history, "time")
     if total.size == 0:
         raise ValueError("history is empty: no energy drift to compute")
-    mechanical = _column(history, "kinetic_energy") + _column(history, "strain_energy")
-    scale = max(float(np.max(mechanical)), np.finfo(float).tiny)
-    return float(np.max(np.abs(total - total[0])) / scale)
+    work = float("nan")
+    if "potential_energy" in history:
+        potential = _column(history, "potential_energy")
+        work = float(potential[0] - potential[-1])
+    return EnergyBalance(float(total[-1] - total[0]), work, float(time[0]), float(time[-1]))
 
 
-def plot_energy(history, path, title=None):
+DRIFT_DEFINITION = "total at the end - total at the start: energy not accounted for"
+
+
+def energy_unit(dimension):
+    """Unit of the energies of history.csv for a run of that dimension (0: not known)."""
+    return {2: "J/m", 3: "J"}.get(dimension, "J (J/m in 2D)")
+
+
+def describe_drift(balance, unit="J"):
+    """The drift of an EnergyBalance in words: value, unit, definition, share of gravity work.
+
+    For example ``+1.27 J (total at the end - total at the start: energy not accounted for;
+    3.2 % of the work of gravity, 39.7 J)``.
+    """
+    share = balance.drift_of_gravity_work
+    if np.isfinite(share):
+        compared = (f"{100.0 * share:.3g} % of the work of gravity, "
+                    f"{balance.gravity_work:.3g} {unit}")
+    elif np.isnan(balance.gravity_work):
+        compared = "no potential_energy column to compare with the work of gravity"
+    else:
+        compared = f"the work of gravity is {balance.gravity_work:.3g} {unit}, not positive"
+    return f"{balance.drift:+.3g} {unit} ({DRIFT_DEFINITION}; {compared})"
+
+
+def _run_of(run):
+    """(case name, dimension) of the run directory of ``run`` (a folder or its history.csv),
+    from its last particle output; (folder name, 0) when it has none."""
+    folder = Path(run)
+    folder = folder if folder.is_dir() else folder.parent
+    outputs = list_outputs(folder)
+    if outputs:
+        last = load_particles(outputs[-1][1])
+        return last["case_name"] or folder.name, last["dimension"]
+    return folder.name, 0
+
+
+def plot_run_energy(run, path):
+    """The energy figure of a run: its history.csv plotted, titled with the case and the drift.
+
+    ``run``: a run directory or its history.csv. What ``mpm_post energy`` and ``mpm_post plot
+    energy`` write. Returns ``(path, drift)``: the image's Path and the drift in words
+    (describe_drift), or None when the history has no ``total`` column.
+    """
+    history = load_history(run)
+    if history["time"].size == 0:
+        raise ValueError(f"history of {run} is empty: nothing to plot")
+    case, dimension = _run_of(run)
+    unit = energy_unit(dimension)
+    title = case
+    drift = None
+    if "total" in history:
+        balance = energy_balance(history)
+        drift = describe_drift(balance, unit)
+        title += (f"\nenergy drift {balance.drift:+.3g} {unit} = total at t = {balance.end:g} s "
+                  f"- total at t = {balance.start:g} s")
+        share = balance.drift_of_gravity_work
+        if np.isfinite(share):
+            title += (f"\n({100.0 * share:.3g} % of the work of gravity, "
+                      f"{balance.gravity_work:.3g} {unit})")
+    return plot_energy(history, path, title=title, unit=unit), drift
+
+
+def plot_energy(history, path, title=None, unit="J; J/m in 2D"):
     """Plot every energy term of ``history`` against time into an image file; returns its Path.
 
-    ``title``: an optional title of the plot (the run, its energy drift, ...).
+    ``title``: an optional title of the plot (the run, its energy drift, ...); ``unit``: of the
+    energy axis. The total at the start is a dashed line: the total's distance from it is the
+    drift (energy_balance).
 
     Uses matplotlib's Agg canvas directly, so no display is needed and the global backend of a
     calling program is left alone. The parent directory is created when missing.
@@ -46,7 +160,7 @@ def plot_energy(history, path, title=None):
     from matplotlib.figure import Figure
 
     time = _column(history, "time")
-    terms = [name for name in ENERGY_TERMS if name in history]
+    terms = energy_columns(history)
     if not terms:
         expected = ", ".join(ENERGY_TERMS)
         raise KeyError(f"history has no energy column (expected some of: {expected})")
@@ -54,11 +168,15 @@ def plot_energy(history, path, title=None):
     figure = Figure(figsize=(7.0, 4.5), layout="constrained")
     FigureCanvasAgg(figure)
     axes = figure.add_subplot()
-    for name in terms:
+    for name, label in terms:
         style = {"color": "black", "linewidth": 2.0} if name == "total" else {}
-        axes.plot(time, _column(history, name), label=ENERGY_TERMS[name], **style)
+        axes.plot(time, _column(history, name), label=label, **style)
     axes.set_xlabel("time [s]")
-    axes.set_ylabel("energy [J; J/m in 2D]")
+    if "total" in history:
+        total = _column(history, "total")
+        axes.axhline(total[0], color="0.4", linestyle="--", linewidth=1.0,
+                     label=f"total at t = {time[0]:g} s")
+    axes.set_ylabel(f"energy [{unit}]")
     axes.grid(True, alpha=0.3)
     axes.legend()
     if title:

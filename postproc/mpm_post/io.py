@@ -8,6 +8,9 @@ particles_NNNNNN.h5
     ``volume`` (n) [m^3]; optional group ``/grid`` with ``position``, ``mass``, ``velocity``.
 history.csv
     header ``time,step,kinetic_energy,strain_energy,potential_energy,damping_work,total``.
+terrain.h5 (runs with a terrain_stl contact)
+    ``/terrain/position`` (3 n, 3) [m], the 3 corners of each of the n triangles, and
+    ``/terrain/triangles`` (3 n), their 0-based indices.
 """
 
 import re
@@ -19,9 +22,22 @@ import numpy as np
 
 OUTPUT_PATTERN = re.compile(r"particles_(\d{6})\.h5")
 HISTORY_FILE = "history.csv"
+TERRAIN_FILE = "terrain.h5"
 # Column labels of the particle fields (docs/output.md): Voigt order for stress and strain.
 STRESS_COMPONENTS = {4: ["xx", "yy", "zz", "xy"], 6: ["xx", "yy", "zz", "xy", "yz", "zx"]}
 VECTOR_COMPONENTS = ["x", "y", "z"]
+# A requested time this close to the span of the outputs, relative to the largest output time,
+# is inside it: an output is written at the first step at or after its time.
+TIME_TOLERANCE = 1.0e-3
+
+
+class TimeOutsideRunError(ValueError):
+    """A requested time before the first or after the last output of a run.
+
+    A ValueError, so callers that catch those keep working; the command line turns it into exit
+    code 2 (bad input) rather than answering with the nearest output, the first or the last,
+    which describes another time than the one asked for.
+    """
 
 
 def component_names(name, array):
@@ -91,8 +107,36 @@ def list_outputs(run_dir):
     return sorted((_output_time(p), p) for p in files)
 
 
+def _times_text(times):
+    """Output times [s] for a message: all of them, or the first and last six."""
+    if len(times) <= 12:
+        return " ".join(f"{t:g}" for t in times)
+    return " ".join(f"{t:g}" for t in times[:6]) + " ... " + \
+        " ".join(f"{t:g}" for t in times[-6:])
+
+
+def _check_span(times, time, path):
+    """Raise TimeOutsideRunError when ``time`` [s] lies outside the output ``times`` [s].
+
+    Within TIME_TOLERANCE of the largest output time of either end counts as inside.
+    """
+    time = float(time)
+    margin = TIME_TOLERANCE * float(np.max(np.abs(times)))
+    if not np.isfinite(time):
+        raise TimeOutsideRunError(f"time must be a finite number of seconds, got {time:g}")
+    if times[0] - margin <= time <= times[-1] + margin:
+        return
+    side = "after the last" if time > times[-1] else "before the first"
+    raise TimeOutsideRunError(
+        f"no output at time {time:g} s in {path}: it is {side} output (the outputs run from "
+        f"{times[0]:g} to {times[-1]:g} s; output times [s]: {_times_text(times)})")
+
+
 def _select_output(path_or_run_dir, time):
-    """The output file to read: the file itself, or the run's output nearest to ``time``."""
+    """The output file to read: the file itself, or the run's output nearest to ``time``.
+
+    Raises TimeOutsideRunError when ``time`` is outside the span of the outputs.
+    """
     path = Path(path_or_run_dir)
     if path.is_file():
         if time is not None:
@@ -104,6 +148,7 @@ def _select_output(path_or_run_dir, time):
     if time is None:
         return outputs[-1][1]
     times = np.array([t for t, _ in outputs])
+    _check_span(times, time, path)
     return outputs[int(np.argmin(np.abs(times - float(time))))][1]
 
 
@@ -115,7 +160,8 @@ def output_at(path_or_run_dir, time=None, tolerance=None):
     defaults to 1e-3 of the last output time, enough for an output written at the first time
     step at or after the requested time. ``path_or_run_dir``: a run directory or one
     ``particles_NNNNNN.h5`` file. Returns ``(time, path)`` of the output; raises ValueError
-    naming the output times when none is within the tolerance.
+    naming the output times when none is within the tolerance, TimeOutsideRunError (a
+    ValueError) when ``time`` lies before the first or after the last output.
     """
     path = Path(path_or_run_dir)
     outputs = [(_output_time(path), path)] if path.is_file() else list_outputs(path)
@@ -125,14 +171,13 @@ def output_at(path_or_run_dir, time=None, tolerance=None):
         return outputs[-1]
     times = np.array([t for t, _ in outputs])
     if tolerance is None:
-        tolerance = 1.0e-3 * float(np.max(np.abs(times)))
+        tolerance = TIME_TOLERANCE * float(np.max(np.abs(times)))
     nearest = int(np.argmin(np.abs(times - float(time))))
     if not abs(times[nearest] - float(time)) <= tolerance:
-        shown = " ".join(f"{t:g}" for t in times) if times.size <= 12 else \
-            " ".join(f"{t:g}" for t in times[:6]) + " ... " + \
-            " ".join(f"{t:g}" for t in times[-6:])
-        raise ValueError(f"no output at time {time:g} s in {path} (output times [s]: {shown}; "
-                         f"tolerance {tolerance:g} s)")
+        if len(outputs) > 1:
+            _check_span(times, time, path)
+        raise ValueError(f"no output at time {time:g} s in {path} (output times [s]: "
+                         f"{_times_text(times)}; tolerance {tolerance:g} s)")
     return outputs[nearest]
 
 
@@ -172,7 +217,9 @@ def load_particles(path_or_run_dir, time=None):
     """Particle data of one output.
 
     ``path_or_run_dir`` is a ``particles_NNNNNN.h5`` file or a run directory; in a run directory
-    the output nearest to ``time`` [s] is read (the last one when ``time`` is None).
+    the output nearest to ``time`` [s] is read (the last one when ``time`` is None); a ``time``
+    before the first or after the last output raises TimeOutsideRunError (a ValueError) naming
+    the output times, rather than silently reading the first or the last.
     Returns a dict with one numpy array per dataset of ``/particles`` (``position`` always, the
     others when written) and ``time`` [s], ``step``, ``dimension``, ``case_name``, ``path``.
     """
@@ -218,3 +265,27 @@ def load_history(run_dir):
     if "time" not in table.dtype.names:
         raise ValueError(f"{path}: no 'time' column (columns: {', '.join(table.dtype.names)})")
     return {name: np.asarray(table[name], dtype=float) for name in table.dtype.names}
+
+
+def load_terrain(run_dir):
+    """The terrain surface of a run, or None when it has none (no ``terrain.h5``).
+
+    ``run_dir``: a run directory, or a file in one (a ``particles_NNNNNN.h5``). Returns the
+    corners of the triangles as an (n, 3, 3) array [m]: triangle, corner, x y z.
+    """
+    path = Path(run_dir)
+    folder = path if path.is_dir() else path.parent
+    path = folder / TERRAIN_FILE
+    if not path.is_file():
+        return None
+    with h5py.File(path, "r") as h5file:
+        for name in ("position", "triangles"):
+            if f"terrain/{name}" not in h5file:
+                raise ValueError(f"{path}: dataset /terrain/{name} is missing")
+        position = np.asarray(h5file["terrain/position"][()], dtype=float)
+        triangles = np.asarray(h5file["terrain/triangles"][()], dtype=np.int64).reshape(-1)
+    if position.ndim != 2 or position.shape[1] != 3 or triangles.size % 3 != 0 or \
+            np.any(triangles < 0) or np.any(triangles >= position.shape[0]):
+        raise ValueError(f"{path}: /terrain/position {position.shape} and /terrain/triangles "
+                         f"({triangles.size}) do not describe triangles")
+    return position[triangles].reshape(-1, 3, 3)

@@ -28,7 +28,25 @@ def test_summary(make_run, capsys):
     assert "particles: 8" in out
     assert "last output: step 20, time 0.5 s" in out
     assert "final kinetic energy [J]: 2.000000e+00" in out
-    assert "energy drift: 4.000e-02" in out
+    # mpm_post_fakerun.history_rows: the total grows by 0.4 J, gravity does 4 J of work
+    assert ("energy drift: +0.4 J (total at the end - total at the start: energy not "
+            "accounted for; 10 % of the work of gravity, 4 J)\n") in out
+
+
+def test_summary_2d_energies_are_per_metre(make_run, capsys):
+    code, out, err = run(["summary", str(make_run(dim=2))], capsys)
+    assert code == 0, err
+    assert "final kinetic energy [J/m]: 2.000000e+00" in out
+    assert "energy drift: +0.4 J/m (" in out
+
+
+def test_summary_without_a_total_column(make_run, capsys):
+    run_dir = make_run(history=False)
+    (run_dir / "history.csv").write_text("time,step,kinetic_energy\n0,0,1.0\n")
+    code, out, err = run(["summary", str(run_dir)], capsys)
+    assert code == 0, err
+    assert ("energy drift: not available (history.csv has no 'total' column; columns: time, "
+            "step, kinetic_energy)\n") in out
 
 
 def test_summary_many_outputs_are_abbreviated(make_run, capsys):
@@ -53,6 +71,21 @@ def test_energy_plot(make_run, tmp_path, capsys):
     assert code == 0, err
     assert out_file.is_file() and out_file.stat().st_size > 1000
     assert str(out_file) in out
+
+
+def test_energy_and_plot_energy_are_one_figure(make_run, tmp_path, capsys):
+    """The README's 'energy' and 'plot energy' write the same image (title, drift) and text."""
+    run_dir = make_run(name="column")
+    outputs = []
+    for command in (["energy"], ["plot", "energy"]):
+        out_file = tmp_path / f"{len(outputs)}.png"
+        code, out, err = run(command + [str(run_dir), "--out", str(out_file)], capsys)
+        assert code == 0, err
+        outputs.append((out_file.read_bytes(), out.replace(str(out_file), "PNG")))
+    assert outputs[0] == outputs[1]
+    assert outputs[0][1] == ("wrote PNG\nenergy drift: +0.4 J/m (total at the end - total at "
+                             "the start: energy not accounted for; 10 % of the work of "
+                             "gravity, 4 J/m)\n")
 
 
 def test_energy_without_history(make_run, tmp_path, capsys):
@@ -95,6 +128,19 @@ def test_field_scalar_and_vector(make_run, capsys):
     code, out, _ = run(["field", str(run_dir), "--field", "velocity"], capsys)
     assert code == 0
     assert list(stats_rows(out)) == ["x", "y", "z"]
+
+
+@pytest.mark.parametrize("time,side", [("7", "after the last"), ("-1", "before the first")])
+def test_field_time_outside_the_run(make_run, capsys, time, side):
+    """A run that ends at t = 1 has no answer for t = 7: exit code 2, the times it has."""
+    run_dir = make_run(times=(0.0, 0.5, 1.0))
+    code, out, err = run(["field", str(run_dir), "--field", "stress", "--time", time], capsys)
+    assert code == 2
+    assert out == ""
+    assert err.count("\n") == 1     # one line, no traceback
+    assert err.startswith(f"mpm_post: error: no output at time {time} s in {run_dir}: it is "
+                          f"{side} output (the outputs run from 0 to 1 s; output times [s]: "
+                          "0 0.5 1)")
 
 
 def test_field_unknown(make_run, capsys):

@@ -1,48 +1,89 @@
-"""mpm_post.energy: drift measure and energy plot."""
+"""mpm_post.energy: the energy drift and the energy plot."""
 
 import numpy as np
 import pytest
 from matplotlib.image import imread
 
-from mpm_post import energy_drift, load_history, plot_energy
+from mpm_post import energy, load_history, plot_energy
+from mpm_post.energy import describe_drift, energy_balance, energy_columns, plot_run_energy
 
 
-def history_of(total, kinetic, strain):
+def history_of(total, potential=None):
     n = len(total)
-    return {"time": np.linspace(0.0, 1.0, n), "kinetic_energy": np.array(kinetic, float),
-            "strain_energy": np.array(strain, float), "total": np.array(total, float)}
+    history = {"time": np.linspace(0.0, 1.0, n), "total": np.array(total, float)}
+    if potential is not None:
+        history["potential_energy"] = np.array(potential, float)
+    return history
 
 
-def test_drift_of_conserving_run_is_zero():
-    assert energy_drift(history_of([5.0, 5.0, 5.0], [5.0, 2.0, 0.0], [0.0, 3.0, 5.0])) == 0.0
+def test_balance_of_a_conserving_run_has_no_drift():
+    balance = energy_balance(history_of([5.0, 4.0, 5.0], [0.0, -3.0, -5.0]))
+    assert balance.drift == 0.0
+    assert balance.gravity_work == 5.0 and balance.drift_of_gravity_work == 0.0
+    assert (balance.start, balance.end) == (0.0, 1.0)
 
 
-def test_drift_value():
-    # Largest |total - total[0]| is 1.5, a loss in the middle row (the last row gains only
-    # 0.5); largest kinetic + strain is 20.
-    history = history_of([10.0, 8.5, 10.5], [10.0, 15.0, 5.0], [0.0, 5.0, 4.0])
-    assert energy_drift(history) == pytest.approx(1.5 / 20.0, rel=1e-15)
+def test_drift_is_the_end_minus_the_start():
+    # a loss of 1.5 in the middle does not count: the drift is what is left unaccounted for
+    # at the end, +0.5 J of 4 J of gravity work
+    balance = energy_balance(history_of([10.0, 8.5, 10.5], [0.0, -2.0, -4.0]))
+    assert balance.drift == 0.5 and balance.gravity_work == 4.0
+    assert balance.drift_of_gravity_work == 0.125
+    assert describe_drift(balance, "J") == (
+        "+0.5 J (total at the end - total at the start: energy not accounted for; "
+        "12.5 % of the work of gravity, 4 J)")
 
 
 def test_drift_from_history_file(make_run):
-    # conftest.history_rows: total drifts by 0.1 J per row (0.4 J after 4 rows); kinetic +
-    # strain is 10 J in every row.
-    assert energy_drift(load_history(make_run())) == pytest.approx(0.04, rel=1e-12)
+    # mpm_post_fakerun.history_rows: total drifts by 0.1 J per row (0.4 J after 4 rows), the
+    # potential energy falls by 1 J per row (4 J of work of gravity)
+    balance = energy_balance(load_history(make_run()))
+    assert balance.drift == pytest.approx(0.4, rel=1e-12)
+    assert balance.gravity_work == pytest.approx(4.0, rel=1e-12)
 
 
-def test_drift_without_mechanical_energy_is_finite():
-    drift = energy_drift(history_of([0.0, 1e-300], [0.0, 0.0], [0.0, 0.0]))
-    assert np.isfinite(drift) and drift > 0.0
+def test_columns_are_found_by_name_not_position(tmp_path):
+    path = tmp_path / "history.csv"
+    path.write_text("step,total,time,potential_energy\n0,2.0,0.0,0.0\n5,2.5,0.1,-10.0\n")
+    balance = energy_balance(load_history(path))
+    assert (balance.drift, balance.gravity_work, balance.end) == (0.5, 10.0, 0.1)
+
+
+def test_drift_without_gravity_work_says_so():
+    assert describe_drift(energy_balance(history_of([1.0, 1.5])), "J/m") == (
+        "+0.5 J/m (total at the end - total at the start: energy not accounted for; "
+        "no potential_energy column to compare with the work of gravity)")
+    balance = energy_balance(history_of([1.0, 0.75], [0.0, 0.0]))
+    assert np.isnan(balance.drift_of_gravity_work)
+    assert describe_drift(balance).endswith("; the work of gravity is 0 J, not positive)")
+    assert describe_drift(balance).startswith("-0.25 J (")
 
 
 def test_drift_of_empty_history():
     with pytest.raises(ValueError, match="empty"):
-        energy_drift(history_of([], [], []))
+        energy_balance(history_of([]))
 
 
-def test_drift_needs_columns():
-    with pytest.raises(KeyError, match="strain_energy"):
-        energy_drift({"time": np.zeros(2), "kinetic_energy": np.zeros(2), "total": np.zeros(2)})
+def test_drift_needs_the_total():
+    with pytest.raises(KeyError, match="no 'total' column"):
+        energy_balance({"time": np.zeros(2), "kinetic_energy": np.zeros(2)})
+
+
+def test_energy_columns_follow_the_header():
+    history = {"time": 0, "step": 0, "friction_work": 0, "total": 0, "kinetic_energy": 0}
+    assert energy_columns(history) == [("kinetic_energy", "kinetic"), ("total", "total"),
+                                       ("friction_work", "friction work")]
+
+
+def test_plot_run_energy_titles_with_the_case_and_the_drift(make_run, tmp_path, monkeypatch):
+    calls = []
+    monkeypatch.setattr(energy, "plot_energy",
+                        lambda history, path, **options: calls.append(options) or path)
+    path, drift = plot_run_energy(make_run(name="column"), tmp_path / "e.png")
+    assert path == tmp_path / "e.png"
+    assert drift.startswith("+0.4 J/m (total at the end - total at the start")
+    assert calls == [{"title": "column\nenergy drift +0.4 J/m = total at t = 0.4 s - total at "
+                               "t = 0 s\n(10 % of the work of gravity, 4 J/m)", "unit": "J/m"}]
 
 
 def test_plot_energy_writes_image(make_run, tmp_path):

@@ -309,6 +309,8 @@ def test_cli_error_options(tmp_path, capsys):
     (["--field", "stress", "--exact", "0"], 1, "no component given for field 'stress'"),
     (["--field", "stress", "--component", "yy", "--exact", "0", "--time", "0.3"], 1,
      "no output at time 0.3 s"),
+    (["--field", "stress", "--component", "yy", "--exact", "0", "--time", "9"], 2,
+     "no output at time 9 s in"),
     (["--field", "stress", "--component", "yy", "--exact", "1/(y - y)"], 1,
      "not finite at 4 of 4"),
     (["--field", "stress", "--component", "yy", "--exact", "__import__('os')"], 2,

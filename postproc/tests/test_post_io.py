@@ -6,6 +6,7 @@ import pytest
 from mpm_post_fakerun import particle_fields, write_history, write_output
 
 from mpm_post import list_outputs, load_grid, load_history, load_particles
+from mpm_post.io import TimeOutsideRunError
 
 
 # ----------------------------------------------------------------------------- list_outputs
@@ -73,13 +74,26 @@ def test_load_particles_round_trip(make_run, dim, nstress):
 
 
 @pytest.mark.parametrize("time,expected", [
-    (None, 0.5), (0.0, 0.0), (0.1, 0.0), (0.13, 0.25), (0.26, 0.25), (0.49, 0.5), (7.0, 0.5),
-    (-1.0, 0.0)])
+    (None, 0.5), (0.0, 0.0), (0.1, 0.0), (0.13, 0.25), (0.26, 0.25), (0.49, 0.5),
+    (0.5004, 0.5), (-0.0004, 0.0)])     # within 1e-3 of the last time (0.5 s) of either end
 def test_load_particles_nearest_time(make_run, time, expected):
     run_dir = make_run(times=(0.0, 0.25, 0.5))
     data = load_particles(run_dir, time=time)
     assert data["time"] == expected
     np.testing.assert_array_equal(data["stress"], particle_fields(2, 8, expected)["stress"])
+
+
+@pytest.mark.parametrize("time,side", [(7.0, "after the last"), (0.5006, "after the last"),
+                                       (-1.0, "before the first")])
+def test_load_particles_time_outside_the_run_is_an_error(make_run, time, side):
+    """Not the first or last output in its place: that one describes another time."""
+    run_dir = make_run(times=(0.0, 0.25, 0.5))
+    with pytest.raises(TimeOutsideRunError,
+                       match=rf"no output at time {time:g} s in .*: it is {side} output \(the "
+                             r"outputs run from 0 to 0.5 s; output times \[s\]: 0 0.25 0.5\)"):
+        load_particles(run_dir, time=time)
+    with pytest.raises(TimeOutsideRunError, match="finite"):
+        load_particles(run_dir, time=float("nan"))
 
 
 def test_load_particles_from_file(make_run):

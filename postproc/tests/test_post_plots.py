@@ -261,3 +261,10 @@ def test_cli_profile_runout_and_heights(tmp_path, capsys):
     assert "runout from t = 0 s [m]: 0.1 (toe then 0.2)\n" in out
     code, out, _ = run(["profile", str(run_dir), "--time", "0"], capsys)
     assert code == 0 and "max height [m]: 0.1\n" in out and "runout from" not in out
+    late = tmp_path / "late.png"
+    for command in (["profile", str(run_dir)], ["plot", "profile", str(run_dir), "--out",
+                                                str(late)]):
+        code, out, err = run(command + ["--time", "2"], capsys)
+        assert code == 2 and out == "" and "no output at time 2 s" in err
+        assert "it is after the last output (the outputs run from 0 to 1 s" in err
+    assert not late.exists()

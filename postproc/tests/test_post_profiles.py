@@ -2,14 +2,17 @@
 
 import math
 
+import h5py
 import numpy as np
 import pytest
 from mpm_post_fakerun import POSTPROC, write_output
 
 from mpm_post.cli import main
+from mpm_post.io import load_terrain
 from mpm_post.profiles import (bin_edges, failure_surface, free_surface, height_at_wall,
-                               load_reference_profile, particle_half_size,
-                               rms_height_difference, slip_angle, toe_position)
+                               load_reference_profile, particle_half_size, particle_size,
+                               rms_height_difference, slip_angle, surface_profile,
+                               terrain_height, toe_position)
 
 SPACING = 0.01          # particle spacing of the synthetic sets [m]
 HALF = 0.5 * SPACING    # particle half-size [m]
@@ -112,6 +115,131 @@ def test_free_surface_per_particle_half_sizes_and_outside_particles():
         free_surface(x, y, half[:2], 2)
     with pytest.raises(ValueError, match="edges"):
         free_surface(x, y, half, np.array([0.2, 0.1]))
+
+
+def trapezoid(spacing=SPACING, top=0.1, flat=0.1, foot=0.3):
+    """Particles on a regular grid of ``spacing`` whose centres lie under a trapezoid.
+
+    The line: ``top`` [m] from x = 0 to ``flat``, then straight down to 0 at ``foot``.
+    Returns x, y and the line as a function of x.
+    """
+    def line(x):
+        return np.where(x <= flat, top, top * np.clip((foot - x) / (foot - flat), 0.0, 1.0))
+
+    x, y = grid_block(foot, top, spacing)
+    keep = y < line(x)
+    return x[keep], y[keep], line
+
+
+@pytest.mark.parametrize("width", [0.25, 0.5, 0.7, 1.0, 1.3, 2.5])
+@pytest.mark.parametrize("offset", [0.0, 0.37])
+def test_free_surface_of_a_trapezoid_for_any_bin_width(width, offset):
+    """Within half a spacing of the line at the columns each bin reaches, for any bins.
+
+    The top particle of a column lies less than one spacing below the line at the column's
+    centre and its top is half a spacing above its centre: the column's top is within s/2 of
+    the line there. A bin takes the tops of the columns whose domains overlap it, the columns
+    whose centres lie within the bin widened by s/2 on each side, so its height lies within
+    s/2 of the line's values at those centres. A bin left empty, or given a lower particle
+    (the dips of a binning by centres when bins are narrower than the spacing), falls below.
+    """
+    x, y, line = trapezoid()
+    columns = np.unique(x)
+    edges = bin_edges(-offset * SPACING, 0.3, width * SPACING)
+    _, height = free_surface(x, y, HALF, edges)
+    checked = 0
+    for low, high, value in zip(edges[:-1], edges[1:], height):
+        # reached by more than round-off (free_surface's EDGE_ROUNDOFF)
+        reached = columns[(columns > low - HALF + EXACT) & (columns < high + HALF - EXACT)]
+        if reached.size == 0:
+            assert value == 0.0
+            continue
+        assert line(reached).min() - HALF - EXACT <= value <= line(reached).max() + HALF + EXACT
+        checked += 1
+    assert checked >= 0.9 * height.size       # all but the bins beyond the deposit's ends
+    flat = (edges[1:] + HALF <= 0.1) & (edges[:-1] >= 0.0)
+    assert np.allclose(height[flat], 0.1, atol=EXACT)    # the flat top exactly, every bin
+
+
+def stretched_deposit(spacing=SPACING, stretch=1.5, rows=8, columns=30):
+    """A layer stretched along x as a spreading deposit: particles of area spacing**2 on rows
+    stretch * spacing apart along x and spacing / stretch apart in height, every other row
+    shifted by half a column. The top row leaves gaps of (stretch - 1) spacing between its
+    particle domains, which the row below covers."""
+    dx, dy = stretch * spacing, spacing / stretch
+    x = np.concatenate([(np.arange(columns) + 0.5 + 0.5 * (j % 2)) * dx for j in range(rows)])
+    y = np.concatenate([np.full(columns, (j + 0.5) * dy) for j in range(rows)])
+    return x, y, rows * dy
+
+
+def test_surface_profile_of_a_stretched_deposit_has_no_dips():
+    x, y, top = stretched_deposit()
+    half = particle_half_size(np.full(x.size, SPACING**2), 2)      # SPACING / 2 each
+    row = SPACING / 1.5
+    top_row, below = top - 0.5 * row + HALF, top - 1.5 * row + HALF
+    for width in (0.3 * SPACING, None, 1.7 * SPACING):
+        centres, height, used = surface_profile(x, y, half, 0.0, 0.45, width)
+        assert used >= particle_size(half) - EXACT
+        # inside, every bin meets a domain of the top row (gaps of half a spacing between
+        # them); at the two ends of the layer the row below, one row lower: no dip deeper
+        inside = (centres > 1.5 * SPACING + used) & (centres < 0.45 - 1.5 * SPACING - used)
+        assert np.count_nonzero(inside) > 10
+        assert np.allclose(height[inside], top_row, atol=EXACT)
+        assert np.all((height >= below - EXACT) & (height <= top_row + EXACT))
+    # a binning by centres on bins of the particle size leaves bins with no top particle:
+    # the sawtooth of the issue
+    edges = bin_edges(0.0, 0.45, SPACING)
+    by_centre = np.zeros(edges.size - 1)
+    np.maximum.at(by_centre, np.searchsorted(edges, x, side="right") - 1, y + HALF)
+    assert np.min(by_centre[2:-2]) <= below + EXACT
+
+
+def test_surface_profile_widens_narrow_bins_and_checks_its_range():
+    x, y = grid_block(0.2, 0.1)
+    centres, height, width = surface_profile(x, y, HALF, 0.0, 0.2, 0.001)
+    assert width == pytest.approx(SPACING, abs=EXACT) and centres.size == 20
+    assert np.allclose(height, 0.1, atol=EXACT)
+    _, _, width = surface_profile(x, y, HALF, 0.0, 0.2, 0.03)
+    assert width >= 0.03           # 6 bins of 0.0333 m, never narrower than asked
+    with pytest.raises(ValueError, match="empty range"):
+        surface_profile(x, y, HALF, 0.2, 0.2)
+
+
+# --- terrain_height ------------------------------------------------------------------------
+
+def plane_terrain(z0=0.2, slope=0.1, size=4.0, n=4):
+    """Triangles of the plane z = z0 + slope x over [0, size]^2, n x n squares of 2 each."""
+    edge = np.linspace(0.0, size, n + 1)
+    corners = []
+    for i in range(n):
+        for j in range(n):
+            a, b = (edge[i], edge[j]), (edge[i + 1], edge[j])
+            c, d = (edge[i + 1], edge[j + 1]), (edge[i], edge[j + 1])
+            for tri in ((a, b, c), (a, c, d)):
+                corners.append([(px, py, z0 + slope * px) for px, py in tri])
+    return np.array(corners)
+
+
+def test_terrain_height_of_a_plane_and_outside_it():
+    corners = plane_terrain()
+    x = np.array([0.0, 1.3, 2.0, 3.99, 4.5])
+    y = np.array([0.0, 2.7, 2.0, 0.5, 1.0])
+    z = terrain_height(x, y, corners)
+    assert z[:4] == pytest.approx(0.2 + 0.1 * x[:4], abs=EXACT)   # corners and edges count
+    assert np.isnan(z[4])
+
+
+def test_terrain_height_takes_the_floor_below_an_overhang():
+    ground = plane_terrain(z0=0.0, slope=0.0)
+    roof = plane_terrain(z0=1.0, slope=0.0)
+    corners = np.concatenate([ground, roof])
+    x, y = np.array([1.0, 1.0]), np.array([1.0, 1.0])
+    assert terrain_height(x, y, corners, below=np.array([0.5, 1.5])) == \
+        pytest.approx([0.0, 1.0], abs=EXACT)
+    assert terrain_height(x, y, corners, below=np.array([-0.5, -0.5])) == \
+        pytest.approx([0.0, 0.0], abs=EXACT)     # under everything: the lowest crossing
+    with pytest.raises(ValueError, match="shape"):
+        terrain_height(x, y, corners[:, :2])
 
 
 # --- toe_position --------------------------------------------------------------------------
@@ -347,3 +475,97 @@ def test_cli_profile_without_reference_and_errors(tmp_path, capsys):
     code = main(["profile", str(run_dir), "--reference", str(tmp_path / "none.txt")])
     _, err = capsys.readouterr()
     assert code == 1 and "reference profile not found" in err
+
+
+# --- profile of 3D runs: heights above the floor or the terrain ----------------------------
+
+def layer_3d(x0, x1, thickness, base, spacing=SPACING, y0=1.0, rows=2):
+    """Particle centres of a layer over [x0, x1] x [y0, y0 + rows spacing], ``thickness`` [m]
+    thick, its bottom at ``base(x)`` [m] under each column."""
+    xs = x0 + (np.arange(round((x1 - x0) / spacing)) + 0.5) * spacing
+    ys = y0 + (np.arange(rows) + 0.5) * spacing
+    zs = (np.arange(round(thickness / spacing)) + 0.5) * spacing
+    x, y, z = np.meshgrid(xs, ys, zs, indexing="ij")
+    x, y, z = x.ravel(), y.ravel(), z.ravel()
+    return np.column_stack([x, y, z + base(x)])
+
+
+def write_3d_run(run_dir, layers, terrain=None):
+    """A 3D run: one output per (time, positions); ``terrain``: (n, 3, 3) corners for a
+    terrain.h5 in mpm_geo's layout (/terrain/position, the corners, /terrain/triangles)."""
+    run_dir.mkdir()
+    for index, (time, position) in enumerate(layers):
+        write_output(run_dir / f"particles_{index:06d}.h5", time, index, 3,
+                     {"position": position, "volume": np.full(position.shape[0], SPACING**3)})
+    if terrain is not None:
+        with h5py.File(run_dir / "terrain.h5", "w") as h5file:
+            group = h5file.create_group("terrain")
+            group.create_dataset("position", data=terrain.reshape(-1, 3))
+            group.create_dataset("triangles", data=np.arange(terrain.shape[0] * 3,
+                                                             dtype=np.int32))
+    return run_dir
+
+
+def test_cli_profile_3d_on_a_raised_floor(tmp_path, capsys):
+    """A block 0.1 m high on a floor at z = 0.5 m spreads into a layer 0.05 m high."""
+    def floor(x):
+        return np.full(x.shape, 0.5)
+
+    run_dir = write_3d_run(tmp_path / "raised", [(0.0, layer_3d(0.0, 0.2, 0.1, floor)),
+                                                 (1.0, layer_3d(0.0, 0.3, 0.05, floor))])
+    code = main(["profile", str(run_dir)])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    assert "heights above: z = 0.5 m, the lowest particle bottom at t = 0 s" in out
+    assert "toe [m]: 0.3\n" in out
+    assert "height at wall [m]: 0.05\n" in out
+    assert "max height [m]: 0.05\n" in out
+    assert "runout from t = 0 s [m]: 0.1 (toe then 0.2)\n" in out
+    code = main(["profile", str(run_dir), "--floor", "0"])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    assert "heights above: z = 0 m (--floor)" in out and "max height [m]: 0.55\n" in out
+
+
+def test_cli_profile_3d_above_the_terrain(tmp_path, capsys):
+    """A layer 0.04 m thick on the slope z = 0.2 + 0.1 x, away from x = 0, slides on and thins
+    to 0.03 m: heights above the terrain, no height at a wall it never touched."""
+    corners = plane_terrain(z0=0.2, slope=0.1)
+
+    def ground(x):
+        return 0.2 + 0.1 * x
+
+    beyond = np.array([[4.5, 1.0, 0.7]])      # thrown past the terrain's edge (x = 4 m)
+    run_dir = write_3d_run(tmp_path / "slide", [
+        (0.0, layer_3d(1.0, 1.5, 0.04, ground)),
+        (1.0, np.concatenate([layer_3d(2.0, 2.6, 0.03, ground), beyond]))], terrain=corners)
+    code = main(["profile", str(run_dir)])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    assert "left out: 1 particles beyond the terrain (no floor under them)\n" in out
+    assert "heights above: the terrain (terrain.h5), straight below each particle" in out
+    assert "toe [m]: 2.6\n" in out
+    assert ("height at wall: does not apply (no particle within 0.01 m of the wall x = 0 m "
+            "at t = 0 s; --wall X names another)") in out
+    assert "max height [m]: 0.03\n" in out
+    assert "runout from t = 0 s [m]: 1.1 (toe then 1.5)\n" in out
+    # the surface of the figure: 0.03 m over the layer, 0 on the bare slope before it
+    out_file = tmp_path / "slide.png"
+    code = main(["plot", "profile", str(run_dir), "--out", str(out_file)])
+    assert code == 0 and out_file.is_file()
+
+
+def test_load_terrain(tmp_path):
+    corners = plane_terrain()
+    run_dir = write_3d_run(tmp_path / "run", [(0.0, layer_3d(1.0, 1.1, 0.02, np.zeros_like))],
+                           terrain=corners)
+    assert np.array_equal(load_terrain(run_dir), corners)
+    assert np.array_equal(load_terrain(run_dir / "particles_000000.h5"), corners)
+    assert load_terrain(tmp_path) is None
+    with h5py.File(run_dir / "terrain.h5", "w") as h5file:
+        h5file.create_dataset("terrain/position", data=np.zeros((4, 3)))
+        h5file.create_dataset("terrain/triangles", data=np.arange(4))
+    with pytest.raises(ValueError, match="do not describe triangles"):
+        load_terrain(run_dir)
+    code = main(["profile", str(run_dir)])
+    assert code == 1
