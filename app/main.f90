@@ -347,7 +347,8 @@ contains
             "with exit code 4 (a second signal stops it at once).", &
             "exit codes: 0 success, 1 other errors, 2 invalid input, 3 numerical failure,", &
             "            4 stopped by a signal after writing a checkpoint", &
-            "threads: set OMP_NUM_THREADS (default: all cores)", &
+            "threads: OMP_NUM_THREADS sets the most (default: all cores); each step uses as", &
+            "         many as run fastest (fewer on busy cores); OMP_DYNAMIC=false: all", &
             "images: cafrun -np N mpm_geo CASE.json with the coarray build (make coarray; "// &
             "docs/hpc.md)"
     end subroutine print_help

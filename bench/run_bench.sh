@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Speed benchmarks of mpm_geo (not a test): runs each case in bench/cases/ with 1 and 2
-# OpenMP threads and prints particles, nodes, steps, wall time, particle-steps per second,
+# OpenMP threads (fixed: OMP_DYNAMIC=false, so each run keeps its count) and prints particles, nodes, steps, wall time, particle-steps per second,
 # memory (peak, bytes per particle and per node) and the time per phase of the step, as
 # tables and as one machine-readable line per run ("BENCH key=value ...").
 # Usage: bench/run_bench.sh [path/to/mpm_geo] [case.json ...]
@@ -21,7 +21,7 @@ for c in "${cases[@]}"; do
     name=$(basename "$c" .json)
     for t in 1 2; do
         log="$out/$name-$t.log"
-        OMP_NUM_THREADS=$t OMP_PROC_BIND=true /usr/bin/env "$exe" "$c" --output "$out/$name-$t" \
+        OMP_NUM_THREADS=$t OMP_DYNAMIC=false OMP_PROC_BIND=true /usr/bin/env "$exe" "$c" --output "$out/$name-$t" \
             > "$log" 2>&1 || { echo "bench: $name failed:"; cat "$log"; exit 1; }
         get() { awk -v k="$1" '$1 == k {print $2}' "$log"; }
         parts=$(get particles); nodes=$(get nodes); steps=$(get steps)
@@ -48,3 +48,6 @@ echo "other: time step, guard, energies; output: files)"
 cat "$out/phases"
 echo
 cat "$out/lines"
+echo
+# the default case beside a busy process, with the thread count chosen per step (mpm_threads)
+bash bench/run_shared_cores.sh "$exe"

@@ -7,7 +7,9 @@
 !> threads: a 2D cpGIMP MUSL granular collapse (Mohr-Coulomb with separation, APIC, frictional
 !> floor, F-bar), a 3D cpGIMP USL elastic column with local damping, and a 2D linear USF
 !> block with FLIP/PIC blending. Positions, velocities, stresses, material state, volumes and
-!> the energy terms are compared exactly. (Without OpenMP the runs are only repeated.)
+!> the energy terms are compared exactly, and so are those of a run whose thread count changes
+!> from step to step (1, 2, 4, 2, ...), as mpm_threads changes it during a run. (Without
+!> OpenMP the runs are only repeated.)
 program test_threads
     use mpm_kinds, only: wp
     use mpm_testing, only: test_suite_type, new_suite, check, finish
@@ -19,6 +21,8 @@ program test_threads
     implicit none
 
     type(test_suite_type) :: suite
+    integer, parameter :: changing = 0
+        !! run(): 1, 2, 4, 2, 1, 2, ... threads, one count per step
 
     call new_suite(suite, "threads")
     call compare("2D collapse, cpGIMP MUSL APIC F-bar, Mohr-Coulomb", &
@@ -75,21 +79,27 @@ contains
             call check(suite, same(one, many), label//": "//trim(buf)//" threads give the "// &
                 "bits of 1 thread")
         end do
+        call run(json, steps, changing, many, ok)
+        call check(suite, ok, label//": runs with a thread count changing every step")
+        if (ok) call check(suite, same(one, many), label//": a thread count changing every "// &
+            "step gives the bits of 1 thread")
         !$ call omp_set_num_threads(1)
     end subroutine compare
 
     subroutine run(json, steps, threads, sim, ok)
         character(len=*), intent(in) :: json
         integer, intent(in) :: steps, threads
+            !! thread count, or `changing`
         type(simulation_type), intent(out) :: sim
         logical, intent(out) :: ok
 
         type(case_type) :: case
         type(error_type), allocatable :: error
         integer :: k
+        integer, parameter :: cycle_of_counts(4) = [1, 2, 4, 2]
 
         ok = .false.
-        !$ call omp_set_num_threads(threads)
+        !$ call omp_set_num_threads(max(1, threads))
         if (threads < 0) return   ! (threads is only used with OpenMP)
         call read_case_string(json, case, error, "threads")
         if (allocated(error)) then
@@ -102,6 +112,8 @@ contains
             return
         end if
         do k = 1, steps
+            !$ if (threads == changing) &
+            !$     call omp_set_num_threads(cycle_of_counts(mod(k - 1, 4) + 1))
             call advance(sim, stable_time_step(sim), error)
             if (allocated(error)) then
                 print "(a)", error%message

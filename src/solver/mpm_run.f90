@@ -26,6 +26,8 @@ module mpm_run
         remove_file
     use mpm_case, only: shape_linear
     use mpm_bodies, only: count_body_particles
+    use mpm_threads, only: thread_governor_type, new_thread_governor, governor_threads, &
+        governor_step, governor_text, set_threads
     implicit none
     private
     public :: run_options_type, run_summary_type, run_case, memory_estimate, checkpoint_path
@@ -79,6 +81,8 @@ module mpm_run
             !! peak resident memory of the process [MB]
         real(wp) :: phase_time(nphases) = 0.0_wp
             !! wall time per phase of the time loop (mpm_solver phase_names) [s]
+        character(len=:), allocatable :: threads
+            !! the OpenMP threads the steps used (mpm_threads::governor_text)
     end type run_summary_type
 
 contains
@@ -119,8 +123,10 @@ contains
         real(wp) :: imbalance
         integer, parameter :: imbalance_steps = 50
         real(wp) :: t_start, t_last_progress, dt, next_output, next_history, eps_t, clock
-        real(wp) :: wall_before, t_last_checkpoint, first_time
+        real(wp) :: wall_before, t_last_checkpoint, first_time, step_start
         logical :: written, copies
+        type(thread_governor_type) :: threads
+        integer :: nthreads
 
         resumed = present(restart) .and. present(run)
         call check_memory(case, error, restart)
@@ -208,11 +214,20 @@ contains
         copies = case%guard_snapshot_steps > 0 .and. options%write_files
         if (copies) call take_snapshot(snapshot, sim, writer, next_output, next_history, &
             wall_before)
+        ! the thread count of each step: the fastest (mpm_threads), starting with the largest
+        call new_thread_governor(threads)
+        nthreads = threads%most
         do while (sim%time < case%tend - eps_t)
             clock = wall_time()
             dt = min(stable_time_step(sim), case%tend - sim%time)
             sim%phase_time(phase_other) = sim%phase_time(phase_other) + (wall_time() - clock)
+            if (governor_threads(threads) /= nthreads) then
+                nthreads = governor_threads(threads)
+                call set_threads(nthreads)
+            end if
+            step_start = wall_time()
             call advance(sim, dt, error)
+            call governor_step(threads, wall_time() - step_start, wall_time())
             if (allocated(error)) then
                 if (error%code == exit_numerical .and. options%write_files) then
                     call save_healthy_state(snapshot, sim%case, error)
@@ -282,6 +297,9 @@ contains
             end if
         end do
         if (case%checkpoint_on_signal) call release_stop_signals()
+        ! the parallel loops after the run (outputs, state file) and the caller's get all
+        call set_threads(threads%most)
+        summary%threads = governor_text(threads)
         summary%steps = sim%step
         summary%time = sim%time
         summary%wall = wall_time() - t_start
@@ -800,6 +818,8 @@ contains
             " bytes/particle"
         write (output_unit, "(a,i0,a)") "  grid storage         ", summary%bytes_per_node, &
             " bytes/node"
+        if (allocated(summary%threads)) write (output_unit, "(a)") "  threads              "// &
+            summary%threads
         write (output_unit, "(a,i0,a)") "  output files         ", summary%outputs, &
             " in "//case%output_dir
         write (output_unit, "(a)", advance="no") "  time per phase      "
