@@ -33,11 +33,11 @@ module mpm_threads
         !! longest wall time between two trials [s]
     real(wp), parameter :: margin = 0.05_wp
         !! how much faster the other count must be to be kept (fraction of the step time)
-    integer, parameter :: window_steps = 3
+    integer, parameter :: window_steps = 5
         !! fewest steps of a window
-    real(wp), parameter :: window_seconds = 0.05_wp
+    real(wp), parameter :: window_seconds = 0.1_wp
         !! a window ends once it has window_steps steps and this much wall time [s] ...
-    real(wp), parameter :: longest_window = 0.25_wp
+    real(wp), parameter :: longest_window = 0.5_wp
         !! ... or, whatever its steps, this much [s]
 
     !> The state of the governor of one run (one image).
