@@ -28,6 +28,7 @@ run() {
     local t=$1 fixed=$2 start end rc
     local env=(env -u OMP_DYNAMIC OMP_NUM_THREADS="$t")
     [ "$fixed" = fixed ] && env+=(OMP_DYNAMIC=false)
+    rm -f "$out/threads_$t$fixed"
     start=$(date +%s.%N)
     "${env[@]}" timeout "$cap" "$exe" "$case_file" --overwrite --output "$out/run" \
         > "$out/log" 2>&1
