@@ -44,7 +44,8 @@ else
 fi
 # both readers, the 2 checked times and a Threshold per material were really exercised
 for what in "Xdmf3ReaderS paraview_2d.xdmf t = 0: 80 cells" \
-    "XDMFReader paraview_3d.xdmf t = 0.02:" "Threshold material = 2 keeps 32" "XDMFReader terrain.xdmf: 2000 triangles" \
+    "XDMFReader paraview_3d.xdmf t = 0.02:" "Threshold material = 2 keeps 32" \
+    "XDMFReader terrain.xdmf: 2000 triangles" \
     "Xdmf3ReaderT paraview_3d.xdmf: blocks ['grid', 'particles']"; do
     grep -qF "$what" "$tmp/pv.log" && ok || bad "the check did not report '$what'"
 done
