@@ -10,7 +10,8 @@ program test_mpm_output
         h5sget_simple_extent_dims_f, h5sclose_f, h5aopen_by_name_f, h5aclose_f, h5aread_f, &
         h5aget_space_f, h5tcopy_f, h5tset_size_f, h5tset_strpad_f, h5tclose_f, &
         h5t_fortran_s1, h5t_str_nullpad_f, h5lexists_f, h5kind_to_type, h5_real_kind, &
-        h5_integer_kind, h5fget_obj_count_f, h5f_obj_all_f, h5aexists_f
+        h5_integer_kind, h5fget_obj_count_f, h5f_obj_all_f, h5aexists_f, h5dget_create_plist_f, &
+        h5pget_layout_f, h5pclose_f, h5d_virtual_f
     use mpm_kinds, only: wp, i8
     use mpm_error, only: error_type, exit_input
     use mpm_strings, only: int_text
@@ -257,6 +258,20 @@ contains
             "strain units")
         ints = read_ints(file, "particles/material", n)
         call check(suite, all(ints == particles%material), "material values")
+        ! /xdmf: the Polyvertex connectivity and views of the stress and strain columns
+        ints = read_ints(file, "xdmf/vertices", n)
+        call check(suite, all(ints == [(id, id = 0, n - 1)]), "xdmf/vertices: 0 .. n-1")
+        values = read_reals(file, "xdmf/stress_xy", [n])
+        call check(suite, all(values(:, 1) == particles%stress(4, :)), &
+            "xdmf/stress_xy is column 4 of stress")
+        values = read_reals(file, "xdmf/strain_yy", [n])
+        call check(suite, all(values(:, 1) == particles%strain(2, :)), &
+            "xdmf/strain_yy is column 2 of strain")
+        call check(suite, is_virtual(file, "xdmf/stress_xy") .and. &
+            is_virtual(file, "xdmf/strain_yy"), "the column views store no copy (virtual)")
+        call check(suite, attribute_text(file, "xdmf/stress_xx", "units") == "Pa", &
+            "xdmf/stress_xx units")
+        call check(suite, .not. has_link(file, "xdmf/stress_yz"), "no 3D view in 2D")
         values = read_reals(file, "particles/mass", [n])
         call check(suite, all(values(:, 1) == particles%mass), "mass values")
         call check(suite, attribute_text(file, "particles/mass", "units") == "kg/m", &
@@ -289,11 +304,21 @@ contains
         call check_contains(suite, xdmf, '<Time Value="2.5000000000000000E-001"/>', "time 0.25")
         call check_contains(suite, xdmf, 'NumberOfElements="5"', "number of particles")
         call check_contains(suite, xdmf, 'Name="stress_xy"', "stress_xy component")
-        call check_contains(suite, xdmf, &
-            ">particles_000001.h5:/particles/stress|0 3:1 1:5 1:5 4<", &
-            "stress_xy is column 4 of the (5, 4) stress dataset")
-        call check_contains(suite, xdmf, ">particles_000001.h5:/grid/velocity<", "grid velocity")
-        call check_contains(suite, xdmf, 'Dimensions="1 4 5"', "grid dimensions z y x")
+        call check_contains(suite, xdmf, '<DataItem Dimensions="5" NumberType="Float" '// &
+            'Precision="8" Format="HDF">particles_000001.h5:/xdmf/stress_xy<', &
+            "stress_xy is read from its view")
+        call check(suite, index(xdmf, "|") == 0, "no XDMF 3 hyperslab path (XDMFReader fails)")
+        call check_contains(suite, xdmf, 'NumberOfElements="5" NodesPerElement="1">', &
+            "the Polyvertex topology has a connectivity")
+        call check_contains(suite, xdmf, '<DataItem Dimensions="5" NumberType="Int" Precision="'// &
+            int_text(storage_size(0)/8)//'" Format="HDF">particles_000001.h5:/xdmf/vertices<', &
+            "the connectivity is read from /xdmf/vertices (Xdmf3ReaderS makes no cell without)")
+        call check_contains(suite, xdmf, 'Dimensions="1 4 5 3" NumberType="Float" Precision="8" '// &
+            'Format="HDF">particles_000001.h5:/grid/velocity<', &
+            "grid velocity has the shape of the mesh (z y x, 3)")
+        call check_contains(suite, xdmf, 'Dimensions="1 4 5" NumberType="Float" Precision="8" '// &
+            'Format="HDF">particles_000001.h5:/grid/mass<', "grid mass has the shape of the mesh")
+        call check_contains(suite, xdmf, 'Dimensions="1 4 5"/>', "grid dimensions z y x")
         call check(suite, index(xdmf, dir) == 0, "xdmf has no absolute path")
         call check(suite, count_of(xdmf, 'GridType="Uniform"') == 4, "2 particle + 2 grid grids")
         call check(suite, count_of(xdmf, 'CollectionType="Spatial"') == 2, &
@@ -349,15 +374,18 @@ contains
         call check(suite, .not. has_link(file, "particles/displacement"), "displacement off")
         call check(suite, .not. has_link(file, "grid"), "no grid group")
         call check(suite, .not. has_link(file, "particles/id"), "no id without particles%id")
+        values = read_reals(file, "xdmf/stress_zx", [n])
+        call check(suite, all(values(:, 1) == particles%stress(6, :)), &
+            "3D xdmf/stress_zx is column 6 of stress")
+        call check(suite, .not. has_link(file, "xdmf/strain_xx"), "strain off: no view")
         call h5aexists_f(file, "image", exists, hdferr)
         call check(suite, hdferr == 0 .and. .not. exists, "no image attribute with one image")
         call h5fclose_f(file, hdferr)
 
         xdmf = read_text(dir//"/cube.xdmf")
         call check_contains(suite, xdmf, 'Name="stress_zx"', "3D stress_zx")
-        call check_contains(suite, xdmf, &
-            ">particles_000000.h5:/particles/stress|0 5:1 1:4 1:4 6<", &
-            "stress_zx is column 6 of the (4, 6) stress dataset")
+        call check_contains(suite, xdmf, ">particles_000000.h5:/xdmf/stress_zx<", &
+            "stress_zx is read from its view")
         call check(suite, index(xdmf, "strain") == 0, "xdmf: no strain")
         call check(suite, index(xdmf, "displacement") == 0, "xdmf: no displacement")
         call check(suite, index(xdmf, 'Name="grid"') == 0, "xdmf: no grid")
@@ -537,7 +565,8 @@ contains
         call check(suite, hdferr == 0, "open the part without particles")
         call check(suite, has_dims(file, "particles/position", [3, 0]) .and. &
             has_dims(file, "particles/stress", [4, 0]) .and. &
-            has_dims(file, "particles/id", [0]), "part without particles: empty datasets")
+            has_dims(file, "particles/id", [0]) .and. has_dims(file, "xdmf/vertices", [0]) .and. &
+            has_dims(file, "xdmf/stress_xy", [0]), "part without particles: empty datasets")
         call check(suite, has_dims(file, "grid/mass", [12]), "part without particles: grid")
         call h5fclose_f(file, hdferr)
 
@@ -558,8 +587,10 @@ contains
             ">particles_000000_p00001.h5:/particles/position<", "time 0: part 1 positions")
         call check_contains(suite, time0, '"2 3" NumberType="Float" Precision="8" Format="HDF"'// &
             ">particles_000000_p00002.h5:/particles/position<", "time 0: part 2 positions")
-        call check_contains(suite, time0, ">particles_000000_p00002.h5:/particles/stress|0 3:1 "// &
-            "1:2 1:2 4<", "time 0: stress_xy of part 2")
+        call check_contains(suite, time0, ">particles_000000_p00002.h5:/xdmf/stress_xy<", &
+            "time 0: stress_xy of part 2")
+        call check_contains(suite, time0, ">particles_000000_p00002.h5:/xdmf/vertices<", &
+            "time 0: vertices of part 2")
         call check_contains(suite, time0, '<Attribute Name="id" AttributeType="Scalar"', &
             "id attribute")
         call check_contains(suite, time0, '"2" NumberType="Int" Precision="'// &
@@ -982,6 +1013,25 @@ contains
         call h5sclose_f(space, hdferr)
         call h5dclose_f(dataset, hdferr)
     end function has_dims
+
+    !> Whether a dataset is virtual (a view of other datasets, storing no values).
+    logical function is_virtual(file, name)
+        integer(hid_t), intent(in) :: file
+        character(len=*), intent(in) :: name
+
+        integer(hid_t) :: dataset, plist
+        integer :: hdferr, layout
+
+        is_virtual = .false.
+        call h5dopen_f(file, name, dataset, hdferr)
+        call check(suite, hdferr == 0, "open dataset "//name)
+        if (hdferr /= 0) return
+        call h5dget_create_plist_f(dataset, plist, hdferr)
+        call h5pget_layout_f(plist, layout, hdferr)
+        is_virtual = hdferr == 0 .and. layout == h5d_virtual_f
+        call h5pclose_f(plist, hdferr)
+        call h5dclose_f(dataset, hdferr)
+    end function is_virtual
 
     logical function has_link(file, path)
         integer(hid_t), intent(in) :: file

@@ -18,8 +18,10 @@ module mpm_hdf5
         h5adelete_f, h5lexists_f, h5tcopy_f, h5tset_size_f, h5tset_strpad_f, h5tget_size_f, &
         h5tget_class_f, h5tis_variable_str_f, h5tclose_f, h5t_fortran_s1, h5t_str_nullpad_f, &
         h5t_string_f, h5kind_to_type, h5_real_kind, h5_integer_kind, h5iis_valid_f, &
-        h5t_native_double
+        h5t_native_double, h5pcreate_f, h5pclose_f, h5p_dataset_create_f, h5pset_virtual_f, &
+        h5sselect_hyperslab_f, h5s_select_set_f
     use mpm_kinds, only: wp, i8
+    use mpm_strings, only: int_text
     use mpm_error, only: error_type, fatal_error, exit_other, exit_input
     implicit none
     private
@@ -28,7 +30,7 @@ module mpm_hdf5
     public :: hdf5_create_file, hdf5_open_file, hdf5_create_group, hdf5_open_group, hdf5_close
     public :: hdf5_close_after
     public :: hdf5_has_attribute, hdf5_has_link
-    public :: hdf5_write_dataset, hdf5_read_dataset
+    public :: hdf5_write_dataset, hdf5_read_dataset, hdf5_write_column_view
     public :: hdf5_write_attribute, hdf5_read_attribute
 
     !> An open HDF5 file or group, with the names used in messages.
@@ -399,6 +401,88 @@ contains
                 location%file//"' (disk full or the dataset exists already?)", exit_other)
         end if
     end subroutine write_data
+
+    !> Write a virtual dataset that shows one column of a real (n, ncolumns) dataset of the
+    !> same file as an (n) dataset: readers that cannot select a column themselves (the XDMF
+    !> readers of ParaView) read it as an ordinary dataset, and no value is stored twice.
+    !> The view is an empty ordinary dataset when the source has no rows (HDF5 maps no empty
+    !> selection).
+    subroutine hdf5_write_column_view(location, name, source, column, error, units)
+        type(hdf5_location_type), intent(in) :: location
+            !! open file or group that receives the view
+        character(len=*), intent(in) :: name
+            !! name of the view
+        character(len=*), intent(in) :: source
+            !! absolute path of the source dataset in the same file ("/particles/stress")
+        integer, intent(in) :: column
+            !! column of the source shown, 1-based
+        type(error_type), allocatable, intent(out) :: error
+        character(len=*), intent(in), optional :: units
+            !! value of the "units" attribute
+
+        integer(hid_t) :: source_set, source_space, space, plist, dataset
+        integer(hsize_t) :: dims(2), max_dims(2)
+        integer :: hdferr, rank, ignored
+        character(len=:), allocatable :: where
+
+        where = join(location%path, name)
+        source_set = -1
+        source_space = -1
+        space = -1
+        plist = -1
+        dataset = -1
+        steps: block
+            call h5dopen_f(location%id, source, source_set, hdferr)
+            if (hdferr /= 0) exit steps
+            call h5dget_space_f(source_set, source_space, hdferr)
+            if (hdferr /= 0) exit steps
+            call h5sget_simple_extent_ndims_f(source_space, rank, hdferr)
+            if (hdferr /= 0 .or. rank /= 2) then
+                hdferr = -1
+                exit steps
+            end if
+            ! Fortran order: dims(1) columns, dims(2) rows
+            call h5sget_simple_extent_dims_f(source_space, dims, max_dims, hdferr)
+            if (hdferr /= 2 .or. column < 1 .or. column > dims(1)) then
+                hdferr = -1
+                exit steps
+            end if
+            hdferr = 0
+            if (dims(2) == 0) then
+                call write_data(location, name, h5kind_to_type(wp, h5_real_kind), c_null_ptr, &
+                    [0_hsize_t], error, units)
+                exit steps
+            end if
+            call h5sselect_hyperslab_f(source_space, h5s_select_set_f, &
+                [int(column - 1, hsize_t), 0_hsize_t], [1_hsize_t, dims(2)], hdferr)
+            if (hdferr /= 0) exit steps
+            call h5screate_simple_f(1, dims(2:2), space, hdferr)
+            if (hdferr /= 0) exit steps
+            call h5pcreate_f(h5p_dataset_create_f, plist, hdferr)
+            if (hdferr /= 0) exit steps
+            ! "." is the file of the view itself
+            call h5pset_virtual_f(plist, space, ".", source, source_space, hdferr)
+            if (hdferr /= 0) exit steps
+            call h5dcreate_f(location%id, name, h5kind_to_type(wp, h5_real_kind), space, &
+                dataset, hdferr, dcpl_id=plist)
+            if (hdferr /= 0) exit steps
+            if (present(units)) then
+                call put_string_attribute(dataset, location%file, where, "units", &
+                    [text_type(units)], .true., error)
+            end if
+        end block steps
+        if (dataset >= 0) call h5dclose_f(dataset, ignored)
+        if (plist >= 0) call h5pclose_f(plist, ignored)
+        if (space >= 0) call h5sclose_f(space, ignored)
+        if (source_space >= 0) call h5sclose_f(source_space, ignored)
+        if (source_set >= 0) call h5dclose_f(source_set, ignored)
+        if (allocated(error)) return
+        if (hdferr /= 0) then
+            call fatal_error(error, "cannot write the view '"//where//"' of column "// &
+                int_text(column)//" of '"//source//"' to '"//location%file//"'", &
+                exit_other)
+        end if
+    end subroutine hdf5_write_column_view
 
     subroutine read_real_1d(location, name, values, error)
         type(hdf5_location_type), intent(in) :: location

@@ -18,7 +18,8 @@ module mpm_output
     use mpm_particles, only: particles_type
     use mpm_grid, only: grid_type, node_position
     use mpm_hdf5, only: hdf5_location_type, text_type, hdf5_initialize, hdf5_create_file, &
-        hdf5_create_group, hdf5_close_after, hdf5_write_dataset, hdf5_write_attribute
+        hdf5_create_group, hdf5_close_after, hdf5_write_dataset, hdf5_write_attribute, &
+        hdf5_write_column_view
     use mpm_filesystem, only: directory_exists, rename_file, remove_file, file_exists
     use mpm_version, only: mpm_version_string
     implicit none
@@ -79,6 +80,9 @@ module mpm_output
         !! Voigt components stored in 2D
     character(len=*), parameter :: components_3d = "xx yy zz xy yz zx"
         !! Voigt components stored in 3D
+    character(len=*), parameter :: voigt_components(6) = &
+        [character(len=2) :: "xx", "yy", "zz", "xy", "yz", "zx"]
+        !! names of the Voigt components, in the order of the columns
 
 contains
 
@@ -459,6 +463,8 @@ contains
             end if
             call write_particles_group(writer, file, particles, error)
             if (allocated(error)) exit steps
+            call write_xdmf_group(writer, file, particles%n, error)
+            if (allocated(error)) exit steps
             if (writer%grid) call write_grid_group(file, grid, error)
         end block steps
         call hdf5_close_after(file, error)
@@ -530,6 +536,57 @@ contains
         end block steps
         call hdf5_close_after(group, error)
     end subroutine write_particles_group
+
+    !> The /xdmf group: what the XDMF index reads besides /particles, so that both ParaView
+    !> readers (Xdmf3ReaderS and XDMFReader) load the index.
+    !>
+    !> `vertices` (0, 1, ..., n-1) is the Polyvertex connectivity: without it Xdmf3ReaderS
+    !> makes no cell, and cell filters (Threshold) keep nothing. `stress_xx`, ..., `strain_..`
+    !> are virtual datasets, views of the columns of /particles/stress and /particles/strain:
+    !> the readers share no form of column selection (XDMFReader does not read the XDMF 3
+    !> hyperslab path, Xdmf3ReaderS skips ItemType="HyperSlab"), and a view stores no value
+    !> twice.
+    subroutine write_xdmf_group(writer, file, n, error)
+        type(output_writer_type), intent(in) :: writer
+        type(hdf5_location_type), intent(in) :: file
+        integer, intent(in) :: n
+            !! number of particles in the file
+        type(error_type), allocatable, intent(out) :: error
+
+        type(hdf5_location_type) :: group
+        integer :: k
+
+        call hdf5_create_group(file, "xdmf", group, error)
+        if (allocated(error)) return
+        steps: block
+            call hdf5_write_dataset(group, "vertices", [(k, k = 0, n - 1)], error, units="-")
+            if (allocated(error)) exit steps
+            if (writer%fields(field_stress)) then
+                call write_views("stress", "Pa", error)
+                if (allocated(error)) exit steps
+            end if
+            if (writer%fields(field_strain)) call write_views("strain", "-", error)
+        end block steps
+        call hdf5_close_after(group, error)
+
+    contains
+
+        !> One view per Voigt component of /particles/<name>: "<name>_xx", ...
+        subroutine write_views(name, units, error)
+            character(len=*), intent(in) :: name, units
+            type(error_type), allocatable, intent(out) :: error
+
+            integer :: c
+
+            ! Voigt order: the first 4 components in 2D, all 6 in 3D
+            do c = 1, merge(4, 6, writer%dim == 2)
+                call hdf5_write_column_view(group, name//"_"//trim(voigt_components(c)), &
+                    "/particles/"//name, c, error, units=units)
+                if (allocated(error)) return
+            end do
+        end subroutine write_views
+
+    end subroutine write_xdmf_group
 
     !> The /grid group: node positions, nodal mass and velocity.
     subroutine write_grid_group(file, grid, error)
@@ -755,19 +812,21 @@ contains
             integer, intent(in) :: part
                 !! image whose file is listed
 
-            character(len=*), parameter :: components(6) = &
-                [character(len=2) :: "xx", "yy", "zz", "xy", "yz", "zx"]
-            character(len=:), allocatable :: n, source
+            character(len=:), allocatable :: n, file, source
             integer :: c, nstress
 
             n = int_text(record%counts(part))
-            source = part_file_name(index, part, writer%images)//":/particles/"
+            file = part_file_name(index, part, writer%images)
+            source = file//":/particles/"
             ! Voigt order: the first 4 components in 2D, all 6 in 3D
             nstress = merge(4, 6, writer%dim == 2)
             call put('      <Grid Name="particles" GridType="Uniform">')
             call put('        <Time Value="'//real_text(record%time)//'"/>')
+            ! the connectivity is explicit: Xdmf3ReaderS makes no cell without it
             call put('        <Topology TopologyType="Polyvertex" NumberOfElements="'//n// &
-                '" NodesPerElement="1"/>')
+                '" NodesPerElement="1">')
+            call put("          "//data_item(n, "Int", file//":/xdmf/vertices"))
+            call put("        </Topology>")
             call put('        <Geometry GeometryType="XYZ">')
             call put("          "//data_item(n//" 3", "Float", source//"position"))
             call put("        </Geometry>")
@@ -782,14 +841,14 @@ contains
                 call put_attribute("stress", "Matrix", n//" "//int_text(nstress), "Float", &
                     source//"stress")
                 do c = 1, nstress
-                    call put_component("stress", components(c), c, nstress, n, source)
+                    call put_component("stress", c, n, file)
                 end do
             end if
             if (writer%fields(field_strain)) then
                 call put_attribute("strain", "Matrix", n//" "//int_text(nstress), "Float", &
                     source//"strain")
                 do c = 1, nstress
-                    call put_component("strain", components(c), c, nstress, n, source)
+                    call put_component("strain", c, n, file)
                 end do
             end if
             if (writer%fields(field_material)) then
@@ -818,19 +877,18 @@ contains
             integer, intent(in) :: part
                 !! image whose grid is listed
 
-            character(len=:), allocatable :: nnodes, source
+            character(len=:), allocatable :: mesh, source
             integer :: nn(3)
             real(wp) :: origin(3)
 
             nn = writer%grid_nn(:, part)
             origin = writer%grid_origin(:, part)
-            nnodes = int_text(product(nn))
             source = part_file_name(index, part, writer%images)//":/grid/"
             call put('      <Grid Name="grid" GridType="Uniform">')
             call put('        <Time Value="'//real_text(record%time)//'"/>')
             ! XDMF lists the slowest direction first: z y x
-            call put('        <Topology TopologyType="3DCoRectMesh" Dimensions="'// &
-                int_text(nn(3))//" "//int_text(nn(2))//" "//int_text(nn(1))//'"/>')
+            mesh = int_text(nn(3))//" "//int_text(nn(2))//" "//int_text(nn(1))
+            call put('        <Topology TopologyType="3DCoRectMesh" Dimensions="'//mesh//'"/>')
             call put('        <Geometry GeometryType="ORIGIN_DXDYDZ">')
             call put('          <DataItem Dimensions="3" NumberType="Float" Precision="8" '// &
                 'Format="XML">'//real_text(origin(3))//" "//real_text(origin(2))//" "// &
@@ -839,8 +897,10 @@ contains
                 'Format="XML">'//real_text(writer%grid_dx)//" "//real_text(writer%grid_dx)// &
                 " "//real_text(writer%grid_dx)//"</DataItem>")
             call put("        </Geometry>")
-            call put_attribute("mass", "Scalar", nnodes, "Float", source//"mass")
-            call put_attribute("velocity", "Vector", nnodes//" 3", "Float", source//"velocity")
+            ! the node arrays are given the shape of the mesh (the same values in the same
+            ! order): XDMFReader fails on a vector of shape (nnodes, 3) on a structured mesh
+            call put_attribute("mass", "Scalar", mesh, "Float", source//"mass")
+            call put_attribute("velocity", "Vector", mesh//" 3", "Float", source//"velocity")
             call put("      </Grid>")
         end subroutine put_grid
 
@@ -853,20 +913,22 @@ contains
             call put("        </Attribute>")
         end subroutine put_attribute
 
-        !> Column c of an (n, nstress) dataset as a scalar attribute "<name>_<component>".
+        !> Column c of /particles/<name> as a scalar attribute "<name>_<component>", read
+        !> from its view /xdmf/<name>_<component> (write_xdmf_group).
         !>
-        !> The column is selected in the dataset path, "file:/dataset|start:stride:count:dims"
-        !> (slowest dimension first), which the XDMF 3 library reads as an HDF5 hyperslab.
-        !> ParaView 5.11 skips a DataItem with ItemType="HyperSlab" ("unrecognized array
-        !> type"), so that form is not used.
-        subroutine put_component(name, component, c, nstress, n, source)
-            character(len=*), intent(in) :: name, component, n, source
-            integer, intent(in) :: c, nstress
+        !> The readers share no way of selecting a column: XDMFReader fails on the XDMF 3
+        !> hyperslab path "file:/dataset|start:stride:count:dims", and Xdmf3ReaderS skips a
+        !> DataItem with ItemType="HyperSlab" ("unrecognized array type").
+        subroutine put_component(name, c, n, file)
+            character(len=*), intent(in) :: name, n, file
+            integer, intent(in) :: c
 
-            call put('        <Attribute Name="'//name//"_"//component// &
+            character(len=:), allocatable :: component
+
+            component = name//"_"//trim(voigt_components(c))
+            call put('        <Attribute Name="'//component// &
                 '" AttributeType="Scalar" Center="Node">')
-            call put("          "//data_item(n//" 1", "Float", source//name//"|0 "// &
-                int_text(c - 1)//":1 1:"//n//" 1:"//n//" "//int_text(nstress)))
+            call put("          "//data_item(n, "Float", file//":/xdmf/"//component))
             call put("        </Attribute>")
         end subroutine put_component
 

@@ -49,3 +49,15 @@ need_python() {
         "-DMPM_TEST_PYTHON=/path/to/python that has $*"
     exit 77
 }
+
+# need_tool PROGRAM WHAT: the program is on PATH, or the script is skipped (exit 77) saying
+# that WHAT is not checked; with MPM_STRICT_TESTS=1 (make test) that is a failure instead.
+need_tool() {
+    command -v "$1" > /dev/null 2>&1 && return 0
+    if [ "${MPM_STRICT_TESTS:-0}" = 1 ]; then
+        echo "FAIL [$label] $1 not found: $2 (make deps-test installs it)"
+        exit 1
+    fi
+    echo "SKIP [$label] $1 not found: $2 is not checked (make deps-test installs it)"
+    exit 77
+}
