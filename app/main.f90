@@ -1,7 +1,7 @@
 !> mpm_geo: command line of the explicit MPM solver. Parses the arguments, reads the case,
 !> runs it, and turns errors into a message on standard error and an exit code:
 !> 0 success, 1 other errors, 2 invalid input, 3 numerical failure, 4 stopped by a signal
-!> after writing a checkpoint.
+!> after writing a checkpoint, 5 an output file could not be written (a full disk).
 program mpm_geo_main
     use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
     use, intrinsic :: ieee_exceptions, only: ieee_overflow, ieee_get_halting_mode, &
@@ -345,8 +345,10 @@ contains
             "", &
             "SIGTERM or SIGINT (Ctrl-C) during a run: a checkpoint is written and the run stops", &
             "with exit code 4 (a second signal stops it at once).", &
-            "exit codes: 0 success, 1 other errors, 2 invalid input, 3 numerical failure,", &
-            "            4 stopped by a signal after writing a checkpoint", &
+            "exit codes: 0 success, 1 other errors, 2 invalid input (also: the output folder is", &
+            "            in use by another run), 3 numerical failure, 4 stopped by a signal", &
+            "            after writing a checkpoint, 5 an output file could not be written", &
+            "            (a full disk: no space left on device)", &
             "threads: OMP_NUM_THREADS sets the most (default: all cores); each step uses as", &
             "         many as run fastest (fewer on busy cores); OMP_DYNAMIC=false: all", &
             "images: cafrun -np N mpm_geo CASE.json with the coarray build (make coarray; "// &

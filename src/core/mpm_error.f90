@@ -8,7 +8,8 @@ module mpm_error
     implicit none
     private
     public :: error_type, fatal_error
-    public :: exit_success, exit_other, exit_input, exit_numerical, exit_interrupted
+    public :: exit_success, exit_other, exit_input, exit_numerical, exit_interrupted, &
+        exit_output
 
     integer, parameter :: exit_success = 0
         !! process exit code: success
@@ -21,6 +22,9 @@ module mpm_error
     integer, parameter :: exit_interrupted = 4
         !! process exit code: stopped by SIGTERM or SIGINT after writing a checkpoint (the run
         !! continues with mpm_geo --restart)
+    integer, parameter :: exit_output = 5
+        !! process exit code: an output file could not be written (a full disk, a quota, a
+        !! write error); the outputs written before it are complete
 
     !> An error with a message for the user and the exit code it maps to.
     type :: error_type
@@ -39,7 +43,7 @@ contains
         character(len=*), intent(in) :: message
             !! what went wrong, what was expected
         integer, intent(in), optional :: code
-            !! exit code (exit_input, exit_numerical, exit_other)
+            !! exit code (exit_input, exit_numerical, exit_output, exit_other)
 
         allocate (error)
         error%message = message

@@ -3,6 +3,8 @@
 !> Shared by the output writer (mpm_output) and the state files (mpm_state) so neither repeats
 !> the create-dataspace / create-dataset / write / close sequence. Every wrapper closes every
 !> handle it opens, also on failure, and names the file and the object in its message.
+!> The library's own printing of its error stack is off: a failure reaches the user as that
+!> one message, which says "no space left on device" when the disk is full (exit_output).
 !>
 !> Arrays keep their Fortran shape: a Fortran array `a(3, n)` becomes an HDF5 dataset of
 !> dimensions (n, 3) as C, h5py and h5dump see it, so row i of the dataset is column i of `a`.
@@ -19,10 +21,11 @@ module mpm_hdf5
         h5tget_class_f, h5tis_variable_str_f, h5tclose_f, h5t_fortran_s1, h5t_str_nullpad_f, &
         h5t_string_f, h5kind_to_type, h5_real_kind, h5_integer_kind, h5iis_valid_f, &
         h5t_native_double, h5pcreate_f, h5pclose_f, h5p_dataset_create_f, h5pset_virtual_f, &
-        h5sselect_hyperslab_f, h5s_select_set_f
+        h5sselect_hyperslab_f, h5s_select_set_f, h5eset_auto_f, h5dont_atexit_f
     use mpm_kinds, only: wp, i8
     use mpm_strings, only: int_text
-    use mpm_error, only: error_type, fatal_error, exit_other, exit_input
+    use mpm_error, only: error_type, fatal_error, exit_other, exit_input, exit_output
+    use mpm_filesystem, only: clear_errno, last_errno, write_failure_reason
     implicit none
     private
     public :: hdf5_location_type, text_type
@@ -83,17 +86,32 @@ contains
     !>
     !> Each h5open_f call makes new copies of the Fortran datatypes without closing the
     !> previous ones, so it is called only while H5T_NATIVE_DOUBLE is not yet a valid id.
+    !>
+    !> The library is told not to close itself at the exit of the process (h5dont_atexit_f,
+    !> before any other HDF5 call): when a file cannot be closed (a full disk), HDF5 up to
+    !> 1.14.0 frees the file but keeps its id, and its exit handler then closes it again and
+    !> crashes (HDF5 pull request 2291). Every file is closed by the code that opened it, so
+    !> nothing is left for that handler to do. The automatic printing of the error stack is
+    !> turned off: each failing call becomes one error_type message.
     subroutine hdf5_initialize(error)
         type(error_type), allocatable, intent(out) :: error
             !! set when the library cannot be initialised
 
-        integer :: hdferr
+        integer :: hdferr, ignored
         logical :: ready
 
+        ! (fails, harmlessly, when called again)
+        call h5dont_atexit_f(ignored)
         call h5iis_valid_f(h5t_native_double, ready, hdferr)
         if (hdferr == 0 .and. ready) return
         call h5open_f(hdferr)
-        if (hdferr /= 0) call fatal_error(error, "cannot initialise the HDF5 library", exit_other)
+        if (hdferr /= 0) then
+            call fatal_error(error, "cannot initialise the HDF5 library", exit_other)
+            return
+        end if
+        call h5eset_auto_f(0, hdferr)
+        if (hdferr /= 0) call fatal_error(error, "cannot turn off the error printing of "// &
+            "the HDF5 library", exit_other)
     end subroutine hdf5_initialize
 
     !> True when `path` is an existing HDF5 file.
@@ -109,24 +127,34 @@ contains
     end function hdf5_is_hdf5_file
 
     !> Create (or truncate) an HDF5 file.
-    subroutine hdf5_create_file(path, file, error)
+    subroutine hdf5_create_file(path, file, error, shown_as)
         character(len=*), intent(in) :: path
             !! file to create
         type(hdf5_location_type), intent(out) :: file
             !! the open file (close it with hdf5_close)
         type(error_type), allocatable, intent(out) :: error
-            !! set when the file cannot be created
+            !! set (exit_output) when the file cannot be created
+        character(len=*), intent(in), optional :: shown_as
+            !! the name messages give the file (default: path), e.g. the final name of a
+            !! file written as a .tmp and renamed
 
         integer :: hdferr
+        character(len=:), allocatable :: reason
 
+        call clear_errno()
         call h5fcreate_f(path, h5f_acc_trunc_f, file%id, hdferr)
         if (hdferr /= 0) then
-            call fatal_error(error, "cannot create the HDF5 file '"//path// &
-                "' (missing folder or permission denied?)", exit_other)
+            reason = write_failure_reason(path, last_errno())
+            if (len(reason) == 0) reason = "missing folder or permission denied?"
+            file%file = path
+            if (present(shown_as)) file%file = shown_as
+            call fatal_error(error, "cannot create the HDF5 file '"//file%file//"': "// &
+                reason, exit_output)
             return
         end if
         file%is_file = .true.
         file%file = path
+        if (present(shown_as)) file%file = shown_as
         file%path = "/"
     end subroutine hdf5_create_file
 
@@ -170,10 +198,11 @@ contains
 
         integer :: hdferr
 
+        call clear_errno()
         call h5gcreate_f(parent%id, name, group%id, hdferr)
         if (hdferr /= 0) then
-            call fatal_error(error, "cannot create the group '"//join(parent%path, name)// &
-                "' in '"//parent%file//"'", exit_other)
+            call fatal_error(error, write_failure("the group '"//join(parent%path, name)// &
+                "'", parent%file, last_errno()), exit_output)
             return
         end if
         group%file = parent%file
@@ -218,6 +247,7 @@ contains
         integer :: hdferr
 
         if (location%id < 0) return
+        call clear_errno()
         if (location%is_file) then
             call h5fclose_f(location%id, hdferr)
         else
@@ -225,8 +255,9 @@ contains
         end if
         location%id = -1
         if (hdferr /= 0) then
-            call fatal_error(error, "cannot close '"//location%path//"' of '"// &
-                location%file//"'", exit_other)
+            ! (closing writes what HDF5 still holds in memory)
+            call fatal_error(error, write_failure("'"//location%path//"' (closing it)", &
+                location%file, last_errno()), exit_output)
         end if
     end subroutine hdf5_close
 
@@ -367,12 +398,13 @@ contains
             !! value of the "components" attribute
 
         integer(hid_t) :: space, dataset
-        integer :: hdferr, ignored
+        integer :: hdferr, ignored, code
         character(len=:), allocatable :: where
 
         where = join(location%path, name)
         space = -1
         dataset = -1
+        call clear_errno()
         steps: block
             call h5screate_simple_f(size(dims), dims, space, hdferr)
             if (hdferr /= 0) exit steps
@@ -393,12 +425,22 @@ contains
                 if (allocated(error)) exit steps
             end if
         end block steps
-        if (dataset >= 0) call h5dclose_f(dataset, ignored)
+        code = last_errno()
+        call clear_errno()
+        ! closing the dataset writes what HDF5 buffered of it: a failure there is a failure
+        ! of the write
+        if (dataset >= 0) then
+            call h5dclose_f(dataset, ignored)
+            if (ignored /= 0 .and. hdferr == 0) then
+                hdferr = ignored
+                code = last_errno()
+            end if
+        end if
         if (space >= 0) call h5sclose_f(space, ignored)
         if (allocated(error)) return
         if (hdferr /= 0) then
-            call fatal_error(error, "cannot write the dataset '"//where//"' to '"// &
-                location%file//"' (disk full or the dataset exists already?)", exit_other)
+            call fatal_error(error, write_failure("the dataset '"//where//"'", location%file, &
+                code), exit_output)
         end if
     end subroutine write_data
 
@@ -422,10 +464,13 @@ contains
 
         integer(hid_t) :: source_set, source_space, space, plist, dataset
         integer(hsize_t) :: dims(2), max_dims(2)
-        integer :: hdferr, rank, ignored
+        integer :: hdferr, rank, ignored, code
+        logical :: misfit
         character(len=:), allocatable :: where
 
         where = join(location%path, name)
+        misfit = .false.
+        call clear_errno()
         source_set = -1
         source_space = -1
         space = -1
@@ -439,12 +484,14 @@ contains
             call h5sget_simple_extent_ndims_f(source_space, rank, hdferr)
             if (hdferr /= 0 .or. rank /= 2) then
                 hdferr = -1
+                misfit = .true.
                 exit steps
             end if
             ! Fortran order: dims(1) columns, dims(2) rows
             call h5sget_simple_extent_dims_f(source_space, dims, max_dims, hdferr)
             if (hdferr /= 2 .or. column < 1 .or. column > dims(1)) then
                 hdferr = -1
+                misfit = .true.
                 exit steps
             end if
             hdferr = 0
@@ -471,16 +518,28 @@ contains
                     [text_type(units)], .true., error)
             end if
         end block steps
-        if (dataset >= 0) call h5dclose_f(dataset, ignored)
+        code = last_errno()
+        call clear_errno()
+        ! (closing the view writes what HDF5 buffered of it, as in write_data)
+        if (dataset >= 0) then
+            call h5dclose_f(dataset, ignored)
+            if (ignored /= 0 .and. hdferr == 0) then
+                hdferr = ignored
+                code = last_errno()
+            end if
+        end if
         if (plist >= 0) call h5pclose_f(plist, ignored)
         if (space >= 0) call h5sclose_f(space, ignored)
         if (source_space >= 0) call h5sclose_f(source_space, ignored)
         if (source_set >= 0) call h5dclose_f(source_set, ignored)
         if (allocated(error)) return
-        if (hdferr /= 0) then
+        if (misfit) then
             call fatal_error(error, "cannot write the view '"//where//"' of column "// &
-                int_text(column)//" of '"//source//"' to '"//location%file//"'", &
-                exit_other)
+                int_text(column)//" of '"//source//"' to '"//location%file//"': the "// &
+                "source is not a table with that column", exit_other)
+        else if (hdferr /= 0) then
+            call fatal_error(error, write_failure("the view '"//where//"' of column "// &
+                int_text(column)//" of '"//source//"'", location%file, code), exit_output)
         end if
     end subroutine hdf5_write_column_view
 
@@ -701,10 +760,11 @@ contains
         type(error_type), allocatable, intent(out) :: error
 
         integer(hid_t) :: space, attribute
-        integer :: hdferr, ignored
+        integer :: hdferr, ignored, code
 
         space = -1
         attribute = -1
+        call clear_errno()
         steps: block
             call remove_attribute(location%id, name, hdferr)
             if (hdferr /= 0) exit steps
@@ -718,11 +778,19 @@ contains
             if (hdferr /= 0) exit steps
             if (product(dims) > 0) call h5awrite_f(attribute, type_id, buffer, hdferr)
         end block steps
-        if (attribute >= 0) call h5aclose_f(attribute, ignored)
+        code = last_errno()
+        call clear_errno()
+        if (attribute >= 0) then
+            call h5aclose_f(attribute, ignored)
+            if (ignored /= 0 .and. hdferr == 0) then
+                hdferr = ignored
+                code = last_errno()
+            end if
+        end if
         if (space >= 0) call h5sclose_f(space, ignored)
         if (hdferr /= 0) then
-            call fatal_error(error, "cannot write the attribute '"//name//"' of '"// &
-                location%path//"' to '"//location%file//"'", exit_other)
+            call fatal_error(error, write_failure("the attribute '"//name//"' of '"// &
+                location%path//"'", location%file, code), exit_output)
         end if
     end subroutine put_attribute
 
@@ -743,7 +811,7 @@ contains
         type(error_type), allocatable, intent(out) :: error
 
         integer(hid_t) :: space, attribute, string_type
-        integer :: hdferr, ignored, i, length
+        integer :: hdferr, ignored, i, length, code
         type(c_ptr) :: source
 
         ! HDF5 has no zero-size string type: an empty string is one null byte
@@ -754,6 +822,7 @@ contains
         space = -1
         attribute = -1
         string_type = -1
+        call clear_errno()
         steps: block
             character(kind=c_char, len=length), target :: buffer(size(values))
 
@@ -782,12 +851,20 @@ contains
                 call h5awrite_f(attribute, string_type, source, hdferr)
             end if
         end block steps
-        if (attribute >= 0) call h5aclose_f(attribute, ignored)
+        code = last_errno()
+        call clear_errno()
+        if (attribute >= 0) then
+            call h5aclose_f(attribute, ignored)
+            if (ignored /= 0 .and. hdferr == 0) then
+                hdferr = ignored
+                code = last_errno()
+            end if
+        end if
         if (space >= 0) call h5sclose_f(space, ignored)
         if (string_type >= 0) call h5tclose_f(string_type, ignored)
         if (hdferr /= 0) then
-            call fatal_error(error, "cannot write the attribute '"//name//"' of '"//where// &
-                "' to '"//file//"'", exit_other)
+            call fatal_error(error, write_failure("the attribute '"//name//"' of '"//where// &
+                "'", file, code), exit_output)
         end if
     end subroutine put_string_attribute
 
@@ -1055,6 +1132,24 @@ contains
     ! ----------------------------------------------------------------------------------------
     ! Text helpers
     ! ----------------------------------------------------------------------------------------
+
+    !> The message of a failed write: what, into which file, and why when known ("no space
+    !> left on device" for a full disk).
+    function write_failure(what, file, code) result(message)
+        character(len=*), intent(in) :: what
+            !! the object, e.g. "the dataset '/particles/stress'"
+        character(len=*), intent(in) :: file
+            !! the file being written
+        integer, intent(in) :: code
+            !! errno after the failing call (0: unknown)
+        character(len=:), allocatable :: message
+
+        character(len=:), allocatable :: reason
+
+        message = "cannot write "//what//" to '"//file//"'"
+        reason = write_failure_reason(file, code)
+        if (len(reason) > 0) message = message//": "//reason
+    end function write_failure
 
     !> Path of `name` inside the group at `path`.
     pure function join(path, name) result(full)

@@ -20,7 +20,8 @@ module mpm_output
     use mpm_hdf5, only: hdf5_location_type, text_type, hdf5_initialize, hdf5_create_file, &
         hdf5_create_group, hdf5_close_after, hdf5_write_dataset, hdf5_write_attribute, &
         hdf5_write_column_view
-    use mpm_filesystem, only: directory_exists, rename_file, remove_file, file_exists
+    use mpm_filesystem, only: directory_exists, rename_file, remove_file, file_exists, &
+        text_file_type, open_text_file, put_line, close_text_file
     use mpm_version, only: mpm_version_string
     implicit none
     private
@@ -310,8 +311,9 @@ contains
 
         name = part_file_name(writer%count, writer%image, writer%images)
         path = writer%dir//"/"//name
-        call write_hdf5_file(writer, path//".tmp", step, time, particles, grid, error)
+        call write_hdf5_file(writer, path, step, time, particles, grid, error)
         if (allocated(error)) then
+            ! (the outputs before and their index stay as they were)
             call remove_file(path//".tmp", ignored)
             return
         end if
@@ -431,7 +433,7 @@ contains
     subroutine write_hdf5_file(writer, path, step, time, particles, grid, error)
         type(output_writer_type), intent(in) :: writer
         character(len=*), intent(in) :: path
-            !! file to create
+            !! file to create, written as path.tmp (messages name path)
         integer, intent(in) :: step
         real(wp), intent(in) :: time
         type(particles_type), intent(in) :: particles
@@ -440,7 +442,7 @@ contains
 
         type(hdf5_location_type) :: file
 
-        call hdf5_create_file(path, file, error)
+        call hdf5_create_file(path//".tmp", file, error, shown_as=path)
         if (allocated(error)) return
         steps: block
             call hdf5_write_attribute(file, "time", time, error)
@@ -635,15 +637,16 @@ contains
 
         type(hdf5_location_type) :: file, group
         type(error_type), allocatable :: ignored
+        type(text_file_type) :: surface_index
         real(wp), allocatable :: position(:, :)
-        integer :: n, k, unit, stat
-        character(len=256) :: message
+        integer :: n, k, i
         character(len=:), allocatable :: path, nt, nv
+        type(text_type), allocatable :: lines(:)
 
         n = size(corner, 3)
         position = reshape(corner, [3, 3*n])
         path = dir//"/terrain.h5"
-        call hdf5_create_file(path//".tmp", file, error)
+        call hdf5_create_file(path//".tmp", file, error, shown_as=path)
         if (allocated(error)) return
         call hdf5_create_group(file, "terrain", group, error)
         if (.not. allocated(error)) then
@@ -662,25 +665,25 @@ contains
         nt = int_text(n)
         nv = int_text(3*n)
         path = dir//"/terrain.xdmf"
-        open (newunit=unit, file=path, status="replace", action="write", iostat=stat, &
-            iomsg=message)
-        if (stat == 0) write (unit, "(a)", iostat=stat, iomsg=message) &
-            '<?xml version="1.0" ?>', &
-            '<Xdmf Version="3.0">', &
-            "  <Domain>", &
-            '    <Grid Name="terrain" GridType="Uniform">', &
-            '      <Topology TopologyType="Triangle" NumberOfElements="'//nt//'">', &
-            "        "//data_item(nt//" 3", "Int", "terrain.h5:/terrain/triangles"), &
-            "      </Topology>", &
-            '      <Geometry GeometryType="XYZ">', &
-            "        "//data_item(nv//" 3", "Float", "terrain.h5:/terrain/position"), &
-            "      </Geometry>", &
-            "    </Grid>", &
-            "  </Domain>", &
-            "</Xdmf>"
-        if (stat == 0) close (unit, iostat=stat, iomsg=message)
-        if (stat /= 0) call fatal_error(error, "cannot write the terrain index '"//path//"': "// &
-            trim(message), exit_other)
+        lines = [text_type('<?xml version="1.0" ?>'), &
+            text_type('<Xdmf Version="3.0">'), &
+            text_type("  <Domain>"), &
+            text_type('    <Grid Name="terrain" GridType="Uniform">'), &
+            text_type('      <Topology TopologyType="Triangle" NumberOfElements="'//nt//'">'), &
+            text_type("        "//data_item(nt//" 3", "Int", "terrain.h5:/terrain/triangles")), &
+            text_type("      </Topology>"), &
+            text_type('      <Geometry GeometryType="XYZ">'), &
+            text_type("        "//data_item(nv//" 3", "Float", "terrain.h5:/terrain/position")), &
+            text_type("      </Geometry>"), &
+            text_type("    </Grid>"), &
+            text_type("  </Domain>"), &
+            text_type("</Xdmf>")]
+        call open_text_file(path, surface_index, error)
+        if (allocated(error)) return
+        do i = 1, size(lines)
+            call put_line(surface_index, lines(i)%text)
+        end do
+        call close_text_file(surface_index, error)
     end subroutine write_terrain
 
     !> Write a (dim, n) vector field as an (n, 3) dataset, z = 0 in 2D.
@@ -727,20 +730,15 @@ contains
             !! set when the index cannot be written
 
         character(len=:), allocatable :: path
-        character(len=256) :: message
-        integer :: unit, stat, first_stat, i, part
+        type(text_file_type) :: file
+        integer :: i, part
         character(len=:), allocatable :: indent
         type(error_type), allocatable :: ignored
 
         path = writer%dir//"/"//writer%case_name//".xdmf"
-        open (newunit=unit, file=path//".tmp", status="replace", action="write", &
-            form="formatted", iostat=stat, iomsg=message)
-        if (stat /= 0) then
-            call fatal_error(error, "cannot write the XDMF file '"//path//".tmp': "// &
-                trim(message), exit_other)
-            return
-        end if
-        first_stat = 0
+        ! (a Fortran write would not see a full disk: gfortran drops those errors)
+        call open_text_file(path//".tmp", file, error, shown_as=path)
+        if (allocated(error)) return
         indent = ""
         call put('<?xml version="1.0" ?>')
         call put('<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>')
@@ -781,11 +779,9 @@ contains
         call put("    </Grid>")
         call put("  </Domain>")
         call put("</Xdmf>")
-        close (unit, iostat=stat, iomsg=message)
-        if (first_stat == 0 .and. stat /= 0) first_stat = stat
-        if (first_stat /= 0) then
-            call fatal_error(error, "cannot write the XDMF file '"//path//".tmp': "// &
-                trim(message), exit_other)
+        call close_text_file(file, error)
+        if (allocated(error)) then
+            ! the index of the outputs before stays as it was
             call remove_file(path//".tmp", ignored)
             return
         end if
@@ -797,11 +793,7 @@ contains
             character(len=*), intent(in) :: line
                 !! line without its indentation
 
-            integer :: stat
-
-            if (first_stat /= 0) return
-            write (unit, "(a)", iostat=stat, iomsg=message) indent//line
-            if (stat /= 0) first_stat = stat
+            call put_line(file, indent//line)
         end subroutine put
 
         subroutine put_particles(record, index, part)

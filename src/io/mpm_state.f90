@@ -115,15 +115,16 @@ contains
         if (allocated(error)) return
 
         temporary = path//".tmp"
-        call write_state_file(temporary, case, particles, time, step, error, run)
+        call write_state_file(temporary, case, particles, time, step, error, run, path)
         if (allocated(error)) then
+            ! (a checkpoint of that name from before stays whole)
             call remove_file(temporary, ignored)
             return
         end if
         call rename_file(temporary, path, error)
     end subroutine save_state
 
-    subroutine write_state_file(path, case, particles, time, step, error, run)
+    subroutine write_state_file(path, case, particles, time, step, error, run, shown_as)
         character(len=*), intent(in) :: path
         type(case_type), intent(in) :: case
         type(particles_type), intent(in) :: particles
@@ -131,13 +132,15 @@ contains
         integer, intent(in) :: step
         type(error_type), allocatable, intent(out) :: error
         type(run_record_type), intent(in), optional :: run
+        character(len=*), intent(in) :: shown_as
+            !! the name messages give the file (the final name of the .tmp)
 
         type(hdf5_location_type) :: file, group
         character(len=:), allocatable :: case_name
 
         case_name = ""
         if (allocated(case%name)) case_name = case%name
-        call hdf5_create_file(path, file, error)
+        call hdf5_create_file(path, file, error, shown_as)
         if (allocated(error)) return
         steps: block
             call hdf5_write_attribute(file, "format", state_format, error)

@@ -23,7 +23,8 @@ module mpm_run
         remove_outputs, write_terrain, output_list, resume_output_writer, output_count
     use mpm_state, only: save_state, run_record_type, state_particle_count
     use mpm_filesystem, only: make_directory, directory_exists, file_exists, rename_file, &
-        remove_file
+        remove_file, folder_lock_type, lock_folder, text_file_type, open_text_file, put_line, &
+        flush_text_file, close_text_file
     use mpm_case, only: shape_linear
     use mpm_bodies, only: count_body_particles
     use mpm_threads, only: thread_governor_type, new_thread_governor, governor_threads, &
@@ -116,7 +117,11 @@ contains
 
         type(output_writer_type) :: writer
         type(snapshot_type) :: snapshot
-        integer :: history_unit, request
+        type(folder_lock_type) :: lock
+            !! image 1's lock on the output folder, released when run_case returns
+        type(text_file_type) :: history_unit
+        type(error_type), allocatable :: ignored
+        integer :: request
         logical :: history_open
         integer(i8) :: total, first_step
         logical :: lead, quiet, resumed
@@ -167,8 +172,8 @@ contains
         end if
         history_open = .false.
         if (options%write_files) then
-            if (lead .and. resumed) call resume_output_dir(case, sim%step, error)
-            if (lead .and. .not. resumed) call prepare_output_dir(case, error)
+            if (lead .and. resumed) call resume_output_dir(case, sim%step, lock, error)
+            if (lead .and. .not. resumed) call prepare_output_dir(case, lock, error)
             call agree(error)
             if (allocated(error)) return
             call new_output_writer(writer, case, case%output_dir, error, image_id(), image_count())
@@ -243,7 +248,9 @@ contains
                     if (allocated(error)) exit
                     summary%outputs = summary%outputs + 1
                     ! (the history on disk keeps up with the particle files)
-                    if (history_open) flush (history_unit)
+                    if (history_open) call flush_text_file(history_unit, error)
+                    call agree(error)
+                    if (allocated(error)) exit
                     do while (next_output <= sim%time + eps_t)
                         next_output = next_output + case%output_interval
                     end do
@@ -268,9 +275,10 @@ contains
                 clock = wall_time()
                 ! the history up to the checkpoint is on disk before the checkpoint is: a
                 ! restart keeps those lines and writes the later ones again
-                if (history_open) flush (history_unit)
-                call write_checkpoint(checkpoint_path(case), sim, writer, next_output, &
-                    next_history, wall_before + (clock - t_start), error)
+                if (history_open) call flush_text_file(history_unit, error)
+                call agree(error)
+                if (.not. allocated(error)) call write_checkpoint(checkpoint_path(case), sim, &
+                    writer, next_output, next_history, wall_before + (clock - t_start), error)
                 sim%phase_time(phase_output) = sim%phase_time(phase_output) &
                     + (wall_time() - clock)
                 if (allocated(error)) exit
@@ -306,7 +314,13 @@ contains
         summary%phase_time = sim%phase_time
         if (summary%wall > 0.0_wp) summary%particle_steps_per_second = &
             real(total, wp)*real(sim%step - first_step, wp)/summary%wall
-        if (history_open) close (history_unit)
+        ! (the first failure is the one reported; the history's is agreed on here)
+        if (.not. allocated(error)) then
+            if (history_open) call close_text_file(history_unit, error)
+            if (options%write_files) call agree(error)
+        else if (history_open) then
+            call close_text_file(history_unit, ignored)
+        end if
         if (allocated(error)) then
             ! (an image that does not report the failure has no message)
             if (options%write_files .and. len(error%message) > 0 .and. &
@@ -562,18 +576,23 @@ contains
     !> The output folder of a run that goes on from a checkpoint: it must be there; the lines
     !> of the energy history after the checkpoint's step (written before the run stopped)
     !> are dropped, as the run writes them again.
-    subroutine resume_output_dir(case, step, error)
+    subroutine resume_output_dir(case, step, lock, error)
         type(case_type), intent(in) :: case
             !! the case (output folder)
         integer(i8), intent(in) :: step
             !! step of the checkpoint
+        type(folder_lock_type), intent(inout) :: lock
+            !! the lock of the folder, taken before anything in it changes
         type(error_type), allocatable, intent(out) :: error
-            !! set when the folder is missing or the history cannot be rewritten
+            !! set when the folder is missing, another run holds it or the history cannot
+            !! be rewritten
 
         character(len=:), allocatable :: path
         character(len=4096) :: line
         character(len=256) :: msg
-        integer :: input, output, stat, comma, last
+        integer :: input, stat, comma, last
+        type(text_file_type) :: output
+        type(error_type), allocatable :: ignored
         integer(i8) :: row_step
         logical :: keep
 
@@ -583,13 +602,18 @@ contains
                 exit_input)
             return
         end if
+        call lock_folder(case%output_dir, lock, error)
+        if (allocated(error)) return
         path = case%output_dir//"/history.csv"
         if (.not. file_exists(path)) return
         open (newunit=input, file=path, status="old", action="read", iostat=stat, iomsg=msg)
-        if (stat == 0) open (newunit=output, file=path//".tmp", status="replace", &
-            action="write", iostat=stat, iomsg=msg)
         if (stat /= 0) then
             call fatal_error(error, path//": "//trim(msg), exit_other)
+            return
+        end if
+        call open_text_file(path//".tmp", output, error, shown_as=path)
+        if (allocated(error)) then
+            close (input)
             return
         end if
         do
@@ -603,35 +627,32 @@ contains
                 read (line(comma + 1:), *, iostat=stat, iomsg=msg) row_step
                 keep = stat /= 0 .or. row_step <= step
             end if
-            if (keep) write (output, "(a)") line(1:last)
+            if (keep) call put_line(output, line(1:last))
         end do
         close (input)
-        close (output)
+        call close_text_file(output, error)
+        if (allocated(error)) then
+            ! the history of the run stays as it was
+            call remove_file(path//".tmp", ignored)
+            return
+        end if
         call rename_file(path//".tmp", path, error)
     end subroutine resume_output_dir
 
     !> Open the energy history: a new file with its header, or (restart) the file of the run.
+    !> (Written through the C library: gfortran does not report a write to a full disk.)
     subroutine open_history(case, resumed, unit, error)
         type(case_type), intent(in) :: case
         logical, intent(in) :: resumed
-        integer, intent(out) :: unit
+        type(text_file_type), intent(inout) :: unit
         type(error_type), allocatable, intent(out) :: error
 
-        integer :: stat
-        character(len=256) :: msg
-
         if (resumed .and. file_exists(case%output_dir//"/history.csv")) then
-            open (newunit=unit, file=case%output_dir//"/history.csv", status="old", &
-                position="append", action="write", iostat=stat, iomsg=msg)
+            call open_text_file(case%output_dir//"/history.csv", unit, error, append=.true.)
         else
-            open (newunit=unit, file=case%output_dir//"/history.csv", status="replace", &
-                action="write", iostat=stat, iomsg=msg)
-            if (stat == 0) write (unit, "(a)") "time,step,kinetic_energy,strain_energy," &
-                //"potential_energy,damping_work,total"
-        end if
-        if (stat /= 0) then
-            unit = -1
-            call fatal_error(error, case%output_dir//"/history.csv: "//trim(msg), exit_other)
+            call open_text_file(case%output_dir//"/history.csv", unit, error)
+            if (.not. allocated(error)) call put_line(unit, "time,step,kinetic_energy,"// &
+                "strain_energy,potential_energy,damping_work,total")
         end if
     end subroutine open_history
 
@@ -746,9 +767,12 @@ contains
         if (text(1:1) == ".") text = "0"//text
     end function size_text
 
-    !> Create the output folder; refuse an existing one unless overwriting was asked for.
-    subroutine prepare_output_dir(case, error)
+    !> Create the output folder; refuse an existing one unless overwriting was asked for, and
+    !> one another run holds. The lock is taken before anything in the folder is removed.
+    subroutine prepare_output_dir(case, lock, error)
         type(case_type), intent(in) :: case
+        type(folder_lock_type), intent(inout) :: lock
+            !! the lock of the folder, held by the caller for the run
         type(error_type), allocatable, intent(out) :: error
 
         if (directory_exists(case%output_dir) .and. .not. case%overwrite) then
@@ -760,6 +784,8 @@ contains
         end if
         call make_directory(case%output_dir, error)
         if (allocated(error)) return
+        call lock_folder(case%output_dir, lock, error)
+        if (allocated(error)) return
         call remove_outputs(case%output_dir, case%name, error)
         if (allocated(error)) return
         ! an earlier run's checkpoints would continue that run in this one's folder
@@ -770,14 +796,18 @@ contains
             error)
     end subroutine prepare_output_dir
 
+    !> One line of the energy history (a failed write is reported by the next flush).
     subroutine write_history(unit, sim)
-        integer, intent(in) :: unit
+        type(text_file_type), intent(inout) :: unit
         type(simulation_type), intent(in) :: sim
 
+        character(len=256) :: line
+
         associate (e => sim%energy)
-            write (unit, "(es23.15e3,',',i0,5(',',es23.15e3))") sim%time, sim%step, e%kinetic, &
+            write (line, "(es23.15e3,',',i0,5(',',es23.15e3))") sim%time, sim%step, e%kinetic, &
                 e%strain, e%potential, e%damping, e%kinetic + e%strain + e%potential + e%damping
         end associate
+        call put_line(unit, trim(line))
     end subroutine write_history
 
     subroutine print_progress(sim, tend, elapsed, imbalance, first_step, first_time)
