@@ -429,13 +429,7 @@ contains
         call clear_errno()
         ! closing the dataset writes what HDF5 buffered of it: a failure there is a failure
         ! of the write
-        if (dataset >= 0) then
-            call h5dclose_f(dataset, ignored)
-            if (ignored /= 0 .and. hdferr == 0) then
-                hdferr = ignored
-                code = last_errno()
-            end if
-        end if
+        if (dataset >= 0) call close_written(dataset, .false., hdferr, code)
         if (space >= 0) call h5sclose_f(space, ignored)
         if (allocated(error)) return
         if (hdferr /= 0) then
@@ -521,13 +515,7 @@ contains
         code = last_errno()
         call clear_errno()
         ! (closing the view writes what HDF5 buffered of it, as in write_data)
-        if (dataset >= 0) then
-            call h5dclose_f(dataset, ignored)
-            if (ignored /= 0 .and. hdferr == 0) then
-                hdferr = ignored
-                code = last_errno()
-            end if
-        end if
+        if (dataset >= 0) call close_written(dataset, .false., hdferr, code)
         if (plist >= 0) call h5pclose_f(plist, ignored)
         if (space >= 0) call h5sclose_f(space, ignored)
         if (source_space >= 0) call h5sclose_f(source_space, ignored)
@@ -780,13 +768,7 @@ contains
         end block steps
         code = last_errno()
         call clear_errno()
-        if (attribute >= 0) then
-            call h5aclose_f(attribute, ignored)
-            if (ignored /= 0 .and. hdferr == 0) then
-                hdferr = ignored
-                code = last_errno()
-            end if
-        end if
+        if (attribute >= 0) call close_written(attribute, .true., hdferr, code)
         if (space >= 0) call h5sclose_f(space, ignored)
         if (hdferr /= 0) then
             call fatal_error(error, write_failure("the attribute '"//name//"' of '"// &
@@ -853,13 +835,7 @@ contains
         end block steps
         code = last_errno()
         call clear_errno()
-        if (attribute >= 0) then
-            call h5aclose_f(attribute, ignored)
-            if (ignored /= 0 .and. hdferr == 0) then
-                hdferr = ignored
-                code = last_errno()
-            end if
-        end if
+        if (attribute >= 0) call close_written(attribute, .true., hdferr, code)
         if (space >= 0) call h5sclose_f(space, ignored)
         if (string_type >= 0) call h5tclose_f(string_type, ignored)
         if (hdferr /= 0) then
@@ -1132,6 +1108,32 @@ contains
     ! ----------------------------------------------------------------------------------------
     ! Text helpers
     ! ----------------------------------------------------------------------------------------
+
+    !> Close a dataset or attribute that was written: the close writes what HDF5 buffered of
+    !> it, so its failure is a failure of the write (kept in hdferr and code unless an earlier
+    !> step already failed).
+    subroutine close_written(id, attribute, hdferr, code)
+        integer(hid_t), intent(in) :: id
+            !! the open dataset or attribute
+        logical, intent(in) :: attribute
+            !! an attribute (else a dataset)
+        integer, intent(inout) :: hdferr
+            !! status of the write so far (0: it went well)
+        integer, intent(inout) :: code
+            !! errno of the failure
+
+        integer :: status
+
+        if (attribute) then
+            call h5aclose_f(id, status)
+        else
+            call h5dclose_f(id, status)
+        end if
+        if (status /= 0 .and. hdferr == 0) then
+            hdferr = status
+            code = last_errno()
+        end if
+    end subroutine close_written
 
     !> The message of a failed write: what, into which file, and why when known ("no space
     !> left on device" for a full disk).
