@@ -13,7 +13,7 @@ module mpm_run
     use mpm_case, only: case_type
     use mpm_solver, only: simulation_type, new_simulation, advance, stable_time_step, &
         compute_energies, has_text, nphases, phase_names, phase_other, phase_output, agree, &
-        contact_loads, resume_simulation
+        contact_loads, resume_simulation, energy_record, energy_total, energy_residual
     use mpm_parallel, only: image_id, image_count, counts_of_images, gather_on_first, &
         max_over_images
     use mpm_decomposition, only: image_grids
@@ -405,9 +405,7 @@ contains
         run%output_dir = sim%case%output_dir
         run%images = image_count()
         run%dt = sim%dt
-        run%energy = [sim%energy%kinetic, sim%energy%strain, sim%energy%potential, &
-            sim%energy%damping]
-        run%energy_scale = sim%energy_scale
+        run%energy = energy_record(sim%energy)
         run%kinetic_previous = sim%kinetic_previous
         run%next_output = next_output
         run%next_history = next_history
@@ -626,8 +624,9 @@ contains
         else
             open (newunit=unit, file=case%output_dir//"/history.csv", status="replace", &
                 action="write", iostat=stat, iomsg=msg)
-            if (stat == 0) write (unit, "(a)") "time,step,kinetic_energy,strain_energy," &
-                //"potential_energy,damping_work,total"
+            if (stat == 0) write (unit, "(a)") "time,step,kinetic_energy,elastic_energy," &
+                //"potential_energy,plastic_work,viscous_work,damping_work,friction_work," &
+                //"load_work,total,residual"
         end if
         if (stat /= 0) then
             unit = -1
@@ -775,8 +774,9 @@ contains
         type(simulation_type), intent(in) :: sim
 
         associate (e => sim%energy)
-            write (unit, "(es23.15e3,',',i0,5(',',es23.15e3))") sim%time, sim%step, e%kinetic, &
-                e%strain, e%potential, e%damping, e%kinetic + e%strain + e%potential + e%damping
+            write (unit, "(es23.15e3,',',i0,10(',',es23.15e3))") sim%time, sim%step, e%kinetic, &
+                e%elastic, e%potential, e%plastic, e%viscous, e%damping, e%friction, e%loads, &
+                energy_total(e), energy_residual(e)
         end associate
     end subroutine write_history
 
