@@ -382,8 +382,8 @@ contains
         call check_contains(suite, text, "load_state  (none)", "summary: load_state")
         call check_contains(suite, text, "checkpoint  on SIGTERM/SIGINT, file <output folder>/" &
             //"checkpoint.h5", "summary: checkpoints by default")
-        call check_contains(suite, text, "guard       kinetic energy above 10 x the largest " &
-            //"so far; healthy copy every 100 steps", "summary: guard by default")
+        call check_contains(suite, text, "guard       energy created above 1 x the energy " &
+            //"scale; healthy copy every 100 steps", "summary: guard by default")
     end subroutine test_summary
 
     !> `checkpoint` and `guard`: values, defaults, ranges, misspelt keys; the text of the case
@@ -411,7 +411,7 @@ contains
         call check(suite, case%checkpoint_steps == 0 .and. case%checkpoint_minutes == 0.0_wp &
             .and. case%checkpoint_on_signal .and. case%checkpoint_file == "", &
             "checkpoint defaults: none periodic, on signals, default file")
-        call check(suite, case%guard_energy_factor == 10.0_wp .and. &
+        call check(suite, case%guard_energy_factor == 1.0_wp .and. &
             case%guard_snapshot_steps == 100, "guard defaults")
         call expect_error(case_text(extra='"checkpoint": {"every_steps": 0}'), &
             [character(len=40) :: "checkpoint.every_steps", ">= 1"], "every_steps 0")
@@ -421,8 +421,8 @@ contains
             [character(len=40) :: "every_step", "did you mean 'every_steps'"], "misspelt key")
         call expect_error(case_text(extra='"checkpoint": {"on_signal": "yes"}'), &
             [character(len=40) :: "checkpoint.on_signal"], "on_signal not a boolean")
-        call expect_error(case_text(extra='"guard": {"energy_factor": 1}'), &
-            [character(len=40) :: "guard.energy_factor", "> 1"], "energy_factor 1")
+        call expect_error(case_text(extra='"guard": {"energy_factor": 0}'), &
+            [character(len=40) :: "guard.energy_factor", "> 0"], "energy_factor 0")
         call expect_error(case_text(extra='"guard": {"snapshot_steps": -5}'), &
             [character(len=40) :: "guard.snapshot_steps", ">= 0"], "snapshot_steps < 0")
     end subroutine test_checkpoint_and_guard

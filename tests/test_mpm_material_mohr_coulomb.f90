@@ -17,6 +17,7 @@ program test_mpm_material_mohr_coulomb
     use mpm_case, only: material_spec_type, softening_none, softening_linear, &
         softening_exponential
     use mpm_material_mohr_coulomb, only: mohr_coulomb_material_type, new_mohr_coulomb_material
+    use mpm_stress, only: double_contraction
     implicit none
 
     type(test_suite_type) :: suite
@@ -95,6 +96,13 @@ contains
         e(1:3) = e(1:3) - poisson/young*(sig(1) + sig(2) + sig(3))
     end function compliance
 
+    !> Normal strains C^-1 sigma of normal stresses (no shear).
+    pure function compliance_normal(s) result(e)
+        real(wp), intent(in) :: s(:)
+        real(wp) :: e(3)
+        e = ((1.0_wp + poisson)*s(1:3) - poisson*sum(s(1:3)))/young
+    end function compliance_normal
+
     !> One step of a mixed test: the strain increment `de` with its component `free` (and
     !> `free2`, when given, set equal) chosen so that `control` holds after the update:
     !> `constant_cell`: stress(free) = target; `constant_mean`: mean stress = target.
@@ -166,11 +174,17 @@ contains
     !> plus the round-off of the return, 100 eps (p0 + q); the ratio of strain increments is
     !> computed from increments of 2e-4 with errors of about (tol_mixed + 100 eps p0) / G
     !> each: tol_ratio = 10 (tol_mixed + 100 eps p0) / (G |d eps_a|), about 3e-10.
+    !> Plastic work at constant cell pressure: the work of the stresses (trapezoidal) minus the
+    !> change of the stored elastic energy 1/2 sigma : C^-1 : sigma (elastic_energy_block) is,
+    !> for a sharp yield at eps_a = q / E and perfect flow after it,
+    !> W_p = (q + r sigma_1)(|eps_a| - q / E), r = 2 sin(psi) / (1 - sin(psi)) (the work
+    !> sigma : d eps^p of the steady flow); within q |d eps_a| (the step that crosses the yield
+    !> point is partly elastic) plus the elastic energy at the strength, q^2 / E, times tol_ratio.
     subroutine check_triaxial(phi_deg, coh, psi_deg)
         real(wp), intent(in) :: phi_deg, coh, psi_deg
         type(mohr_coulomb_material_type) :: mat
         real(wp) :: stress(6), state(2), de(6), phi, psi, q, qf, qmax, tol_q, sold(6), vold
-        real(wp) :: dep(6), ratio, ratio_expected, tol_ratio
+        real(wp) :: dep(6), ratio, ratio_expected, tol_ratio, work, density(1), stored0, wp_exact
         integer :: mode, k
         integer, parameter :: nsteps = 300
         real(wp), parameter :: dea = -2.0e-4_wp
@@ -194,6 +208,10 @@ contains
             qmax = 0.0_wp
             all_ok = .true.
             ratio = 0.0_wp
+            work = 0.0_wp
+            call mat%elastic_energy_block(1, reshape(stress, [6, 1]), reshape(state, [2, 1]), &
+                density)
+            stored0 = density(1)
             do k = 1, nsteps
                 de = [0.0_wp, 0.0_wp, dea, 0.0_wp, 0.0_wp, 0.0_wp]
                 sold = stress
@@ -206,6 +224,7 @@ contains
                         2*bulk, ok)
                 end if
                 all_ok = all_ok .and. ok
+                work = work + 0.5_wp*double_contraction(sold + stress, de)
                 qmax = max(qmax, stress(1) - stress(3))
                 dep = de - compliance(stress - sold)
                 if (k == nsteps) ratio = (dep(1) + dep(2) + dep(3))/(-dep(3))
@@ -223,6 +242,18 @@ contains
                 trim(label)//": dilatancy d eps_v^p / -d eps_a^p")
             call check_close(suite, state(2) - vold, dep(1) + dep(2) + dep(3), &
                 tol_ratio*abs(dea), trim(label)//": state(2) is the plastic volumetric strain")
+            if (mode == constant_cell) then
+                call mat%elastic_energy_block(1, reshape(stress, [6, 1]), &
+                    reshape(state, [2, 1]), density)
+                wp_exact = (qf + ratio_expected*stress(1))*(nsteps*abs(dea) - qf/young)
+                call check_close(suite, work - (density(1) - stored0), wp_exact, &
+                    qf*abs(dea) + tol_ratio*qf**2/young, trim(label)// &
+                    ": plastic work = work - stored elastic energy")
+                call check_close(suite, density(1) - stored0, &
+                    0.5_wp*(dot_product(stress(1:3), compliance_normal(stress)) &
+                    - dot_product([-p0, -p0, -p0], compliance_normal([-p0, -p0, -p0]))), &
+                    100*eps*qf**2/young, trim(label)//": stored energy 1/2 sigma : C^-1 : sigma")
+            end if
         end do
     end subroutine check_triaxial
 

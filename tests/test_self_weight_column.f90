@@ -4,6 +4,10 @@
 !> nu = 0.3, gravity 9.81, brought to rest by local damping. Exact small-strain solution:
 !> s_yy = -rho g (H - y), s_xx = nu / (1 - nu) s_yy. Checked: the stress of the lowest row
 !> of particles within 2 % of the exact value at their height, with cpGIMP and MUSL.
+!> Energies at rest: the stored elastic energy within 4 % (twice the stress band: w ~ sigma^2)
+!> of the closed form W = (rho g)^2 H^3 A / (6 M) (A the section, M = E (1 - nu) / ((1 + nu)
+!> (1 - 2 nu)) the confined modulus); gravity did 2 W of work (Clapeyron), so the damping
+!> removed W, within the same band; the residual of the balance below 1 % of W.
 !> Then save_state / load_state: a new undamped run started from the saved equilibrium stays
 !> at rest (its particles carry the geostatic stress), and the state round trip is exact.
 program test_self_weight_column
@@ -11,7 +15,8 @@ program test_self_weight_column
     use mpm_testing, only: test_suite_type, new_suite, check, check_close, finish
     use mpm_error, only: error_type
     use mpm_case, only: case_type, read_case_string
-    use mpm_solver, only: simulation_type, new_simulation, advance, stable_time_step
+    use mpm_solver, only: simulation_type, new_simulation, advance, stable_time_step, &
+        energy_residual
     use mpm_state, only: save_state
     implicit none
 
@@ -33,7 +38,7 @@ contains
         type(case_type) :: case
         type(simulation_type) :: sim
         type(error_type), allocatable :: error
-        real(wp) :: ymin, y0, exact, syy, sxx, mass_row
+        real(wp) :: ymin, y0, exact, syy, sxx, mass_row, section, stored
         integer :: p
 
         character(len=:), allocatable :: geometry
@@ -91,6 +96,19 @@ contains
             label//": base stress s_yy within 2 %")
         call check_close(suite, sxx, nu/(1 - nu)*exact, 0.02_wp*abs(nu/(1 - nu)*exact), &
             label//": base stress s_xx = nu/(1-nu) s_yy within 2 %")
+        section = 0.1_wp
+        if (dim == 3) section = 0.01_wp
+        stored = (rho*g)**2*height**3*section &
+            /(6.0_wp*1.0e6_wp*(1 - nu)/((1 + nu)*(1 - 2*nu)))
+        call check_close(suite, sim%energy%elastic, stored, 0.04_wp*stored, &
+            label//": stored elastic energy (rho g)^2 H^3 A / (6 M) within 4 %")
+        call check_close(suite, sim%energy%damping, stored, 0.04_wp*stored, &
+            label//": damping work = gravity work - stored energy = W within 4 %")
+        call check(suite, abs(energy_residual(sim%energy)) < 0.01_wp*stored, &
+            label//": energy residual below 1 % of W")
+        print "(a,3(a,es10.3))", label, ": elastic energy error ", sim%energy%elastic/stored - 1, &
+            ", damping work error ", sim%energy%damping/stored - 1, ", residual / W ", &
+            energy_residual(sim%energy)/stored
         call check(suite, sim%energy%kinetic < 1.0e-4_wp*sim%energy%strain, &
             label//": column at rest (kinetic energy < 1e-4 strain energy)")
         print "(a,2(a,es10.3))", label, ": base s_yy error ", syy/exact - 1, &

@@ -5,6 +5,11 @@
 !> coefficient mu. Exact: s(t) = g (sin theta - mu cos theta) t^2 / 2 while mu < tan theta, and
 !> the block sticks for mu >= tan theta. Checked: the mean displacement along the floor within
 !> 2 % of s(t) for mu = 0, 0.2, 0.4, and below 0.2 % of the frictionless slide for mu = 0.6.
+!> Energies: the friction work within 2 % (the band of the slide, whose friction it is) of
+!> mu N s, N = m g cos(theta) the normal load, s the slide; no friction work without friction;
+!> for the sticking block, below 0.2 % of the frictionless gravity work (a block at rest does
+!> no friction work); the residual below 2 % of the work of gravity (sticking: 0.2 % of that
+!> of the frictionless slide, the band of its displacement).
 !> The block is flat (0.2 m x 0.04 m): the resultant of its weight falls well inside the middle
 !> third of its base, so it slides or sticks without tipping, as the analytic solution assumes.
 program test_sliding_block
@@ -12,7 +17,8 @@ program test_sliding_block
     use mpm_testing, only: test_suite_type, new_suite, check, check_close, finish
     use mpm_error, only: error_type
     use mpm_case, only: case_type, read_case_string
-    use mpm_solver, only: simulation_type, new_simulation, advance, stable_time_step
+    use mpm_solver, only: simulation_type, new_simulation, advance, stable_time_step, &
+        energy_residual
     implicit none
 
     type(test_suite_type) :: suite
@@ -44,7 +50,7 @@ contains
         type(error_type), allocatable :: error
         character(len=64) :: gravity
         character(len=:), allocatable :: cfl, label
-        real(wp) :: s, s_exact, lift
+        real(wp) :: s, s_exact, lift, mass, friction, gravity_work
 
         cfl = "0.5"
         if (present(cfl_text)) cfl = cfl_text
@@ -74,6 +80,29 @@ contains
         end do
         s = sum(sim%particles%mass*sim%particles%u(1, :))/sum(sim%particles%mass)
         lift = maxval(sim%particles%u(2, :))
+        mass = sum(sim%particles%mass)
+        gravity_work = -sim%energy%potential
+        friction = mu*mass*g*cos(theta)*s
+        if (mu == 0.0_wp) then
+            call check(suite, sim%energy%friction == 0.0_wp, label//": no friction work")
+        else if (mu < tan(theta)) then
+            call check_close(suite, sim%energy%friction, friction, 0.02_wp*friction, &
+                label//": friction work mu N s within 2 %")
+        else
+            call check(suite, abs(sim%energy%friction) < 2.0e-3_wp*mass*g*sin(theta)*s_free, &
+                label//": sticking: friction work below 0.2 % of the frictionless gravity work")
+        end if
+        if (mu < tan(theta)) then
+            call check(suite, abs(energy_residual(sim%energy)) < 0.02_wp*gravity_work, &
+                label//": energy residual below 2 % of the gravity work")
+        else
+            ! the block at rest: gravity did almost no work; the band of its slide
+            call check(suite, abs(energy_residual(sim%energy)) < 2.0e-3_wp*mass*g*sin(theta) &
+                *s_free, label//": energy residual below 0.2 % of the frictionless gravity work")
+        end if
+        print "(a,3(a,es11.4))", label, ": friction work ", sim%energy%friction, &
+            ", mu N s ", friction, ", residual / gravity work ", &
+            energy_residual(sim%energy)/max(gravity_work, tiny(1.0_wp))
         if (mu < tan(theta)) then
             s_exact = 0.5_wp*g*(sin(theta) - mu*cos(theta))*tend**2
             call check_close(suite, s, s_exact, 0.02_wp*s_exact, &

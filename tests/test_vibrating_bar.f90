@@ -14,7 +14,7 @@ program test_vibrating_bar
     use mpm_error, only: error_type
     use mpm_case, only: case_type, read_case_string
     use mpm_solver, only: simulation_type, new_simulation, advance, stable_time_step, &
-        compute_energies
+        start_energy_balance, compute_energies, energy_residual
     implicit none
 
     type(test_suite_type) :: suite
@@ -43,7 +43,7 @@ contains
         type(error_type), allocatable :: error
         real(wp) :: beta, omega, period, t_end, vcm, vcm_prev, t_prev, dt, amp_exact
         real(wp) :: crossings(16), vmax, vmin, e0, e, drift, measured_period
-        real(wp) :: mean_first, mean_last, n_first, n_last, omega_dt
+        real(wp) :: mean_first, mean_last, n_first, n_last, omega_dt, residual
         integer :: ncross, p
         character(len=:), allocatable :: label, extra
 
@@ -74,7 +74,7 @@ contains
         do p = 1, sim%particles%n
             sim%particles%v(:, p) = [v0*sin(beta*sim%particles%x(1, p)), 0.0_wp]
         end do
-        call compute_energies(sim)
+        call start_energy_balance(sim)
         e0 = sim%energy%kinetic
         amp_exact = v0/(beta*length)
         vcm_prev = centre_velocity(sim)
@@ -83,6 +83,7 @@ contains
         vmax = -huge(1.0_wp)
         vmin = huge(1.0_wp)
         drift = 0.0_wp
+        residual = 0.0_wp
         mean_first = 0.0_wp
         mean_last = 0.0_wp
         n_first = 0.0_wp
@@ -108,6 +109,7 @@ contains
             call compute_energies(sim)
             e = sim%energy%kinetic + sim%energy%strain
             drift = max(drift, abs(e - e0)/e0)
+            residual = max(residual, abs(energy_residual(sim%energy))/e0)
             omega_dt = max(omega_dt, omega*dt)
             if (sim%time <= period) then
                 mean_first = mean_first + e
@@ -145,6 +147,11 @@ contains
             call check(suite, abs(mean_last - mean_first) < 1.0e-3_wp*e0, &
                 label//" no secular energy drift over 3 periods (< 0.1 %)")
             call check(suite, drift < omega_dt, label//" energy oscillation below omega dt")
+            ! the closed balance (kinetic + stored elastic energy, nothing dissipated): its
+            ! residual is the same time-integration error
+            call check(suite, residual < omega_dt, label//" energy residual below omega dt")
+            call check(suite, abs(sim%energy%elastic - sim%energy%strain) < omega_dt*e0, &
+                label//" stored elastic energy = work of the stresses within omega dt")
         end if
         print "(a,5(a,es10.3))", label, ": period error ", measured_period/period - 1, &
             ", amplitude error ", vmax/amp_exact - 1, ", energy oscillation ", drift, &

@@ -14,11 +14,22 @@ from .io import list_outputs, load_history, load_particles
 # Columns of history.csv [J] (per unit thickness in 2D) and their labels in plots.
 ENERGY_TERMS = {
     "kinetic_energy": "kinetic",
+    "elastic_energy": "elastic (stored)",
     "strain_energy": "strain",
     "potential_energy": "potential",
+    "plastic_work": "plastic dissipation",
+    "viscous_work": "viscous dissipation",
     "damping_work": "damping work",
+    "friction_work": "friction work",
+    "load_work": "work of loads",
     "total": "total",
+    "residual": "residual",
 }
+
+# Where the energy of a run went (docs/output.md): stacked in plots of a history with a
+# ``residual`` column, against the energy the run was given.
+STACKED_TERMS = ("kinetic_energy", "elastic_energy", "plastic_work", "viscous_work",
+                 "damping_work", "friction_work")
 
 
 # Columns of history.csv that are not energies.
@@ -160,6 +171,8 @@ def plot_energy(history, path, title=None, unit="J; J/m in 2D"):
     from matplotlib.figure import Figure
 
     time = _column(history, "time")
+    if "residual" in history and "potential_energy" in history:
+        return _plot_stacked(history, time, path, title, unit)
     terms = energy_columns(history)
     if not terms:
         expected = ", ".join(ENERGY_TERMS)
@@ -182,6 +195,40 @@ def plot_energy(history, path, title=None, unit="J; J/m in 2D"):
     if title:
         axes.set_title(title)
 
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    figure.savefig(path, dpi=120)
+    return path
+
+
+def _plot_stacked(history, time, path, title, unit):
+    """plot_energy of a history with the closed balance (``residual`` column): the terms of
+    STACKED_TERMS stacked, the energy given to the run (initial kinetic + elastic energy,
+    work of gravity = - potential energy, work of loads) as a line, and the residual, the
+    energy the discretisation created (> 0) or lost (< 0), as a line of its own."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=(7.0, 4.5), layout="constrained")
+    FigureCanvasAgg(figure)
+    axes = figure.add_subplot()
+    names = [name for name in STACKED_TERMS if name in history]
+    axes.stackplot(time, *[_column(history, name) for name in names],
+                   labels=[ENERGY_TERMS[name] for name in names], alpha=0.8)
+    given = _column(history, "total")[0] - _column(history, "potential_energy")
+    if "load_work" in history:
+        given = given + _column(history, "load_work")
+    axes.plot(time, given, color="black", linewidth=2.0,
+              label="given: initial + work of gravity and loads")
+    axes.plot(time, _column(history, "residual"), color="red", linewidth=1.5,
+              label="residual (created > 0, lost < 0)")
+    axes.axhline(0.0, color="0.4", linewidth=0.8)
+    axes.set_xlabel("time [s]")
+    axes.set_ylabel(f"energy [{unit}]")
+    axes.grid(True, alpha=0.3)
+    axes.legend(fontsize="small")
+    if title:
+        axes.set_title(title)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     figure.savefig(path, dpi=120)

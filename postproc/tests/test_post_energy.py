@@ -70,9 +70,9 @@ def test_drift_needs_the_total():
 
 
 def test_energy_columns_follow_the_header():
-    history = {"time": 0, "step": 0, "friction_work": 0, "total": 0, "kinetic_energy": 0}
+    history = {"time": 0, "step": 0, "contact_work": 0, "total": 0, "kinetic_energy": 0}
     assert energy_columns(history) == [("kinetic_energy", "kinetic"), ("total", "total"),
-                                       ("friction_work", "friction work")]
+                                       ("contact_work", "contact work")]
 
 
 def test_plot_run_energy_titles_with_the_case_and_the_drift(make_run, tmp_path, monkeypatch):
@@ -105,3 +105,41 @@ def test_plot_energy_without_energy_columns(tmp_path):
     with pytest.raises(KeyError, match="no energy column"):
         plot_energy({"time": np.array([0.0, 1.0])}, tmp_path / "none.png")
     assert not (tmp_path / "none.png").exists()
+
+
+def closed_history():
+    """A history of the closed balance (docs/output.md): 2 J of gravity work, 1.5 J stored
+    and dissipated, 0.5 J lost by the discretisation."""
+    t = np.linspace(0.0, 1.0, 5)
+    history = {"time": t, "step": np.arange(5.0), "kinetic_energy": 0.5 * t,
+               "elastic_energy": 0.5 * t, "potential_energy": -2.0 * t,
+               "plastic_work": 0.25 * t, "viscous_work": 0 * t, "damping_work": 0 * t,
+               "friction_work": 0.25 * t, "load_work": 0 * t}
+    history["total"] = (history["kinetic_energy"] + history["elastic_energy"]
+                        + history["potential_energy"] + history["plastic_work"]
+                        + history["friction_work"])
+    history["residual"] = history["total"] - history["total"][0]
+    return history
+
+
+def test_closed_balance_terms_have_their_names():
+    labels = dict(energy_columns(closed_history()))
+    assert labels["elastic_energy"] == "elastic (stored)"
+    assert labels["plastic_work"] == "plastic dissipation"
+    assert labels["friction_work"] == "friction work"
+    assert labels["residual"] == "residual"
+
+
+def test_closed_balance_is_plotted_stacked_with_the_residual(tmp_path, monkeypatch):
+    calls = {}
+    real = energy._plot_stacked
+
+    def spy(history, time, path, title, unit):
+        calls["stacked"] = True
+        return real(history, time, path, title, unit)
+
+    monkeypatch.setattr(energy, "_plot_stacked", spy)
+    path = plot_energy(closed_history(), tmp_path / "e.png")
+    assert calls == {"stacked": True}
+    image = imread(path)
+    assert image.shape[0] > 100 and image.std() > 0.0

@@ -238,9 +238,10 @@ module mpm_case
             !! checkpoint file; "" for <output_dir>/checkpoint.h5
         logical :: checkpoint_on_signal = .true.
             !! on SIGTERM or SIGINT, write a checkpoint and stop (exit_interrupted)
-        real(wp) :: guard_energy_factor = 10.0_wp
-            !! the blow-up guard stops a run whose kinetic energy exceeds this factor times the
-            !! largest energy of the run so far [-]
+        real(wp) :: guard_energy_factor = 1.0_wp
+            !! the blow-up guard stops a run that created more energy (its energy residual)
+            !! than this factor times its energy scale (initial kinetic and elastic energy,
+            !! |work of gravity and loads| so far) [-]
         integer :: guard_snapshot_steps = 100
             !! steps between two copies of the state kept in memory, written as the last
             !! healthy state when the guard stops the run; 0: no copy

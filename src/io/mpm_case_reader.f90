@@ -251,8 +251,8 @@ contains
         line = line//", file "//text_or(case%checkpoint_file, "<output folder>/checkpoint.h5", &
             .true.)
         text = text//line//nl
-        line = "guard       kinetic energy above "//fmt_real(case%guard_energy_factor)// &
-            " x the largest so far; "
+        line = "guard       energy created above "//fmt_real(case%guard_energy_factor)// &
+            " x the energy scale; "
         if (case%guard_snapshot_steps > 0) then
             line = line//"healthy copy every "//itoa(case%guard_snapshot_steps)//" steps"
         else
@@ -1548,7 +1548,7 @@ contains
         call get_section(root, "guard", "", src, guard_keys, guard, error, found=found)
         if (allocated(error) .or. .not. found) return
         call get_real(guard, "energy_factor", "guard", src, case%guard_energy_factor, error, &
-            above=1.0_wp)
+            above=0.0_wp)
         if (allocated(error)) return
         call get_int(guard, "snapshot_steps", "guard", src, case%guard_snapshot_steps, error, &
             at_least=0)

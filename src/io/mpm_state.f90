@@ -26,12 +26,15 @@ module mpm_state
     implicit none
     private
     public :: save_state, load_state, read_run_record, run_record_type, state_particle_count
-    public :: state_format, state_format_version
+    public :: state_format, state_format_version, state_energy_terms
 
     character(len=*), parameter :: state_format = "mpm-geo-state"
         !! value of the root attribute "format" of a state file
     integer, parameter :: state_format_version = 1
         !! layout version written by this build (and the only one it reads)
+    integer, parameter :: state_energy_terms = 14
+        !! values of the `energy` attribute of a run record (mpm_solver energy_record); the
+        !! run records of builds before the energy balance held 4 and no `energy_terms`
     real(wp), parameter :: grid_rtol = 1.0e-12_wp
         !! relative tolerance when comparing dx and origin with the case's [-]
 
@@ -47,10 +50,8 @@ module mpm_state
             !! images (processes) of the run
         real(wp) :: dt = 0.0_wp
             !! time step of the last step [s]
-        real(wp) :: energy(4) = 0.0_wp
-            !! kinetic, strain, potential and damping energy terms of the run [J]
-        real(wp) :: energy_scale = 0.0_wp
-            !! largest energy of the run so far (blow-up guard) [J]
+        real(wp) :: energy(state_energy_terms) = 0.0_wp
+            !! the energy terms of the run (mpm_solver energy_record) [J]
         real(wp) :: kinetic_previous = 0.0_wp
             !! kinetic energy of the step before (kinetic damping) [J]
         real(wp) :: next_output = 0.0_wp
@@ -250,9 +251,9 @@ contains
         if (allocated(error)) return
         call hdf5_write_attribute(group, "dt", run%dt, error)
         if (allocated(error)) return
-        call hdf5_write_attribute(group, "energy", run%energy, error)
+        call hdf5_write_attribute(group, "energy_terms", state_energy_terms, error)
         if (allocated(error)) return
-        call hdf5_write_attribute(group, "energy_scale", run%energy_scale, error)
+        call hdf5_write_attribute(group, "energy", run%energy, error)
         if (allocated(error)) return
         call hdf5_write_attribute(group, "kinetic_previous", run%kinetic_previous, error)
         if (allocated(error)) return
@@ -357,7 +358,7 @@ contains
         type(run_record_type), intent(inout) :: run
         type(error_type), allocatable, intent(out) :: error
 
-        integer :: outputs, faces, terrain, nbytes, i
+        integer :: outputs, faces, terrain, nbytes, i, terms
         integer, allocatable :: bytes(:), counts(:), ids(:)
 
         call hdf5_read_attribute(group, "case_file", run%case_file, error)
@@ -368,9 +369,19 @@ contains
         if (allocated(error)) return
         call hdf5_read_attribute(group, "dt", run%dt, error)
         if (allocated(error)) return
+        terms = 4
+        if (hdf5_has_attribute(group, "energy_terms")) then
+            call hdf5_read_attribute(group, "energy_terms", terms, error)
+            if (allocated(error)) return
+        end if
+        if (terms /= state_energy_terms) then
+            call fatal_error(error, "its run record keeps "//int_text(terms)// &
+                " energy terms, this build "//int_text(state_energy_terms)// &
+                " (a checkpoint of an older build, before the energy balance of history.csv:"// &
+                " continue it with that build, or start the run again)", exit_input)
+            return
+        end if
         call hdf5_read_attribute(group, "energy", run%energy, error)
-        if (allocated(error)) return
-        call hdf5_read_attribute(group, "energy_scale", run%energy_scale, error)
         if (allocated(error)) return
         call hdf5_read_attribute(group, "kinetic_previous", run%kinetic_previous, error)
         if (allocated(error)) return

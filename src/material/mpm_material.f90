@@ -9,6 +9,14 @@ module mpm_material
     implicit none
     private
     public :: material_type, material_holder_type
+    public :: work_stored, work_plastic, work_viscous, nwork_kinds
+
+    integer, parameter :: work_stored = 1, work_plastic = 2, work_viscous = 3
+        !! where the work of the stresses goes, beyond the elastic energy the stress stores:
+        !! nowhere (an elastic material: every joule is stored), plastic dissipation, viscous
+        !! dissipation (`work_kind`)
+    integer, parameter :: nwork_kinds = 3
+        !! number of work kinds
 
     !> A constitutive model with its parameters.
     type, abstract :: material_type
@@ -24,6 +32,12 @@ module mpm_material
         procedure :: update_stress_block => material_update_stress_block
             !! update_stress of a block of particles (default: one by one); a material whose
             !! update is a few operations overrides it with a loop over the block
+        procedure :: work_kind => material_work_kind
+            !! where the work of the stresses goes besides the stored elastic energy
+            !! (`work_stored`, `work_plastic`, `work_viscous`; default plastic)
+        procedure :: elastic_energy_block => material_elastic_energy_block
+            !! stored elastic energy per unit volume of a block of particles (default 0: all
+            !! the work of the stresses is dissipated)
     end type material_type
 
     !> Holder so that materials of different types fit in one array.
@@ -84,5 +98,28 @@ contains
             !! the material
         material_nstate = 0
     end function material_nstate
+
+    !> Default: the work of the stresses is dissipated (plastic), nothing is stored.
+    pure integer function material_work_kind(self)
+        class(material_type), intent(in) :: self
+            !! the material
+        material_work_kind = work_plastic
+    end function material_work_kind
+
+    !> Stored elastic energy per unit (current) volume of n particles; default 0.
+    pure subroutine material_elastic_energy_block(self, n, stress, state, density)
+        class(material_type), intent(in) :: self
+            !! the material
+        integer, intent(in) :: n
+            !! particles in the block
+        real(wp), intent(in) :: stress(:, :)
+            !! Cauchy stresses (4 or 6, at least n), tension positive [Pa]
+        real(wp), intent(in) :: state(:, :)
+            !! material states (at least nstate(), at least n)
+        real(wp), intent(out) :: density(:)
+            !! stored elastic energy per unit volume (at least n) [J/m3]
+
+        density(1:n) = 0.0_wp
+    end subroutine material_elastic_energy_block
 
 end module mpm_material

@@ -24,8 +24,8 @@ module mpm_material_drucker_prager
     use mpm_kinds, only: wp
     use mpm_softening, only: softened_strength
     use mpm_separation, only: close_opening
-    use mpm_material, only: material_type
-    use mpm_stress, only: add_jaumann_rotation, double_contraction
+    use mpm_material, only: material_type, work_plastic
+    use mpm_stress, only: add_jaumann_rotation, double_contraction, isotropic_elastic_energy
     use mpm_case, only: material_spec_type, cone_plane_strain, cone_compression, &
         cone_extension, softening_none
     implicit none
@@ -76,9 +76,41 @@ module mpm_material_drucker_prager
             !! two state values: eps_q and the plastic volumetric strain
         procedure :: strength => drucker_prager_strength
             !! phi, c and psi after a given plastic shear strain
+        procedure :: work_kind => drucker_prager_work_kind
+            !! plastic: the work beyond the stored elastic energy is dissipated
+        procedure :: elastic_energy_block => drucker_prager_elastic_energy_block
+            !! 1/2 sigma : C^-1 : sigma
     end type drucker_prager_material_type
 
 contains
+
+    !> Where the work of the stresses goes: plastic dissipation beyond the stored part.
+    pure integer function drucker_prager_work_kind(self)
+        class(drucker_prager_material_type), intent(in) :: self
+            !! the material
+        drucker_prager_work_kind = work_plastic
+    end function drucker_prager_work_kind
+
+    !> Stored elastic energy per unit volume, 1/2 sigma : C^-1 : sigma (isotropic elasticity
+    !> of E and nu: the stress is elastic, the plastic strain holds no energy).
+    pure subroutine drucker_prager_elastic_energy_block(self, n, stress, state, density)
+        class(drucker_prager_material_type), intent(in) :: self
+            !! the material
+        integer, intent(in) :: n
+            !! particles in the block
+        real(wp), intent(in) :: stress(:, :)
+            !! Cauchy stresses [Pa]
+        real(wp), intent(in) :: state(:, :)
+            !! material states (unused)
+        real(wp), intent(out) :: density(:)
+            !! stored elastic energy per unit volume [J/m3]
+
+        integer :: j
+
+        do j = 1, n
+            density(j) = isotropic_elastic_energy(stress(:, j), self%young, self%poisson)
+        end do
+    end subroutine drucker_prager_elastic_energy_block
 
     !> Construct a Drucker-Prager material from its case specification.
     pure subroutine new_drucker_prager_material(mat, spec)

@@ -1,8 +1,8 @@
 !> Linear elastic material with the Jaumann (objective) stress rate.
 module mpm_material_elastic
     use mpm_kinds, only: wp
-    use mpm_material, only: material_type
-    use mpm_stress, only: add_jaumann_rotation
+    use mpm_material, only: material_type, work_stored
+    use mpm_stress, only: add_jaumann_rotation, isotropic_elastic_energy
     implicit none
     private
     public :: elastic_material_type, new_elastic_material
@@ -20,6 +20,8 @@ module mpm_material_elastic
     contains
         procedure :: update_stress => elastic_update_stress
         procedure :: update_stress_block => elastic_update_stress_block
+        procedure :: work_kind => elastic_work_kind
+        procedure :: elastic_energy_block => elastic_elastic_energy_block
     end type elastic_material_type
 
 contains
@@ -98,5 +100,33 @@ contains
             end do
         end if
     end subroutine elastic_update_stress_block
+
+    !> Where the work of the stresses goes: stored.
+    pure integer function elastic_work_kind(self)
+        class(elastic_material_type), intent(in) :: self
+            !! the material
+        elastic_work_kind = work_stored
+    end function elastic_work_kind
+
+    !> Stored elastic energy per unit volume, 1/2 sigma : C^-1 : sigma (isotropic elasticity
+    !> of E and nu).
+    pure subroutine elastic_elastic_energy_block(self, n, stress, state, density)
+        class(elastic_material_type), intent(in) :: self
+            !! the material
+        integer, intent(in) :: n
+            !! particles in the block
+        real(wp), intent(in) :: stress(:, :)
+            !! Cauchy stresses [Pa]
+        real(wp), intent(in) :: state(:, :)
+            !! material states (unused)
+        real(wp), intent(out) :: density(:)
+            !! stored elastic energy per unit volume [J/m3]
+
+        integer :: j
+
+        do j = 1, n
+            density(j) = isotropic_elastic_energy(stress(:, j), self%young, self%poisson)
+        end do
+    end subroutine elastic_elastic_energy_block
 
 end module mpm_material_elastic

@@ -75,8 +75,8 @@ module mpm_material_mohr_coulomb
     use mpm_kinds, only: wp
     use mpm_softening, only: softened_strength
     use mpm_separation, only: close_opening
-    use mpm_material, only: material_type
-    use mpm_stress, only: add_jaumann_rotation, voigt_matrix
+    use mpm_material, only: material_type, work_plastic
+    use mpm_stress, only: add_jaumann_rotation, voigt_matrix, isotropic_elastic_energy
     use mpm_case, only: material_spec_type, softening_none
     implicit none
     private
@@ -196,9 +196,41 @@ module mpm_material_mohr_coulomb
             !! two state values: eps_q and the plastic volumetric strain
         procedure :: strength => mohr_coulomb_strength
             !! phi, c, psi and the tensile strength after a given plastic shear strain
+        procedure :: work_kind => mohr_coulomb_work_kind
+            !! plastic: the work beyond the stored elastic energy is dissipated
+        procedure :: elastic_energy_block => mohr_coulomb_elastic_energy_block
+            !! 1/2 sigma : C^-1 : sigma
     end type mohr_coulomb_material_type
 
 contains
+
+    !> Where the work of the stresses goes: plastic dissipation beyond the stored part.
+    pure integer function mohr_coulomb_work_kind(self)
+        class(mohr_coulomb_material_type), intent(in) :: self
+            !! the material
+        mohr_coulomb_work_kind = work_plastic
+    end function mohr_coulomb_work_kind
+
+    !> Stored elastic energy per unit volume, 1/2 sigma : C^-1 : sigma (isotropic elasticity
+    !> of E and nu: the stress is elastic, the plastic strain holds no energy).
+    pure subroutine mohr_coulomb_elastic_energy_block(self, n, stress, state, density)
+        class(mohr_coulomb_material_type), intent(in) :: self
+            !! the material
+        integer, intent(in) :: n
+            !! particles in the block
+        real(wp), intent(in) :: stress(:, :)
+            !! Cauchy stresses [Pa]
+        real(wp), intent(in) :: state(:, :)
+            !! material states (unused)
+        real(wp), intent(out) :: density(:)
+            !! stored elastic energy per unit volume [J/m3]
+
+        integer :: j
+
+        do j = 1, n
+            density(j) = isotropic_elastic_energy(stress(:, j), self%young, self%poisson)
+        end do
+    end subroutine mohr_coulomb_elastic_energy_block
 
     !> Construct a Mohr-Coulomb material from its case specification.
     pure subroutine new_mohr_coulomb_material(mat, spec)

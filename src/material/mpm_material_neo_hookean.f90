@@ -9,7 +9,7 @@
 !> sigma = E/2 (F - 1/F), the law of the manufactured solution of REFERENCES.md section 3.
 module mpm_material_neo_hookean
     use mpm_kinds, only: wp
-    use mpm_material, only: material_type
+    use mpm_material, only: material_type, work_stored
     use mpm_case, only: material_spec_type
     implicit none
     private
@@ -24,6 +24,8 @@ module mpm_material_neo_hookean
     contains
         procedure :: update_stress => neo_hookean_update_stress
         procedure :: nstate => neo_hookean_nstate
+        procedure :: work_kind => neo_hookean_work_kind
+        procedure :: elastic_energy_block => neo_hookean_elastic_energy_block
     end type neo_hookean_material_type
 
 contains
@@ -46,6 +48,39 @@ contains
         class(neo_hookean_material_type), intent(in) :: self
         neo_hookean_nstate = 9
     end function neo_hookean_nstate
+
+    !> Hyperelastic: all the work of the stresses is stored.
+    pure integer function neo_hookean_work_kind(self)
+        class(neo_hookean_material_type), intent(in) :: self
+        neo_hookean_work_kind = work_stored
+    end function neo_hookean_work_kind
+
+    !> Stored energy per unit current volume, W / J with the energy per reference volume
+    !> W = mu/2 (tr(F F^T) - 3) - mu ln J + lambda/2 (ln J)^2 (whose derivative is the stress
+    !> of neo_hookean_update_stress), F from the state; 0 for an inverted element.
+    pure subroutine neo_hookean_elastic_energy_block(self, n, stress, state, density)
+        class(neo_hookean_material_type), intent(in) :: self
+        integer, intent(in) :: n
+        real(wp), intent(in) :: stress(:, :)
+        real(wp), intent(in) :: state(:, :)
+        real(wp), intent(out) :: density(:)
+
+        real(wp) :: f(3, 3), jac
+        integer :: i, j
+
+        do j = 1, n
+            f = reshape(state(1:9, j), [3, 3])
+            do i = 1, 3
+                f(i, i) = f(i, i) + 1.0_wp
+            end do
+            jac = f(1, 1)*(f(2, 2)*f(3, 3) - f(2, 3)*f(3, 2)) &
+                - f(1, 2)*(f(2, 1)*f(3, 3) - f(2, 3)*f(3, 1)) &
+                + f(1, 3)*(f(2, 1)*f(3, 2) - f(2, 2)*f(3, 1))
+            density(j) = 0.0_wp
+            if (jac > 0.0_wp) density(j) = (0.5_wp*self%shear*(sum(f*f) - 3.0_wp) &
+                - self%shear*log(jac) + 0.5_wp*self%lame*log(jac)**2)/jac
+        end do
+    end subroutine neo_hookean_elastic_energy_block
 
     pure subroutine neo_hookean_update_stress(self, stress, dstrain, omega, dt, state)
         class(neo_hookean_material_type), intent(in) :: self

@@ -11,7 +11,7 @@
 !> is dropped because it is deviatoric and p_n is read from the trace only.
 module mpm_material_newtonian
     use mpm_kinds, only: wp
-    use mpm_material, only: material_type
+    use mpm_material, only: material_type, work_viscous
     use mpm_case, only: material_spec_type
     implicit none
     private
@@ -26,6 +26,10 @@ module mpm_material_newtonian
     contains
         procedure :: update_stress => newtonian_update_stress
             !! pressure in rate form plus the viscous stress of the step's strain rate
+        procedure :: work_kind => newtonian_work_kind
+            !! viscous: the work beyond the stored compression energy is dissipated
+        procedure :: elastic_energy_block => newtonian_elastic_energy_block
+            !! p^2 / (2 K)
     end type newtonian_material_type
 
 contains
@@ -41,6 +45,36 @@ contains
         mat%viscosity = spec%viscosity
         mat%bulk_modulus = spec%bulk_modulus
     end subroutine new_newtonian_material
+
+    !> The work of the viscous stresses is dissipated.
+    pure integer function newtonian_work_kind(self)
+        class(newtonian_material_type), intent(in) :: self
+            !! the material
+        newtonian_work_kind = work_viscous
+    end function newtonian_work_kind
+
+    !> Stored (compression) energy per unit volume, p^2 / (2 K), p = -tr(sigma)/3: the
+    !> pressure is elastic, the deviatoric stress viscous.
+    pure subroutine newtonian_elastic_energy_block(self, n, stress, state, density)
+        class(newtonian_material_type), intent(in) :: self
+            !! the material
+        integer, intent(in) :: n
+            !! particles in the block
+        real(wp), intent(in) :: stress(:, :)
+            !! Cauchy stresses [Pa]
+        real(wp), intent(in) :: state(:, :)
+            !! unused
+        real(wp), intent(out) :: density(:)
+            !! stored energy per unit volume [J/m3]
+
+        integer :: j
+        real(wp) :: pressure
+
+        do j = 1, n
+            pressure = -(stress(1, j) + stress(2, j) + stress(3, j))/3.0_wp
+            density(j) = pressure*pressure/(2.0_wp*self%bulk_modulus)
+        end do
+    end subroutine newtonian_elastic_energy_block
 
     !> sigma_{n+1} = -p_{n+1} I + 2 mu dev(D), p_{n+1} = -tr(sigma_n)/3 - K tr(d eps),
     !> D = d eps / dt. Plane strain (4 components): D_zz = 0, so

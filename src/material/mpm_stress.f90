@@ -12,6 +12,7 @@ module mpm_stress
     implicit none
     private
     public :: jaumann_rotation, add_jaumann_rotation, trace, double_contraction, voigt_matrix
+    public :: isotropic_elastic_energy
 
 contains
 
@@ -116,5 +117,23 @@ contains
         double_contraction = a(1)*b(1) + a(2)*b(2) + a(3)*b(3) &
             + 2.0_wp*sum(a(4:size(a))*b(4:size(b)))
     end function double_contraction
+
+    !> Elastic energy per unit volume of a stress in an isotropic linear-elastic solid,
+    !> 1/2 sigma : C^-1 : sigma = ((1 + nu) sigma : sigma - nu tr(sigma)^2) / (2 E) [J/m3].
+    !> In plane strain the stored sigma_zz is part of sigma (and eps_zz = 0 follows from it).
+    pure real(wp) function isotropic_elastic_energy(stress, young, poisson)
+        real(wp), intent(in) :: stress(:)
+            !! Cauchy stress, 4 or 6 components [Pa]
+        real(wp), intent(in) :: young
+            !! Young's modulus E [Pa]
+        real(wp), intent(in) :: poisson
+            !! Poisson's ratio nu [-]
+
+        real(wp) :: tr
+
+        tr = stress(1) + stress(2) + stress(3)
+        isotropic_elastic_energy = ((1.0_wp + poisson)*double_contraction(stress, stress) &
+            - poisson*tr*tr)/(2.0_wp*young)
+    end function isotropic_elastic_energy
 
 end module mpm_stress

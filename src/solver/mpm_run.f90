@@ -13,7 +13,7 @@ module mpm_run
     use mpm_case, only: case_type
     use mpm_solver, only: simulation_type, new_simulation, advance, stable_time_step, &
         compute_energies, has_text, nphases, phase_names, phase_other, phase_output, agree, &
-        contact_loads, resume_simulation
+        contact_loads, resume_simulation, energy_record, energy_total, energy_residual
     use mpm_parallel, only: image_id, image_count, counts_of_images, gather_on_first, &
         max_over_images
     use mpm_decomposition, only: image_grids
@@ -419,9 +419,7 @@ contains
         run%output_dir = sim%case%output_dir
         run%images = image_count()
         run%dt = sim%dt
-        run%energy = [sim%energy%kinetic, sim%energy%strain, sim%energy%potential, &
-            sim%energy%damping]
-        run%energy_scale = sim%energy_scale
+        run%energy = energy_record(sim%energy)
         run%kinetic_previous = sim%kinetic_previous
         run%next_output = next_output
         run%next_history = next_history
@@ -652,7 +650,8 @@ contains
         else
             call open_text_file(case%output_dir//"/history.csv", unit, error)
             if (.not. allocated(error)) call put_line(unit, "time,step,kinetic_energy,"// &
-                "strain_energy,potential_energy,damping_work,total")
+                "elastic_energy,potential_energy,plastic_work,viscous_work,damping_work,"// &
+                "friction_work,load_work,total,residual")
         end if
     end subroutine open_history
 
@@ -801,11 +800,12 @@ contains
         type(text_file_type), intent(inout) :: unit
         type(simulation_type), intent(in) :: sim
 
-        character(len=256) :: line
+        character(len=512) :: line
 
         associate (e => sim%energy)
-            write (line, "(es23.15e3,',',i0,5(',',es23.15e3))") sim%time, sim%step, e%kinetic, &
-                e%strain, e%potential, e%damping, e%kinetic + e%strain + e%potential + e%damping
+            write (line, "(es23.15e3,',',i0,10(',',es23.15e3))") sim%time, sim%step, e%kinetic, &
+                e%elastic, e%potential, e%plastic, e%viscous, e%damping, e%friction, e%loads, &
+                energy_total(e), energy_residual(e)
         end associate
         call put_line(unit, trim(line))
     end subroutine write_history

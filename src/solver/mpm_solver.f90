@@ -24,19 +24,21 @@ module mpm_solver
         min_over_images, exchange_neighbours, agree_on_failure
     use mpm_shape, only: shape_type
     use mpm_shape_factory, only: new_shape
-    use mpm_material, only: material_holder_type
+    use mpm_material, only: material_holder_type, nwork_kinds, work_plastic, work_viscous
     use mpm_material_factory, only: new_materials
     use mpm_state, only: load_state, run_record_type
     use mpm_contact_loads, only: face_loads, take_face_loads, face_node_count, terrain_loads, &
         take_terrain_loads
     use mpm_stencil, only: stencils_type, compute_stencils
     use mpm_transfer, only: p2g, nodal_velocity, integrate_nodes, g2p, motion_type, &
-        report_lost, update_stress
+        report_lost, update_stress, nstress_sums, nnodal_sums, nodal_damping, nodal_friction
     use mpm_clock, only: wall_time
     implicit none
     private
     public :: simulation_type, new_simulation, advance, stable_time_step, energies_type
     public :: compute_energies, has_text, agree, contact_loads, resume_simulation
+    public :: start_energy_balance, energy_residual, energy_total, energy_scale, &
+        energy_record, energies_from_record, nenergy_record
     public :: nphases, phase_names, phase_stencils, phase_p2g, phase_nodal, phase_g2p, &
         phase_stress, phase_other, phase_output
 
@@ -56,17 +58,44 @@ module mpm_solver
     integer, parameter :: sum_block = 4096
         !! particles per partial sum of the energies (fixed order with any thread count)
 
-    !> Energy terms of a run [J] (per metre of thickness in 2D [J/m]).
+    integer, parameter :: nenergy_record = 11 + nwork_kinds
+        !! values of energy_record (the `energy` attribute of a checkpoint's run record)
+    real(wp), parameter :: floor_strain = 1.0e-4_wp
+        !! the guard's smallest energy scale is the elastic energy of a uniform strain of this
+        !! size in every particle, 1/2 m c_p^2 floor_strain^2 summed (a run at rest is not
+        !! stopped on the round-off of its energies) [-]
+
+    !> Energy terms of a run [J] (per metre of thickness in 2D [J/m]), since the start of the
+    !> balance (start_energy_balance). They close: energy_residual, kinetic + elastic +
+    !> potential + plastic + viscous + damping + friction - loads - initial, is the
+    !> energy the discretisation created (> 0) or lost (< 0). docs/output.md defines each.
     type :: energies_type
         real(wp) :: kinetic = 0.0_wp
             !! sum 1/2 m v^2 [J]
         real(wp) :: strain = 0.0_wp
-            !! work done by the stresses since the start (stored strain energy if elastic) [J]
+            !! work done by the stresses since the start, all materials [J]
+        real(wp) :: elastic = 0.0_wp
+            !! elastic energy stored in the particles now, sum V w(sigma) [J]
         real(wp) :: potential = 0.0_wp
             !! gravitational potential relative to the start, - sum m g . u [J], summed step
             !! by step from the moves
+        real(wp) :: plastic = 0.0_wp
+            !! plastic dissipation: work of the stresses of plastic materials minus the change
+            !! of their stored elastic energy [J]
+        real(wp) :: viscous = 0.0_wp
+            !! viscous dissipation: the same for viscous materials [J]
         real(wp) :: damping = 0.0_wp
-            !! energy removed by damping and boundary friction since the start (positive) [J]
+            !! energy removed by the `damping` of the case (local or kinetic) [J]
+        real(wp) :: friction = 0.0_wp
+            !! kinetic energy removed by the friction of frictional faces and the terrain [J]
+        real(wp) :: loads = 0.0_wp
+            !! work of the prescribed body forces of drivers (not gravity) [J]
+        real(wp) :: initial = 0.0_wp
+            !! kinetic + elastic energy at the start of the balance [J]
+        real(wp) :: supplied = 0.0_wp
+            !! largest |work of gravity| + |work of loads| so far (energy_scale) [J]
+        real(wp) :: stored(nwork_kinds) = 0.0_wp
+            !! the elastic energy by work kind of the materials (`work_*` of mpm_material) [J]
     end type energies_type
 
     !> A model in time: case, grid, particles, materials and the clock.
@@ -98,9 +127,9 @@ module mpm_solver
         real(wp) :: dt = 0.0_wp
             !! time step of the last step [s]
         type(energies_type) :: energy
-            !! energy terms, the kinetic energy updated every step
-        real(wp) :: energy_scale = 0.0_wp
-            !! largest kinetic + strain + damping + |potential| energy so far (blow-up guard) [J]
+            !! energy terms, updated every step
+        real(wp) :: energy_floor = 0.0_wp
+            !! smallest energy scale of the blow-up guard (floor_strain) [J]
         real(wp) :: kinetic_previous = 0.0_wp
             !! kinetic energy of the previous step (kinetic damping) [J]
         real(wp), allocatable :: terrain_corner(:, :, :)
@@ -203,10 +232,102 @@ contains
             end if
             sim%particles%affine = 0.0_wp
         end if
-        call compute_energies(sim)
-        sim%kinetic_previous = sim%energy%kinetic
-        sim%energy_scale = sim%energy%kinetic
+        call start_energy_balance(sim)
     end subroutine new_simulation
+
+    !> Start the energy balance from the particles as they are: kinetic and elastic energy
+    !> (the `initial` term), every other term zero. new_simulation calls it; a driver that
+    !> sets velocities or stresses after new_simulation calls it again. Collective.
+    subroutine start_energy_balance(sim)
+        type(simulation_type), intent(inout) :: sim
+            !! the simulation
+
+        integer :: p, b, nb, k, mat
+        real(wp) :: density(1), none(0, 1), floor
+        real(wp), allocatable :: partial(:, :)
+
+        sim%energy = energies_type()
+        sim%energy%kinetic = kinetic_energy(sim%particles)
+        nb = (sim%particles%n + sum_block - 1)/sum_block
+        allocate (partial(nwork_kinds + 1, nb))
+        associate (particles => sim%particles)
+            do b = 1, nb
+                partial(:, b) = 0.0_wp
+                do p = (b - 1)*sum_block + 1, min(b*sum_block, particles%n)
+                    mat = particles%material(p)
+                    if (particles%nstate > 0) then
+                        call sim%materials(mat)%m%elastic_energy_block(1, &
+                            particles%stress(:, p:p), particles%state(:, p:p), density)
+                    else
+                        call sim%materials(mat)%m%elastic_energy_block(1, &
+                            particles%stress(:, p:p), none, density)
+                    end if
+                    k = sim%materials(mat)%m%work_kind()
+                    partial(k, b) = partial(k, b) + density(1)*particles%volume(p)
+                    partial(nwork_kinds + 1, b) = partial(nwork_kinds + 1, b) + 0.5_wp &
+                        *particles%mass(p)*(floor_strain*sim%wave_speed(mat))**2
+                end do
+            end do
+        end associate
+        floor = 0.0_wp
+        do b = 1, nb
+            sim%energy%stored = sim%energy%stored + partial(1:nwork_kinds, b)
+            floor = floor + partial(nwork_kinds + 1, b)
+        end do
+        call sum_over_images(sim%energy%kinetic)
+        call sum_over_images(sim%energy%stored)
+        call sum_over_images(floor)
+        sim%energy%elastic = sum(sim%energy%stored)
+        sim%energy%initial = sim%energy%kinetic + sim%energy%elastic
+        sim%energy_floor = max(floor, tiny(1.0_wp))
+        sim%kinetic_previous = sim%energy%kinetic
+    end subroutine start_energy_balance
+
+    !> Kinetic + elastic + potential + dissipated energy - work of the loads [J]: constant
+    !> (equal to `initial`) for an exact integrator.
+    pure real(wp) function energy_total(e)
+        type(energies_type), intent(in) :: e
+            !! energy terms
+        energy_total = e%kinetic + e%elastic + e%potential + e%plastic + e%viscous &
+            + e%damping + e%friction - e%loads
+    end function energy_total
+
+    !> The energy the discretisation created since the start (> 0) or lost (< 0) [J].
+    pure real(wp) function energy_residual(e)
+        type(energies_type), intent(in) :: e
+            !! energy terms
+        energy_residual = energy_total(e) - e%initial
+    end function energy_residual
+
+    !> The energy scale of a run for the blow-up guard [J]: initial kinetic + elastic energy
+    !> and the largest |work of gravity| + |work of loads| so far (an undamped body swings
+    !> back to where gravity did no net work: what it was given is the largest), at least
+    !> `floor`.
+    pure real(wp) function energy_scale(e, floor)
+        type(energies_type), intent(in) :: e
+            !! energy terms
+        real(wp), intent(in) :: floor
+            !! smallest scale [J]
+        energy_scale = max(e%initial + e%supplied, floor)
+    end function energy_scale
+
+    !> The energy terms as one array (checkpoints), in the order of energies_type.
+    pure function energy_record(e) result(r)
+        type(energies_type), intent(in) :: e
+            !! energy terms
+        real(wp) :: r(nenergy_record)
+        r = [e%kinetic, e%strain, e%elastic, e%potential, e%plastic, e%viscous, e%damping, &
+            e%friction, e%loads, e%initial, e%supplied, e%stored]
+    end function energy_record
+
+    !> The energy terms of an energy_record.
+    pure function energies_from_record(r) result(e)
+        real(wp), intent(in) :: r(nenergy_record)
+            !! energy_record
+        type(energies_type) :: e
+        e = energies_type(r(1), r(2), r(3), r(4), r(5), r(6), r(7), r(8), r(9), r(10), &
+            r(11), r(12:))
+    end function energies_from_record
 
     !> Continue a run from a checkpoint (after new_simulation with `restart`): the energy
     !> terms, the guard's scale, the last step and the running contact loads, as they were.
@@ -224,8 +345,7 @@ contains
         logical :: complete
 
         sim%dt = run%dt
-        sim%energy = energies_type(run%energy(1), run%energy(2), run%energy(3), run%energy(4))
-        sim%energy_scale = run%energy_scale
+        sim%energy = energies_from_record(run%energy)
         sim%kinetic_previous = run%kinetic_previous
         ! the terrain pairs of this grid, to compare with the checkpoint's
         call terrain_loads(sim%case, sim%grid, sim%dec, node, load)
@@ -541,9 +661,11 @@ contains
         type(error_type), allocatable, intent(out) :: error
             !! set on a numerical failure (exit_numerical)
 
-        real(wp) :: work, damping_work, clock, kinetic, sums(4)
+        real(wp) :: work(nstress_sums), nodal_work(nnodal_sums), clock, kinetic, &
+            sums(3 + nstress_sums + nnodal_sums)
         integer :: scheme
         type(motion_type) :: motion
+        type(energies_type) :: next
 
         scheme = sim%case%scheme
         clock = wall_time()
@@ -567,7 +689,7 @@ contains
             end if
             call lap(sim, phase_p2g, clock)
             call integrate_nodes(grid, dt, sim%case%gravity, sim%case%damping, &
-                sim%case%damping_value, damping_work)
+                sim%case%damping_value, nodal_work)
             call lap(sim, phase_nodal, clock)
             ! MUSL: the same pass maps the updated particle momentum back to the nodes, and the
             ! particles move in the stress update; USL, USF: they move here
@@ -597,13 +719,12 @@ contains
             call lap(sim, phase_stress, clock)
         end associate
         ! sums over the images, in one reduction
-        sums = [kinetic, work, damping_work, motion%potential]
+        sums = [kinetic, motion%potential, motion%load_work, work, nodal_work]
         call sum_over_images(sums)
-        ! the kinetic energy was summed in the G2P pass (nothing changes the velocities after)
-        sim%energy%kinetic = sums(1)
+        next = step_energies(sim%energy, sums)
         ! the blow-up guard speaks first, so an unstable run is reported as such rather than
         ! as the particles it throws out of the grid
-        call check_blow_up(sim, motion, error)
+        call check_blow_up(sim, motion, next, error)
         if (.not. allocated(error) .and. motion%lost > 0) then
             ! the corners of the whole grid (this image's is a slab of it)
             call report_lost(sim%case%origin, sim%case%origin + sim%case%dx* &
@@ -616,13 +737,7 @@ contains
         sim%time = sim%time + dt
         sim%step = sim%step + 1
         sim%dt = dt
-        sim%energy%strain = sim%energy%strain + sums(2)
-        sim%energy%damping = sim%energy%damping + sums(3)
-        sim%energy%potential = sim%energy%potential + sums(4)
-        associate (e => sim%energy)
-            sim%energy_scale = max(sim%energy_scale, e%kinetic + abs(e%strain) + abs(e%damping) &
-                + abs(e%potential))
-        end associate
+        sim%energy = next
         if (sim%case%damping == damping_kinetic) call kinetic_damping(sim)
         ! on several images: particles that left the slab go to their new image, and now
         ! and then the cuts follow the particles
@@ -631,6 +746,39 @@ contains
         if (.not. allocated(error)) call rebalance(sim, error)
         call lap(sim, phase_other, clock)
     end subroutine advance
+
+    !> The energy terms after a step from those before and the sums of the step (over all
+    !> images): kinetic energy, change of the potential, work of the loads, the stress sums
+    !> (nstress_sums) and the nodal sums (nnodal_sums).
+    pure function step_energies(before, sums) result(e)
+        type(energies_type), intent(in) :: before
+            !! terms at the start of the step
+        real(wp), intent(in) :: sums(:)
+            !! the sums of the step [J]
+        type(energies_type) :: e
+
+        real(wp) :: work(nwork_kinds), stored(nwork_kinds), nodal(nnodal_sums)
+
+        work = sums(4:3 + nwork_kinds)
+        stored = sums(4 + nwork_kinds:3 + nstress_sums)
+        nodal = sums(4 + nstress_sums:3 + nstress_sums + nnodal_sums)
+        e = before
+        ! the kinetic energy was summed in the G2P pass (nothing changes the velocities after)
+        e%kinetic = sums(1)
+        e%potential = e%potential + sums(2)
+        e%loads = e%loads + sums(3)
+        e%strain = e%strain + sum(work)
+        ! the work of a plastic or viscous material that its elastic energy did not take
+        e%plastic = e%plastic + work(work_plastic) &
+            - (stored(work_plastic) - before%stored(work_plastic))
+        e%viscous = e%viscous + work(work_viscous) &
+            - (stored(work_viscous) - before%stored(work_viscous))
+        e%stored = stored
+        e%elastic = sum(stored)
+        e%supplied = max(before%supplied, abs(e%potential) + abs(e%loads))
+        e%damping = e%damping + nodal(nodal_damping)
+        e%friction = e%friction + nodal(nodal_friction)
+    end function step_energies
 
     !> Make a failure of any image the failure of all (collective): every image returns the
     !> error, and only the one that reports it keeps a message (one message per run).
@@ -664,24 +812,29 @@ contains
     end subroutine lap
 
     !> Stop a run that blows up: a particle that moved more than a cell in one step, a
-    !> kinetic energy that is not finite, or one that exceeds blow_up_factor times the largest
-    !> energy the run has seen. An explicit run past its
-    !> stability limit grows by a factor every step and passes that bound within a few steps,
-    !> long before it writes NaN; a physical run cannot create that energy. The message names
-    !> the step, the particle, its position and the quantity.
-    subroutine check_blow_up(sim, motion, error)
+    !> kinetic energy or an energy residual that is not finite, or an energy residual (the
+    !> energy the discretisation created, energy_residual) above guard.energy_factor times
+    !> the energy scale of the run (energy_scale: what the run was given, initial kinetic and
+    !> elastic energy and the work of gravity and loads so far). A physical run cannot create
+    !> energy; an explicit run past its stability limit creates it at a growing rate, while
+    !> its own energies grow with it (a bound on a multiple of the largest energy so far is
+    !> passed late or never). The message names the step, the particle (the fastest, with
+    !> its volume change), its position and the quantity.
+    subroutine check_blow_up(sim, motion, next, error)
         type(simulation_type), intent(in) :: sim
             !! the simulation after a step
         type(motion_type), intent(in) :: motion
             !! the largest move of the step
+        type(energies_type), intent(in) :: next
+            !! the energy terms after the step
         type(error_type), allocatable, intent(out) :: error
             !! set (exit_numerical) when the run blew up
 
         integer :: p, worst
-        real(wp) :: speed, fastest
-        character(len=512) :: msg
+        real(wp) :: speed, fastest, created, scale
+        character(len=700) :: msg
 
-        associate (ke => sim%energy%kinetic, particles => sim%particles)
+        associate (ke => next%kinetic, particles => sim%particles)
             ! a stable explicit step moves no material point by more than a cell
             if (motion%jump > sim%case%dx) then
                 p = motion%jump_particle
@@ -695,8 +848,10 @@ contains
                     "; reduce time.dt or time.cfl", exit_numerical)
                 return
             end if
-            if (ke <= huge(1.0_wp) .and. .not. (sim%energy_scale > 0.0_wp .and. &
-                ke/sim%case%guard_energy_factor > sim%energy_scale)) return
+            created = energy_residual(next)
+            scale = energy_scale(next, sim%energy_floor)
+            if (ke <= huge(1.0_wp) .and. abs(created) <= huge(1.0_wp) .and. &
+                .not. created > sim%case%guard_energy_factor*scale) return
             ! the particle that shows it: the first with a non-finite velocity or stress,
             ! else the fastest
             worst = 0
@@ -713,20 +868,25 @@ contains
                     worst = p
                 end if
             end do
-            if (.not. (ke <= huge(1.0_wp))) then
+            if (worst == 0) then
+                ! no particle on this image: another image names one
+                msg = "the run became unstable (see the other images)"
+            else if (.not. (ke <= huge(1.0_wp) .and. abs(created) <= huge(1.0_wp))) then
                 write (msg, "(a,i0,a,a,a)") "the run became unstable: particle ", &
                     particle_number(particles, worst), &
                     " at (", trim(vector_text(particles%x(:, worst))), &
                     ") m has a velocity or stress that is not finite"
             else
-                write (msg, "(a,es10.3,a,g0.4,a,es10.3,a,i0,a,a,a,es10.3,a,es10.3,a)") &
-                    "the run became unstable: the kinetic energy ", ke, &
-                    " J is more than guard.energy_factor = ", sim%case%guard_energy_factor, &
-                    " times the largest energy of the run so far (", &
-                    sim%energy_scale, " J); fastest particle ", particle_number(particles, worst), &
-                    " at (", &
-                    trim(vector_text(particles%x(:, worst))), ") m, |v| = ", fastest, &
-                    " m/s (P-wave speed ", sim%wave_speed(particles%material(worst)), " m/s)"
+                write (msg, "(a,es10.3,a,g0.4,a,es10.3,a,i0,a,a,a,es10.3,a,es10.3,a,f0.3,a)") &
+                    "the run became unstable: it created energy, the energy residual ", &
+                    created, " J is more than guard.energy_factor = ", &
+                    sim%case%guard_energy_factor, " times the energy scale of the run (", &
+                    scale, " J: initial kinetic + elastic energy, largest |work of gravity "// &
+                    "and loads|); fastest particle ", particle_number(particles, worst), &
+                    " at (", trim(vector_text(particles%x(:, worst))), ") m, |v| = ", &
+                    fastest, " m/s (P-wave speed ", sim%wave_speed(particles%material(worst)), &
+                    " m/s), volume ", particles%volume(worst)/particles%volume0(worst), &
+                    " times its start"
             end if
         end associate
         call fatal_error(error, step_prefix(sim)//trim(msg)//"; reduce time.dt or time.cfl", &

@@ -23,12 +23,17 @@ module mpm_transfer
     use mpm_terrain, only: terrain_distance
     use mpm_particles, only: particles_type, particle_number
     use mpm_stencil, only: stencils_type, particle_nodes, max_nodes, axis_derivatives
-    use mpm_material, only: material_holder_type
+    use mpm_material, only: material_holder_type, nwork_kinds
     use mpm_case, only: damping_local, bc_free
     implicit none
     private
     public :: p2g, nodal_velocity, integrate_nodes, g2p, motion_type, report_lost
-    public :: update_stress
+    public :: update_stress, nstress_sums
+
+    integer, parameter :: nstress_sums = 2*nwork_kinds
+        !! sums of a stress pass: the work of the stresses over the step by work kind of the
+        !! materials (1 : nwork_kinds, `work_*` of mpm_material), then the elastic energy
+        !! stored in the particles at the end of the step by work kind [J]
 
     real(wp), parameter :: contact_tolerance = 1.0e-3_wp
         !! material closer to a frictional face than this fraction of dx touches it [-]
@@ -62,7 +67,14 @@ module mpm_transfer
             !! a particle that left the grid (through a free face, or not finite), 0 if none
         real(wp) :: potential = 0.0_wp
             !! change of the gravitational potential energy, - sum m g . dx [J]
+        real(wp) :: load_work = 0.0_wp
+            !! work of the extra body forces of drivers (particles%body_force) on the moves,
+            !! sum m b . dx [J]
     end type motion_type
+
+    integer, parameter, public :: nodal_damping = 1, nodal_friction = 2, nnodal_sums = 2
+        !! sums of the nodal update (integrate_nodes): work of local damping and of the
+        !! friction of frictional faces and the terrain (positive: energy removed)
 
 contains
 
@@ -410,8 +422,10 @@ contains
     !> f = f_int + m_i g + f_ext (f_ext: extra body forces only). Local damping adds
     !> f_d = - alpha |f| sign(v) per component, f the unbalanced force and v the nodal velocity
     !> at the start of the step. Frictional faces then act on the updated velocities
-    !> (apply_contacts). Returns the energy damping and boundary friction removed in this
-    !> step (positive).
+    !> (apply_contacts). Returns the work of damping and of friction in this step
+    !> (positive: energy removed), see nnodal_sums. The fixed components of the boundaries
+    !> and the normal constraint of the contacts do no work: their reaction acts where the
+    !> velocity of the end of the step, the one the particles move and strain with, is zero.
     subroutine integrate_nodes(grid, dt, gravity, damping, alpha, dissipated)
         type(grid_type), intent(inout) :: grid
             !! grid with mass, momentum and forces set
@@ -423,11 +437,11 @@ contains
             !! case%damping
         real(wp), intent(in) :: alpha
             !! local damping coefficient [-]
-        real(wp), intent(out) :: dissipated
-            !! energy removed by local damping and boundary friction in this step [J]
+        real(wp), intent(out) :: dissipated(nnodal_sums)
+            !! energy removed in this step by local damping and by contact friction [J]
 
         integer :: i, dim, layer, j, first, last, y, z, lo, hi
-        real(wp) :: f(3), v0(3), fd(3), contact_work, acc
+        real(wp) :: f(3), v0(3), fd(3), acc
         real(wp), allocatable :: partial(:)
 
         dim = grid%dim
@@ -484,11 +498,10 @@ contains
         !$omp end parallel do
         dissipated = 0.0_wp
         do layer = lo, hi
-            dissipated = dissipated + partial(layer)
+            dissipated(nodal_damping) = dissipated(nodal_damping) + partial(layer)
         end do
         if (grid%ncontacts > 0) then
-            call apply_contacts(grid, dt, contact_work)
-            dissipated = dissipated + contact_work
+            call apply_contacts(grid, dt, dissipated(nodal_friction))
             do i = 1, grid%ncontacts
                 associate (id => grid%contact_node(i))
                     if (grid%mass(id) > 0.0_wp) grid%velocity(:, id) = grid%momentum(:, id) &
@@ -524,10 +537,13 @@ contains
         real(wp), intent(in) :: dt
             !! time step [s]; 0 when only velocities are corrected
         real(wp), intent(out) :: work
-            !! kinetic energy the contacts removed (normal impact and friction) [J]
+            !! work of friction [J]: the friction impulse times the tangential velocity of
+            !! the end of the step, m (v_n - v_new) . v_new (v_n: the velocity with the normal
+            !! part removed), mu N ds for a slide ds; the normal impulse acts where the normal
+            !! velocity is zero and does no work
 
         integer :: c, id, dim
-        real(wp) :: v(3), vnew(3), vt(3), n(3), vn, vt_norm, factor, weight
+        real(wp) :: v(3), vnew(3), vt(3), n(3), vn, vt_norm, factor, weight, v1(3)
         logical :: touching
 
         dim = grid%dim
@@ -547,6 +563,7 @@ contains
             if (.not. touching) vn = 0.0_wp
             vnew(1:dim) = v(1:dim)
             if (vn > 0.0_wp) vnew(1:dim) = v(1:dim) - vn*n(1:dim)
+            v1(1:dim) = vnew(1:dim)
             if (dt > 0.0_wp) then
                 ! running mean over a fixed time, so that the friction does not depend on dt
                 weight = load_smoothing
@@ -565,7 +582,7 @@ contains
             end if
             grid%momentum(:, id) = grid%mass(id)*vnew(1:dim)
             if (node_owned(grid, id)) work = work &
-                + 0.5_wp*grid%mass(id)*(sum(v(1:dim)**2) - sum(vnew(1:dim)**2))
+                + grid%mass(id)*dot_product(v1(1:dim) - vnew(1:dim), vnew(1:dim))
         end do
     end subroutine apply_contacts
 
@@ -602,14 +619,15 @@ contains
             !! (per metre in 2D)
         type(material_holder_type), intent(in), optional :: materials(:)
             !! materials of the case: update the stresses in this pass (not with remap)
-        real(wp), intent(out), optional :: strain_work
-            !! with materials: sum_p (V sigma)_mid : d_eps [J] (per metre in 2D)
+        real(wp), intent(out), optional :: strain_work(nstress_sums)
+            !! with materials: sum_p (V sigma)_mid : d_eps and the stored elastic energy, by
+            !! work kind (nstress_sums) [J] (per metre in 2D)
 
         integer :: k, q, p, dim, shift, ng, qlo, qhi
-        real(wp) :: xp(3), vp(3), aff(3, 3), bf(3), vs(6), dx(3), gradv(3, 3), work, ke, &
-            ldts(3, 3, gather_block)
+        real(wp) :: xp(3), vp(3), aff(3, 3), bf(3), vs(6), dx(3), gradv(3, 3), ke, &
+            ldts(3, 3, gather_block), work(nstress_sums)
         logical :: apic, stress
-        real(wp), allocatable :: partial(:), partial_ke(:)
+        real(wp), allocatable :: partial(:, :), partial_ke(:)
         real(wp), pointer, contiguous :: buf(:, :)
         type(motion_type), allocatable :: moved(:)
         type(motion_type) :: mine
@@ -619,7 +637,7 @@ contains
         stress = present(materials) .and. .not. remap
         ! the remap scatters: chunks; otherwise only gathers: small blocks balance the threads
         ng = group_count(stc, remap)
-        allocate (moved(ng), partial(ng), partial_ke(ng))
+        allocate (moved(ng), partial(nstress_sums, ng), partial_ke(ng))
         if (remap) then
             ! the momentum only: the nodal masses do not change
             call scatter_buffer(grid, dim, stc%chunk_offset(stc%nchunks + 1), buf)
@@ -667,7 +685,7 @@ contains
             end do
             if (stress) call stress_block(particles, materials, stc, qlo, qhi, ldts, dt, dim, work)
             moved(k) = mine
-            partial(k) = work
+            partial(:, k) = work
             partial_ke(k) = ke
         end do
         !$omp end parallel do
@@ -679,7 +697,7 @@ contains
         if (present(strain_work)) then
             strain_work = 0.0_wp
             do k = 1, ng
-                strain_work = strain_work + partial(k)
+                strain_work = strain_work + partial(:, k)
             end do
         end if
         if (remap) then
@@ -773,6 +791,8 @@ contains
         end do
         motion%potential = motion%potential - particles%mass(p) &
             *dot_product(gravity(1:dim), x(1:dim) - particles%x(:, p))
+        if (allocated(particles%body_force)) motion%load_work = motion%load_work &
+            + particles%mass(p)*dot_product(particles%body_force(:, p), x(1:dim) - particles%x(:, p))
         if (allocated(particles%u)) then
             particles%u(:, p) = particles%u(:, p) + (x(1:dim) - particles%x(:, p))
         end if
@@ -795,6 +815,7 @@ contains
             end if
             if (motion%lost == 0) motion%lost = moved(k)%lost
             motion%potential = motion%potential + moved(k)%potential
+            motion%load_work = motion%load_work + moved(k)%load_work
         end do
     end subroutine merge_motion
 
@@ -844,8 +865,9 @@ contains
             !! time step [s]
         logical, intent(in) :: fbar
             !! average the volume change of the step per cell
-        real(wp), intent(out) :: strain_work
-            !! sum_p (V sigma)_mid : d_eps [J] (per metre in 2D)
+        real(wp), intent(out) :: strain_work(nstress_sums)
+            !! sum_p (V sigma)_mid : d_eps and the stored elastic energy at the end of the
+            !! step, by work kind (nstress_sums) [J] (per metre in 2D)
         real(wp), intent(in) :: gravity(3)
             !! gravitational acceleration (potential energy of the moves) [m/s2]
         type(motion_type), intent(out), optional :: motion
@@ -857,10 +879,10 @@ contains
             ldts(3, 3, gather_block)
         integer :: ng, qlo, qhi
         real(wp), allocatable :: grads(:, :, :), vels(:, :), cell_old(:), cell_new(:), &
-            partial(:)
+            partial(:, :)
         type(motion_type), allocatable :: moved(:)
         type(motion_type) :: mine
-        real(wp) :: work
+        real(wp) :: work(nstress_sums)
         logical :: move
 
         dim = grid%dim
@@ -887,7 +909,7 @@ contains
             end do
         end if
         ng = group_count(stc, .false.)
-        allocate (partial(ng), moved(ng))
+        allocate (partial(nstress_sums, ng), moved(ng))
         !$omp parallel do default(none) schedule(dynamic, 1) &
         !$omp shared(grid, particles, stc, materials, dt, dim, fbar, grads, vels, gravity, &
         !$omp cell_old, cell_new, move, moved, partial, ng) &
@@ -925,14 +947,14 @@ contains
             end do
             call stress_block(particles, materials, stc, qlo, qhi, ldts, dt, dim, work)
             ! stored once per group (neighbouring entries share cache lines across threads)
-            partial(k) = work
+            partial(:, k) = work
             moved(k) = mine
         end do
         !$omp end parallel do
         if (move) call merge_motion(moved, motion)
         strain_work = 0.0_wp
         do k = 1, ng
-            strain_work = strain_work + partial(k)
+            strain_work = strain_work + partial(:, k)
         end do
     end subroutine update_stress
 
@@ -941,8 +963,9 @@ contains
     !> dt d v_i / d x_k, particle order(qlo + j - 1)): strain increments D dt and spins W dt to
     !> the materials, one call per run of particles of the same material (update_stress_block:
     !> no call per particle for the simple ones), then F <- (I + ldt) F, V = det(F) V0,
-    !> lp = lp0 F_aa; adds the work of the stresses over the step to `work`, particle by
-    !> particle in order.
+    !> lp = lp0 F_aa; adds the work of the stresses over the step and the elastic energy
+    !> the particles store at its end to `work` (by work kind of the materials, see
+    !> nstress_sums), particle by particle in order.
     subroutine stress_block(particles, materials, stc, qlo, qhi, ldt, dt, dim, work)
         type(particles_type), intent(inout) :: particles
             !! particles
@@ -958,12 +981,14 @@ contains
             !! time step [s]
         integer, intent(in) :: dim
             !! space dimensions
-        real(wp), intent(inout) :: work
-            !! sum of (V sigma)_mid : d_eps [J]
+        real(wp), intent(inout) :: work(nstress_sums)
+            !! sums of (V sigma)_mid : d_eps, then of the stored elastic energy V w(sigma),
+            !! by work kind [J]
 
         integer :: n, ns, j, j0, j1, p, a, mat
+        integer :: kind(gather_block)
         real(wp) :: s(6, gather_block), sold(6, gather_block), de(6, gather_block), &
-            om(3, gather_block), vold, jac
+            om(3, gather_block), vold, jac, density(gather_block), w
         real(wp) :: st(particles%nstate, qhi - qlo + 1)
 
         n = qhi - qlo + 1
@@ -1004,6 +1029,9 @@ contains
             end do
             call materials(mat)%m%update_stress_block(j1 - j0 + 1, s(1:ns, j0:j1), &
                 de(1:ns, j0:j1), om(:, j0:j1), dt, st(:, j0:j1))
+            call materials(mat)%m%elastic_energy_block(j1 - j0 + 1, s(1:ns, j0:j1), &
+                st(:, j0:j1), density(j0:j1))
+            kind(j0:j1) = materials(mat)%m%work_kind()
             j0 = j1 + 1
         end do
         do j = 1, n
@@ -1031,12 +1059,16 @@ contains
             ! trapezoidal rule on V sigma (volume and stress at both ends of the step):
             ! second order in dt, also when the volume changes with the strain
             ! (V sigma)_mid : de, shear components twice (tensor components)
+            w = 0.0_wp
             do a = 1, 3
-                work = work + 0.5_wp*(vold*sold(a, j) + particles%volume(p)*s(a, j))*de(a, j)
+                w = w + 0.5_wp*(vold*sold(a, j) + particles%volume(p)*s(a, j))*de(a, j)
             end do
             do a = 4, ns
-                work = work + (vold*sold(a, j) + particles%volume(p)*s(a, j))*de(a, j)
+                w = w + (vold*sold(a, j) + particles%volume(p)*s(a, j))*de(a, j)
             end do
+            work(kind(j)) = work(kind(j)) + w
+            work(nwork_kinds + kind(j)) = work(nwork_kinds + kind(j)) &
+                + density(j)*particles%volume(p)
         end do
     end subroutine stress_block
 

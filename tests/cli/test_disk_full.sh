@@ -38,7 +38,7 @@ if ! full_disk 160k; then
 fi
 
 # whole FOLDER: no .tmp left, every file the index lists is a complete HDF5 file and every
-# particle file is listed, every line of history.csv has its 7 numbers
+# particle file is listed, every line of history.csv has a number for each column of its header
 whole() {
     if "$python" - "$1" > "$tmp/whole" 2>&1 <<'PY'; then ok; else bad "$2"; cat "$tmp/whole"; fi
 import glob, os, re, sys
@@ -56,9 +56,10 @@ for name in sorted(listed & present):
         n = f["particles/position"].shape[0]
         if n == 0 or not (f["particles/position"][()] == f["particles/position"][()]).all():
             problems.append(f"{name}: no or NaN positions")
-for line in open(os.path.join(d, "history.csv")).read().splitlines()[1:]:
+lines = open(os.path.join(d, "history.csv")).read().splitlines()
+for line in lines[1:]:
     values = line.split(",")
-    if len(values) != 7:
+    if len(values) != len(lines[0].split(",")):
         problems.append(f"history.csv: cut line '{line}'")
         continue
     [float(v) for v in values]
