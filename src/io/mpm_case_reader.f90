@@ -220,6 +220,8 @@ contains
         line = "output      "//text_or(case%output_dir, "?")
         if (case%output_interval > 0.0_wp) then
             line = line//", every "//fmt_real(case%output_interval)//" s"
+            if (case_step(case) > case%output_interval) line = line//" (below the time step "// &
+                fmt_real(case_step(case), 6)//" s at t = 0: an output every step)"
         else
             line = line//", initial and final state only"
         end if
@@ -2034,6 +2036,24 @@ contains
     ! ----------------------------------------------------------------------------------------
     ! Case quantities
     ! ----------------------------------------------------------------------------------------
+
+    !> Time step at t = 0 [s]: the fixed one, or cfl times the critical one (0 without
+    !> materials).
+    pure real(wp) function case_step(case)
+        type(case_type), intent(in) :: case
+            !! resolved case
+
+        real(wp) :: critical
+        logical :: viscous
+
+        case_step = case%dt
+        if (case_step > 0.0_wp) return
+        case_step = 0.0_wp
+        if (.not. allocated(case%materials)) return
+        if (size(case%materials) == 0) return
+        call case_critical_step(case, critical, viscous)
+        case_step = case%cfl*critical
+    end function case_step
 
     !> Critical time step at t = 0: over the bodies, or over the materials when the particles
     !> come from a state file (no bodies, velocities unknown here) [s]. Either way the viscous

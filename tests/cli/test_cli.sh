@@ -56,6 +56,33 @@ head -1 "$tmp/run/history.csv" | grep -q "^time,step,kinetic_energy,strain_energ
 nhist=$(wc -l < "$tmp/run/history.csv")
 [ "$nhist" -ge 3 ] && ok || bad "history.csv has $nhist lines"
 
+# an output interval far below the time step (below the rounding of the time): an output
+# every step, and the run ends (the schedule once spun at 100 % CPU, deaf to SIGTERM)
+sed -e 's#"interval": 0.01#"interval": 1e-20#' -e 's#"save_state": ".*"#"name": "tiny"#' \
+    -e 's#"name": "small",##' "$tmp/small.json" > "$tmp/tiny.json"
+expect 0 "--check, output.interval below the time step" -- "$exe" --check "$tmp/tiny.json"
+contains "below the time step" "--check notes an output interval below the time step"
+expect 0 "output.interval = 1e-20" -- timeout -k 5 30 "$exe" "$tmp/tiny.json" --output \
+    "$tmp/tiny" --quiet
+last_step=$(tail -1 "$tmp/tiny/history.csv" | cut -d, -f2)
+nfiles=$(find "$tmp/tiny" -name 'particles_*.h5' | wc -l)
+[ "$nfiles" -eq $((last_step + 1)) ] && [ "$last_step" -gt 5 ] && ok \
+    || bad "output.interval = 1e-20: $nfiles particle files for $last_step steps"
+# ... and answers SIGTERM within a step: exit 4 and a checkpoint in a few seconds
+sed 's#"interval": 0.03#"interval": 1e-20#' tests/cli/cases/restart_collapse.json \
+    > "$tmp/tiny_long.json"
+timeout -k 5 60 "$exe" "$tmp/tiny_long.json" --output "$tmp/tiny_long" --quiet \
+    > "$tmp/out" 2>&1 &
+pid=$!
+for _ in $(seq 1 1500); do [ -f "$tmp/tiny_long/particles_000004.h5" ] && break; sleep 0.01; done
+start=$SECONDS
+kill -TERM "$pid"
+wait "$pid"
+rc=$?
+[ "$rc" -eq 4 ] && [ -s "$tmp/tiny_long/checkpoint.h5" ] && [ $((SECONDS - start)) -le 5 ] && ok \
+    || { bad "SIGTERM, output.interval = 1e-20: exit code $rc after $((SECONDS - start)) s"; \
+         cat "$tmp/out"; }
+
 # an existing output folder is not overwritten silently
 sum_before=$(md5sum "$tmp/run/history.csv")
 expect 2 "existing output folder" -- "$exe" "$tmp/small.json" --output "$tmp/run" --quiet
