@@ -38,6 +38,22 @@ expect 2 "missing case file" -- "$exe" "$tmp/does_not_exist.json"
 contains "does_not_exist.json" "missing case file"
 expect 2 "--output without value" -- "$exe" "$tmp/small.json" --output
 contains "needs a value" "--output without value"
+# an option is not the value of the option before it: nothing runs into a folder "--check"
+expect 2 "-o --check" -- env -C "$tmp" "$exe" "$tmp/small.json" -o --check
+contains "option -o needs a value, got the option '--check'" "-o --check"
+[ ! -e "$tmp/--check" ] && ok || bad "-o --check created a folder '--check'"
+expect 2 "--input --quiet" -- env -C "$tmp" "$exe" --input --quiet "$tmp/small.json"
+contains "option --input needs a value, got the option '--quiet'" "--input --quiet"
+expect 2 "--output -x (a name starting with '-')" -- env -C "$tmp" "$exe" "$tmp/small.json" \
+    --output -x
+contains "got the option '-x'" "--output -x"
+[ ! -e "$tmp/-x" ] && ok || bad "--output -x created a folder '-x'"
+expect 2 "--checkpoint-steps --check" -- "$exe" "$tmp/small.json" --checkpoint-steps --check
+contains "option --checkpoint-steps needs a value, got the option '--check'" \
+    "--checkpoint-steps --check"
+expect 2 "--checkpoint-minutes --quiet" -- "$exe" "$tmp/small.json" --checkpoint-minutes \
+    --quiet
+contains "needs a value, got the option '--quiet'" "--checkpoint-minutes --quiet"
 
 # --check validates and prints the set-up, writes nothing
 expect 0 "--check" -- "$exe" --check "$tmp/small.json" --output "$tmp/run"
