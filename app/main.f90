@@ -15,7 +15,7 @@ program mpm_geo_main
     use mpm_state, only: run_record_type, read_run_record, load_state
     use mpm_particles, only: particles_type
     use mpm_parallel, only: image_id, image_count, end_images
-    use mpm_strings, only: int_text
+    use mpm_strings, only: int_text, path_problem, max_name_bytes
     implicit none
 
     !> What the command line asks for.
@@ -274,6 +274,14 @@ contains
                     cmd%output_dir = value
                     if (len(cmd%output_dir) == 0) then
                         call fatal_error(error, "--output needs a folder name", exit_input)
+                        return
+                    end if
+                    ! room for "/" and a file name in the folder
+                    if (len(path_problem(value, 1 + max_name_bytes, 0)) > 0) then
+                        call fatal_error(error, "--output "//value(1:min(len(value), 40))// &
+                            repeat(".", merge(3, 0, len(value) > 40))// &
+                            ": not a usable folder name: "// &
+                            path_problem(value, 1 + max_name_bytes, 0), exit_input)
                         return
                     end if
                 end select

@@ -48,6 +48,11 @@ expect 2 "--output -x (a name starting with '-')" -- env -C "$tmp" "$exe" "$tmp/
     --output -x
 contains "got the option '-x'" "--output -x"
 [ ! -e "$tmp/-x" ] && ok || bad "--output -x created a folder '-x'"
+long_name=$(printf 'x%.0s' $(seq 256))
+expect 2 "--output with a folder name of 256 bytes" -- "$exe" "$tmp/small.json" --output \
+    "$tmp/$long_name"
+contains "not a usable folder name: its part 'xxxxxxxxxxxxxxxxxxxx...' is 256 bytes long, at most 255" \
+    "--output with a folder name of 256 bytes"
 expect 2 "--checkpoint-steps --check" -- "$exe" "$tmp/small.json" --checkpoint-steps --check
 contains "option --checkpoint-steps needs a value, got the option '--check'" \
     "--checkpoint-steps --check"
