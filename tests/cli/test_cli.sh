@@ -89,18 +89,19 @@ last_step=$(tail -1 "$tmp/tiny/history.csv" | cut -d, -f2)
 nfiles=$(find "$tmp/tiny" -name 'particles_*.h5' | wc -l)
 [ "$nfiles" -eq $((last_step + 1)) ] && [ "$last_step" -gt 5 ] && ok \
     || bad "output.interval = 1e-20: $nfiles particle files for $last_step steps"
-# ... and answers SIGTERM within a step: exit 4 and a checkpoint in a few seconds
+# ... and answers SIGTERM within a step: exit 4 and a checkpoint in a few seconds (10 s: a
+# loaded machine, a Debug build; the spinning schedule never answered)
 sed 's#"interval": 0.03#"interval": 1e-20#' tests/cli/cases/restart_collapse.json \
     > "$tmp/tiny_long.json"
 timeout -k 5 60 "$exe" "$tmp/tiny_long.json" --output "$tmp/tiny_long" --quiet \
     > "$tmp/out" 2>&1 &
 pid=$!
-for _ in $(seq 1 1500); do [ -f "$tmp/tiny_long/particles_000004.h5" ] && break; sleep 0.01; done
+for _ in $(seq 1 6000); do [ -f "$tmp/tiny_long/particles_000004.h5" ] && break; sleep 0.01; done
 start=$SECONDS
 kill -TERM "$pid"
 wait "$pid"
 rc=$?
-[ "$rc" -eq 4 ] && [ -s "$tmp/tiny_long/checkpoint.h5" ] && [ $((SECONDS - start)) -le 5 ] && ok \
+[ "$rc" -eq 4 ] && [ -s "$tmp/tiny_long/checkpoint.h5" ] && [ $((SECONDS - start)) -le 10 ] && ok \
     || { bad "SIGTERM, output.interval = 1e-20: exit code $rc after $((SECONDS - start)) s"; \
          cat "$tmp/out"; }
 
