@@ -15,7 +15,7 @@ program mpm_geo_main
     use mpm_state, only: run_record_type, read_run_record, load_state
     use mpm_particles, only: particles_type
     use mpm_parallel, only: image_id, image_count, end_images
-    use mpm_strings, only: int_text
+    use mpm_strings, only: int_text, path_problem, max_name_bytes
     implicit none
 
     !> What the command line asks for.
@@ -231,6 +231,13 @@ contains
                 end if
                 i = i + 1
                 value = argument(i)
+                ! an option is not a value ("-o --check" must not run into a folder "--check");
+                ! a file or folder whose name starts with "-" is given as ./-name
+                if (starts_option(value, numeric=index(arg, "--checkpoint") == 1)) then
+                    call fatal_error(error, "option "//arg//" needs a value, got the option '"// &
+                        value//"'; see mpm_geo --help", exit_input)
+                    return
+                end if
                 select case (arg)
                 case ("-i", "--input")
                     call set_case_path(cmd, value, error)
@@ -269,6 +276,14 @@ contains
                         call fatal_error(error, "--output needs a folder name", exit_input)
                         return
                     end if
+                    ! room for "/" and a file name in the folder
+                    if (len(path_problem(value, 1 + max_name_bytes, 0)) > 0) then
+                        call fatal_error(error, "--output "//value(1:min(len(value), 40))// &
+                            repeat(".", merge(3, 0, len(value) > 40))// &
+                            ": not a usable folder name: "// &
+                            path_problem(value, 1 + max_name_bytes, 0), exit_input)
+                        return
+                    end if
                 end select
             case default
                 if (len(arg) > 0) then
@@ -303,6 +318,22 @@ contains
         end if
         cmd%case_path = path
     end subroutine set_case_path
+
+    !> Whether a command-line word is an option, not the value of the option before it: it
+    !> starts with "-" (for a `numeric` option, "--": "-5" is a number, and refused as one).
+    pure logical function starts_option(word, numeric)
+        character(len=*), intent(in) :: word
+            !! the word after an option that takes a value
+        logical, intent(in) :: numeric
+            !! the option takes a number
+        if (numeric) then
+            starts_option = len(word) >= 2
+            if (starts_option) starts_option = word(1:2) == "--"
+        else
+            starts_option = len(word) >= 1
+            if (starts_option) starts_option = word(1:1) == "-"
+        end if
+    end function starts_option
 
     pure logical function ends_with(text, tail)
         character(len=*), intent(in) :: text, tail
@@ -342,6 +373,7 @@ contains
             "                     run goes on with that case file, else with the one kept in FILE", &
             "  -h, --help         this help", &
             "  -V, --version      print the version", &
+            "a FILE or DIR whose name starts with '-' would be taken for an option: write ./-name", &
             "", &
             "SIGTERM or SIGINT (Ctrl-C) during a run: a checkpoint is written and the run stops", &
             "with exit code 4 (a second signal stops it at once).", &

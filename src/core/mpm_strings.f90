@@ -3,7 +3,13 @@ module mpm_strings
     use mpm_kinds, only: wp, i8
     implicit none
     private
-    public :: vector_text, int_text, lower, real_text, reals_text
+    public :: vector_text, int_text, lower, real_text, reals_text, path_problem
+    public :: max_path_bytes, max_name_bytes
+
+    integer, parameter :: max_path_bytes = 4095
+        !! longest path a system call takes [bytes] (Linux PATH_MAX 4096, with its NUL)
+    integer, parameter :: max_name_bytes = 255
+        !! longest file or folder name, one part of a path [bytes] (Linux NAME_MAX)
 
     !> Decimal text of an integer, no blanks: "42".
     interface int_text
@@ -29,6 +35,51 @@ contains
             if (i < size(v)) text = text//", "
         end do
     end function vector_text
+
+    !> What makes `path` unusable as a file or folder name, "" when nothing: a path longer
+    !> than max_path_bytes less `room` (what the program appends: ".tmp" to a file it writes,
+    !> "/" and a file name to a folder), or a part between "/" longer than max_name_bytes
+    !> less `part_room`. Bytes are counted, as the system does.
+    pure function path_problem(path, room, part_room) result(problem)
+        character(len=*), intent(in) :: path
+            !! the path
+        integer, intent(in) :: room
+            !! bytes appended to the whole path
+        integer, intent(in) :: part_room
+            !! bytes appended to its last part
+        character(len=:), allocatable :: problem
+
+        integer :: first, last
+
+        problem = ""
+        if (len(path) > max_path_bytes - room) then
+            problem = "the path is "//int_text(len(path))//" bytes long, at most "// &
+                int_text(max_path_bytes - room)
+            if (room > 0) problem = problem//" (a path has at most "// &
+                int_text(max_path_bytes)//" bytes, and "//int_text(room)//" are added to it)"
+            return
+        end if
+        first = 1
+        do while (first <= len(path))
+            last = index(path(first:), "/")
+            if (last == 0) then
+                last = len(path)
+            else
+                last = first + last - 2
+            end if
+            if (last - first + 1 > max_name_bytes - part_room) then
+                problem = "its part '"//path(first:first + 19)//"...' is "// &
+                    int_text(last - first + 1)//" bytes long, at most "// &
+                    int_text(max_name_bytes - part_room)//" (a file or folder name has at "// &
+                    "most "//int_text(max_name_bytes)//" bytes"
+                if (part_room > 0) problem = problem//", and "//int_text(part_room)// &
+                    " are added to it"
+                problem = problem//")"
+                return
+            end if
+            first = last + 2
+        end do
+    end function path_problem
 
     pure function int_text_default(value) result(text)
         integer, intent(in) :: value

@@ -9,7 +9,7 @@
 submodule (mpm_case) mpm_case_reader
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     use mpm_kinds, only: i8
-    use mpm_strings, only: lower
+    use mpm_strings, only: lower, path_problem, max_name_bytes
     use mpm_error, only: fatal_error, exit_input, exit_other
     use mpm_json, only: json_document_type, json_value_type, json_parse_file, &
         json_parse_string, json_free, json_root, json_is_valid, json_is_object, json_type_name, &
@@ -83,6 +83,12 @@ submodule (mpm_case) mpm_case_reader
         !! tolerance of box tests, relative to dx: absorbs round-off of corners like 3*0.1
     real(wp), parameter :: max_steps = 1.0e9_wp
         !! largest number of time steps a case may need
+    integer, parameter :: max_case_name = max_name_bytes - len(".xdmf.tmp")
+        !! longest case name [bytes]: <name>.xdmf.tmp is a file name of the output folder
+    integer, parameter :: room_written = len(".tmp")
+        !! bytes added to a file the run writes (through a .tmp file and a rename)
+    integer, parameter :: room_folder = 1 + max_name_bytes
+        !! bytes added to the output folder: "/" and a file name
     integer, parameter :: domain_digits = 12
         !! significant digits of computed coordinates (origin + n dx) in messages
 
@@ -220,6 +226,8 @@ contains
         line = "output      "//text_or(case%output_dir, "?")
         if (case%output_interval > 0.0_wp) then
             line = line//", every "//fmt_real(case%output_interval)//" s"
+            if (case_step(case) > case%output_interval) line = line//" (below the time step "// &
+                fmt_real(case_step(case), 6)//" s at t = 0: an output every step)"
         else
             line = line//", initial and final state only"
         end if
@@ -401,6 +409,19 @@ contains
         case%name = default_name
         call get_string(root, "name", "", src, case%name, error, found=found)
         if (allocated(error)) return
+        if (len(case%name) > max_case_name) then
+            if (found) then
+                call input_error(error, src, 'name = "'//case%name(1:20)//'..." is '// &
+                    itoa(len(case%name))//" bytes long, at most "//itoa(max_case_name) &
+                    //" (it names the file <name>.xdmf.tmp of the output folder, and a file "// &
+                    "name has at most "//itoa(max_name_bytes)//" bytes)")
+            else
+                call input_error(error, src, 'the case name "'//case%name(1:20)//'..." taken '// &
+                    "from the file name is "//itoa(len(case%name))//" bytes long, at "// &
+                    "most "//itoa(max_case_name)//'; set a shorter "name" in the case file')
+            end if
+            return
+        end if
         if (valid_name(case%name)) return
         if (found) then
             call input_error(error, src, 'name = "'//case%name//'" is not allowed: '//rule)
@@ -954,9 +975,9 @@ contains
 
         logical :: found, exists
 
-        call get_string(root, "save_state", "", src, case%save_state, error)
+        call get_path(root, "save_state", "", src, room_written, case%save_state, error)
         if (allocated(error)) return
-        call get_string(root, "load_state", "", src, case%load_state, error, found=found)
+        call get_path(root, "load_state", "", src, 0, case%load_state, error, found=found)
         if (allocated(error) .or. .not. found) return
         inquire (file=case%load_state, exist=exists)
         if (.not. exists) then
@@ -1099,7 +1120,7 @@ contains
             return
         end if
         body%file = ""
-        call get_string(item, "file", path, src, body%file, error, required=.true.)
+        call get_path(item, "file", path, src, 0, body%file, error, required=.true.)
         if (allocated(error)) return
         inquire (file=body%file, exist=exists)
         if (len(body%file) == 0 .or. .not. exists) then
@@ -1388,7 +1409,7 @@ contains
         call get_real(contact, "mu", "contact", src, case%contact_mu, error, required=.true., &
             at_least=0.0_wp)
         if (allocated(error)) return
-        call get_string(contact, "file", "contact", src, case%contact_file, error, &
+        call get_path(contact, "file", "contact", src, 0, case%contact_file, error, &
             required=.true.)
         if (allocated(error)) return
         inquire (file=case%contact_file, exist=exists)
@@ -1431,7 +1452,7 @@ contains
         if (allocated(error)) return
         call get_bool(output, "grid", "output", src, case%output_grid, error)
         if (allocated(error)) return
-        call get_string(output, "directory", "output", src, case%output_dir, error)
+        call get_path(output, "directory", "output", src, room_folder, case%output_dir, error)
         if (allocated(error)) return
         call get_bool(output, "overwrite", "output", src, case%overwrite, error)
         if (allocated(error)) return
@@ -1525,7 +1546,8 @@ contains
         call get_real(checkpoint, "every_minutes", "checkpoint", src, case%checkpoint_minutes, &
             error, above=0.0_wp, unit="min")
         if (allocated(error)) return
-        call get_string(checkpoint, "file", "checkpoint", src, case%checkpoint_file, error)
+        call get_path(checkpoint, "file", "checkpoint", src, room_written, &
+            case%checkpoint_file, error)
         if (allocated(error)) return
         call get_bool(checkpoint, "on_signal", "checkpoint", src, case%checkpoint_on_signal, &
             error)
@@ -1947,6 +1969,43 @@ contains
         value = json_string(val)
     end subroutine get_string
 
+    !> Read a file or folder name: a non-empty string that the system takes as a path, with
+    !> `room` bytes added by the program (path_problem).
+    subroutine get_path(obj, key, path, src, room, value, error, required, found)
+        type(json_value_type), intent(in) :: obj
+            !! object holding the key
+        character(len=*), intent(in) :: key
+            !! key to read
+        character(len=*), intent(in) :: path
+            !! path of `obj`
+        character(len=*), intent(in) :: src
+            !! case file name for messages
+        integer, intent(in) :: room
+            !! bytes the program adds: room_written, room_folder or 0 (a file it reads)
+        character(len=:), allocatable, intent(inout) :: value
+            !! value read (unchanged when absent)
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+        logical, intent(in), optional :: required
+            !! the key must be present
+        logical, intent(out), optional :: found
+            !! whether the key is present
+
+        character(len=:), allocatable :: problem
+        logical :: is_present
+
+        call get_string(obj, key, path, src, value, error, required, is_present)
+        if (present(found)) found = is_present
+        if (allocated(error) .or. .not. is_present) return
+        if (room == room_folder) then
+            problem = path_problem(value, room, 0)
+        else
+            problem = path_problem(value, room, room)
+        end if
+        if (len(problem) > 0) call input_error(error, src, join(path, key)//" is not a "// &
+            "usable path: "//problem)
+    end subroutine get_path
+
     !> Read a boolean.
     subroutine get_bool(obj, key, path, src, value, error)
         type(json_value_type), intent(in) :: obj
@@ -2034,6 +2093,24 @@ contains
     ! ----------------------------------------------------------------------------------------
     ! Case quantities
     ! ----------------------------------------------------------------------------------------
+
+    !> Time step at t = 0 [s]: the fixed one, or cfl times the critical one (0 without
+    !> materials).
+    pure real(wp) function case_step(case)
+        type(case_type), intent(in) :: case
+            !! resolved case
+
+        real(wp) :: critical
+        logical :: viscous
+
+        case_step = case%dt
+        if (case_step > 0.0_wp) return
+        case_step = 0.0_wp
+        if (.not. allocated(case%materials)) return
+        if (size(case%materials) == 0) return
+        call case_critical_step(case, critical, viscous)
+        case_step = case%cfl*critical
+    end function case_step
 
     !> Critical time step at t = 0: over the bodies, or over the materials when the particles
     !> come from a state file (no bodies, velocities unknown here) [s]. Either way the viscous

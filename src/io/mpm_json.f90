@@ -5,11 +5,12 @@
 !> `json_document_type` owns the tree, `json_value_type` values borrow nodes of it.
 module mpm_json
     use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_associated, c_int, c_double, &
-        c_char, c_null_char, c_size_t, c_f_pointer
+        c_char, c_null_char, c_size_t, c_f_pointer, c_int16_t, c_int32_t, c_int64_t
     use, intrinsic :: ieee_exceptions, only: ieee_get_halting_mode, ieee_set_halting_mode, &
         ieee_set_flag, ieee_overflow
-    use mpm_kinds, only: wp
+    use mpm_kinds, only: wp, i8
     use mpm_error, only: error_type, fatal_error, exit_input
+    use mpm_strings, only: int_text
     implicit none
     private
     public :: json_document_type, json_value_type
@@ -18,6 +19,12 @@ module mpm_json
     public :: json_is_bool, json_is_null, json_type_name
     public :: json_get, json_size, json_item, json_key
     public :: json_number, json_string, json_bool
+    public :: max_file_bytes, max_nesting
+
+    integer(i8), parameter :: max_file_bytes = 64_i8*1024*1024
+        !! largest JSON file read [bytes] (64 MiB; a case file is a few kB)
+    integer, parameter :: max_nesting = 1000
+        !! deepest nesting of arrays and objects (cJSON's CJSON_NESTING_LIMIT; a case has 4)
 
     !> Owner of a parsed cJSON tree; free it with json_free.
     type :: json_document_type
@@ -42,6 +49,29 @@ module mpm_json
         real(c_double) :: valuedouble
         type(c_ptr) :: string
     end type cjson_node
+
+    !> Mirror of `struct statx` (linux/stat.h: one layout on every architecture, unlike
+    !> `struct stat`), up to the size; the kernel fills 256 bytes.
+    type, bind(c) :: statx_buffer
+        integer(c_int32_t) :: mask
+        integer(c_int32_t) :: blksize
+        integer(c_int64_t) :: attributes
+        integer(c_int32_t) :: nlink
+        integer(c_int32_t) :: uid
+        integer(c_int32_t) :: gid
+        integer(c_int16_t) :: mode
+        integer(c_int16_t) :: spare
+        integer(c_int64_t) :: ino
+        integer(c_int64_t) :: size
+        integer(c_int64_t) :: rest(26)
+    end type statx_buffer
+
+    ! statx arguments and file type bits of stx_mode (fcntl.h, sys/stat.h)
+    integer(c_int), parameter :: at_fdcwd = -100_c_int
+    integer(c_int32_t), parameter :: statx_type = 1_c_int32_t, statx_size = 512_c_int32_t
+    integer, parameter :: s_ifmt = int(o'170000'), s_ifreg = int(o'100000'), &
+        s_ifdir = int(o'040000'), s_ifchr = int(o'020000'), s_ifblk = int(o'060000'), &
+        s_ififo = int(o'010000'), s_ifsock = int(o'140000')
 
     ! cJSON type flags (cJSON.h)
     integer(c_int), parameter :: cjson_false = 1, cjson_true = 2, cjson_nulltype = 4, &
@@ -69,6 +99,17 @@ module mpm_json
             type(c_ptr) :: ptr
         end function cjson_get_error_ptr
 
+        function c_statx(dirfd, path, flags, mask, buffer) bind(c, name="statx") &
+                result(status)
+            import :: c_int, c_char, c_int32_t, statx_buffer
+            integer(c_int), value :: dirfd
+            character(kind=c_char), intent(in) :: path(*)
+            integer(c_int), value :: flags
+            integer(c_int32_t), value :: mask
+            type(statx_buffer), intent(out) :: buffer
+            integer(c_int) :: status
+        end function c_statx
+
         function c_strlen(str) bind(c, name="strlen") result(n)
             import :: c_ptr, c_size_t
             type(c_ptr), value :: str
@@ -79,46 +120,137 @@ module mpm_json
 contains
 
     !> Read and parse a JSON file. Errors name the file and the line and column of a syntax error.
+    !> Only a regular file is read (a FIFO, a device or a folder is refused before it is opened:
+    !> it could block or never end), of at most max_file_bytes; a file whose size reads as 0
+    !> (those of /proc) is read to its end, as far as that limit.
     subroutine json_parse_file(path, doc, error, contents)
         character(len=*), intent(in) :: path
             !! file to read
         type(json_document_type), intent(out) :: doc
             !! parsed document
         type(error_type), allocatable, intent(out) :: error
-            !! set when the file is missing, unreadable or not valid JSON
+            !! set when the file is missing, unreadable, not a regular file or not valid JSON
         character(len=:), allocatable, intent(out), optional :: contents
             !! the text of the file, as read
 
-        character(len=:), allocatable :: text
-        integer :: unit, stat, nbytes
+        character(len=:), allocatable :: text, kind
+        integer :: unit, stat
+        integer(i8) :: nbytes
         logical :: exists
         character(len=256) :: msg
 
-        inquire (file=path, exist=exists, size=nbytes)
-        if (.not. exists) then
-            call fatal_error(error, path//": file not found", exit_input)
+        call file_kind(path, kind, nbytes)
+        if (len(kind) == 0) then
+            ! statx failed: a missing file, or a system without it (then the size of inquire)
+            inquire (file=path, exist=exists, size=nbytes)
+            if (.not. exists) then
+                call fatal_error(error, path//": file not found", exit_input)
+                return
+            end if
+        else if (kind /= "regular file") then
+            call fatal_error(error, path//": not a regular file ("//kind//"); a case file is "// &
+                "a JSON text file", exit_input)
             return
         end if
-        if (nbytes < 0) nbytes = 0
+        if (nbytes > max_file_bytes) then
+            call fatal_error(error, path//": file too large: "//int_text(nbytes)//" bytes, at "// &
+                "most "//int_text(max_file_bytes)//" (64 MiB)", exit_input)
+            return
+        end if
         open (newunit=unit, file=path, access="stream", form="unformatted", status="old", &
             action="read", iostat=stat, iomsg=msg)
         if (stat /= 0) then
             call fatal_error(error, path//": cannot open file: "//trim(msg), exit_input)
             return
         end if
-        allocate (character(len=nbytes) :: text)
         if (nbytes > 0) then
+            allocate (character(len=nbytes) :: text)
             read (unit, iostat=stat, iomsg=msg) text
-            if (stat /= 0) then
-                close (unit)
-                call fatal_error(error, path//": cannot read file: "//trim(msg), exit_input)
-                return
-            end if
+        else
+            call read_to_end(unit, text, stat, msg)
         end if
         close (unit)
+        if (stat /= 0) then
+            call fatal_error(error, path//": cannot read file: "//trim(msg), exit_input)
+            return
+        end if
+        if (len(text) > max_file_bytes) then
+            call fatal_error(error, path//": file too large: more than "// &
+                int_text(max_file_bytes)//" bytes (64 MiB)", exit_input)
+            return
+        end if
         call json_parse_string(text, doc, error, path)
         if (present(contents)) call move_alloc(text, contents)
     end subroutine json_parse_file
+
+    !> The type of a file, by statx, without opening it: "regular file", "folder", "FIFO",
+    !> ...; "" when statx fails (no such file, or no statx). `nbytes`: its size [bytes].
+    subroutine file_kind(path, kind, nbytes)
+        character(len=*), intent(in) :: path
+            !! file name
+        character(len=:), allocatable, intent(out) :: kind
+            !! type of the file, "" when unknown
+        integer(i8), intent(out) :: nbytes
+            !! size [bytes], 0 when unknown
+
+        type(statx_buffer) :: buffer
+        integer :: mode
+
+        kind = ""
+        nbytes = 0
+        if (c_statx(at_fdcwd, path//c_null_char, 0_c_int, ior(statx_type, statx_size), &
+            buffer) /= 0) return
+        nbytes = max(0_i8, int(buffer%size, i8))
+        mode = iand(int(buffer%mode), 65535)
+        select case (iand(mode, s_ifmt))
+        case (s_ifreg)
+            kind = "regular file"
+        case (s_ifdir)
+            kind = "a folder"
+        case (s_ififo)
+            kind = "a FIFO"
+        case (s_ifchr)
+            kind = "a character device"
+        case (s_ifblk)
+            kind = "a block device"
+        case (s_ifsock)
+            kind = "a socket"
+        case default
+            kind = "of an unknown type"
+        end select
+    end subroutine file_kind
+
+    !> Read an open stream to its end, or to one byte past max_file_bytes (files whose size
+    !> is not known beforehand, as those of /proc).
+    subroutine read_to_end(unit, text, stat, msg)
+        integer, intent(in) :: unit
+            !! unit open for stream reading
+        character(len=:), allocatable, intent(out) :: text
+            !! what was read
+        integer, intent(out) :: stat
+            !! 0, or the iostat of a failed read
+        character(len=256), intent(inout) :: msg
+            !! message of a failed read
+
+        character(len=:), allocatable :: buffer
+        character :: byte
+        integer :: n
+
+        allocate (character(len=4096) :: buffer)
+        n = 0
+        do while (n <= max_file_bytes)
+            read (unit, iostat=stat, iomsg=msg) byte
+            if (is_iostat_end(stat)) then
+                stat = 0
+                exit
+            end if
+            if (stat /= 0) exit
+            if (n == len(buffer)) buffer = buffer//repeat(" ", len(buffer))
+            n = n + 1
+            buffer(n:n) = byte
+        end do
+        text = buffer(1:n)
+    end subroutine read_to_end
 
     !> Parse JSON text. `source` names the text in messages (usually the file name).
     subroutine json_parse_string(text, doc, error, source)
@@ -133,8 +265,7 @@ contains
 
         type(c_ptr) :: end_ptr
         character(len=:), allocatable :: name
-        integer :: offset, line, column, i
-        character(len=32) :: buf1, buf2
+        integer :: offset, first
         logical :: halt_overflow
 
         name = "<input>"
@@ -149,6 +280,19 @@ contains
                 exit_input)
             return
         end if
+        first = verify(text, " "//achar(9)//achar(10)//achar(13))
+        if (scan(text(first:first), '{["-0123456789tfn') == 0) then
+            call fatal_error(error, name//": not a JSON text: it starts with '"// &
+                printable(text(first:min(len(text), first + 19)))//"'; a case file is one "// &
+                "JSON object { ... }", exit_input)
+            return
+        end if
+        ! (cJSON stops at its own limit too, but reports it as a syntax error)
+        if (nesting_depth(text) > max_nesting) then
+            call fatal_error(error, name//": arrays and objects nested deeper than "// &
+                int_text(max_nesting)//" levels; a case file nests them 4 deep", exit_input)
+            return
+        end if
         call ieee_get_halting_mode(ieee_overflow, halt_overflow)
         call ieee_set_halting_mode(ieee_overflow, .false.)
         doc%root = cjson_parse_with_length_opts(text//c_null_char, &
@@ -160,23 +304,123 @@ contains
         if (.not. c_associated(doc%root)) then
             ! cJSON leaves end_ptr at the position where parsing failed
             offset = error_offset(text, end_ptr)
-            line = 1
-            column = 1
-            do i = 1, min(offset, len(text))
-                if (text(i:i) == new_line("a")) then
-                    line = line + 1
-                    column = 1
-                else
-                    column = column + 1
-                end if
-            end do
-            write (buf1, "(i0)") line
-            write (buf2, "(i0)") column
-            call fatal_error(error, name//": invalid JSON at line "//trim(buf1)//", column " &
-                //trim(buf2)//near_text(text, offset)// &
+            call fatal_error(error, name//": invalid JSON at "//position_text(text, offset)// &
+                near_text(text, offset)// &
                 " (check for a missing comma, quote or bracket, or a trailing comma)", exit_input)
+            return
+        end if
+        ! cJSON ends a string at the NUL that \u0000 stands for: "a\u0000b" would read as "a"
+        offset = nul_escape(text)
+        if (offset >= 0) then
+            call json_free(doc)
+            call fatal_error(error, name//": a string holds \u0000 (a NUL character) at "// &
+                position_text(text, offset)//"; no text of a case file may hold one", exit_input)
         end if
     end subroutine json_parse_string
+
+    !> `text` with its control characters and bytes above 126 shown as "?" (for a quote of
+    !> a binary file in a message).
+    pure function printable(text) result(shown)
+        character(len=*), intent(in) :: text
+            !! text to quote
+        character(len=len(text)) :: shown
+
+        integer :: i
+
+        shown = text
+        do i = 1, len(text)
+            if (iachar(text(i:i)) < 32 .or. iachar(text(i:i)) > 126) shown(i:i) = "?"
+        end do
+    end function printable
+
+    !> "line L, column C" of the 0-based `offset` in `text`.
+    pure function position_text(text, offset) result(where)
+        character(len=*), intent(in) :: text
+            !! JSON text
+        integer, intent(in) :: offset
+            !! 0-based offset
+        character(len=:), allocatable :: where
+
+        integer :: line, column, i
+
+        line = 1
+        column = 1
+        do i = 1, min(offset, len(text))
+            if (text(i:i) == new_line("a")) then
+                line = line + 1
+                column = 1
+            else
+                column = column + 1
+            end if
+        end do
+        where = "line "//int_text(line)//", column "//int_text(column)
+    end function position_text
+
+    !> Deepest nesting of arrays and objects in a JSON text (brackets inside strings are text).
+    pure integer function nesting_depth(text) result(deepest)
+        character(len=*), intent(in) :: text
+            !! JSON text
+
+        integer :: depth, i
+        logical :: in_string, escaped
+
+        deepest = 0
+        depth = 0
+        in_string = .false.
+        escaped = .false.
+        do i = 1, len(text)
+            if (in_string) then
+                if (escaped) then
+                    escaped = .false.
+                else if (text(i:i) == achar(92)) then
+                    escaped = .true.
+                else if (text(i:i) == '"') then
+                    in_string = .false.
+                end if
+            else
+                select case (text(i:i))
+                case ('"')
+                    in_string = .true.
+                case ("[", "{")
+                    depth = depth + 1
+                    deepest = max(deepest, depth)
+                case ("]", "}")
+                    depth = depth - 1
+                case default
+                    ! (values and separators do not nest)
+                end select
+            end if
+        end do
+    end function nesting_depth
+
+    !> 0-based offset of the first escape \u0000 in a valid JSON text, -1 when none (a
+    !> backslash outside strings is not valid JSON, so every escape is inside a string).
+    pure integer function nul_escape(text) result(offset)
+        character(len=*), intent(in) :: text
+            !! valid JSON text
+
+        character(len=*), parameter :: escape = achar(92)//"u0000"
+        integer :: start, found, i
+
+        offset = -1
+        start = 1
+        do
+            found = index(text(start:), escape)
+            if (found == 0) return
+            found = start + found - 1
+            ! an odd run of backslashes: the last one starts the escape ("\\u0000" is text)
+            i = found
+            do while (i > 1)
+                if (text(i - 1:i - 1) /= achar(92)) exit
+                i = i - 1
+            end do
+            if (mod(found - i, 2) == 0) then
+                offset = found - 1
+                return
+            end if
+            start = found + 1
+        end do
+    end function nul_escape
 
     !> Offset (0-based) of the parse error in `text`.
     function error_offset(text, end_ptr) result(offset)

@@ -251,9 +251,8 @@ contains
                     if (history_open) call flush_text_file(history_unit, error)
                     call agree(error)
                     if (allocated(error)) exit
-                    do while (next_output <= sim%time + eps_t)
-                        next_output = next_output + case%output_interval
-                    end do
+                    next_output = next_output_time(next_output, case%output_interval, &
+                        sim%time + eps_t)
                     written = .true.
                 end if
                 if (sim%time >= next_history - eps_t .or. written) then
@@ -405,6 +404,30 @@ contains
             if (len(case%checkpoint_file) > 0) path = case%checkpoint_file
         end if
     end function checkpoint_path
+
+    !> The output time after `now`: one interval after the `previous` one, or, when the step
+    !> went past that too (an interval below the time step), the first multiple of the
+    !> interval after `now`, computed directly. No loop: with an interval below the rounding
+    !> of the time, adding it would not advance the schedule. An interval below the
+    !> resolution of `now` gives `now`: an output every step.
+    pure function next_output_time(previous, interval, now) result(next)
+        real(wp), intent(in) :: previous
+            !! the output time just passed [s]
+        real(wp), intent(in) :: interval
+            !! output interval, > 0 [s]
+        real(wp), intent(in) :: now
+            !! the time now, with the schedule's tolerance [s]
+        real(wp) :: next
+            !! the next output time [s]
+
+        next = previous + interval
+        if (next > now) return
+        if (interval <= epsilon(1.0_wp)*now) then
+            next = now
+        else
+            next = interval*(aint(now/interval) + 1.0_wp)
+        end if
+    end function next_output_time
 
     !> The run record of the simulation now (collective: the contact loads are summed).
     subroutine record_run(sim, writer, next_output, next_history, wall, run)

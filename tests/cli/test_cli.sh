@@ -38,6 +38,27 @@ expect 2 "missing case file" -- "$exe" "$tmp/does_not_exist.json"
 contains "does_not_exist.json" "missing case file"
 expect 2 "--output without value" -- "$exe" "$tmp/small.json" --output
 contains "needs a value" "--output without value"
+# an option is not the value of the option before it: nothing runs into a folder "--check"
+expect 2 "-o --check" -- env -C "$tmp" "$exe" "$tmp/small.json" -o --check
+contains "option -o needs a value, got the option '--check'" "-o --check"
+[ ! -e "$tmp/--check" ] && ok || bad "-o --check created a folder '--check'"
+expect 2 "--input --quiet" -- env -C "$tmp" "$exe" --input --quiet "$tmp/small.json"
+contains "option --input needs a value, got the option '--quiet'" "--input --quiet"
+expect 2 "--output -x (a name starting with '-')" -- env -C "$tmp" "$exe" "$tmp/small.json" \
+    --output -x
+contains "got the option '-x'" "--output -x"
+[ ! -e "$tmp/-x" ] && ok || bad "--output -x created a folder '-x'"
+long_name=$(printf 'x%.0s' $(seq 256))
+expect 2 "--output with a folder name of 256 bytes" -- "$exe" "$tmp/small.json" --output \
+    "$tmp/$long_name"
+contains "not a usable folder name: its part 'xxxxxxxxxxxxxxxxxxxx...' is 256 bytes long, at most 255" \
+    "--output with a folder name of 256 bytes"
+expect 2 "--checkpoint-steps --check" -- "$exe" "$tmp/small.json" --checkpoint-steps --check
+contains "option --checkpoint-steps needs a value, got the option '--check'" \
+    "--checkpoint-steps --check"
+expect 2 "--checkpoint-minutes --quiet" -- "$exe" "$tmp/small.json" --checkpoint-minutes \
+    --quiet
+contains "needs a value, got the option '--quiet'" "--checkpoint-minutes --quiet"
 
 # --check validates and prints the set-up, writes nothing
 expect 0 "--check" -- "$exe" --check "$tmp/small.json" --output "$tmp/run"
@@ -55,6 +76,34 @@ head -1 "$tmp/run/history.csv" | grep -q "^time,step,kinetic_energy,elastic_ener
     && ok || bad "history.csv header"
 nhist=$(wc -l < "$tmp/run/history.csv")
 [ "$nhist" -ge 3 ] && ok || bad "history.csv has $nhist lines"
+
+# an output interval far below the time step (below the rounding of the time): an output
+# every step, and the run ends (the schedule once spun at 100 % CPU, deaf to SIGTERM)
+sed -e 's#"interval": 0.01#"interval": 1e-20#' -e 's#"save_state": ".*"#"name": "tiny"#' \
+    -e 's#"name": "small",##' "$tmp/small.json" > "$tmp/tiny.json"
+expect 0 "--check, output.interval below the time step" -- "$exe" --check "$tmp/tiny.json"
+contains "below the time step" "--check notes an output interval below the time step"
+expect 0 "output.interval = 1e-20" -- timeout -k 5 30 "$exe" "$tmp/tiny.json" --output \
+    "$tmp/tiny" --quiet
+last_step=$(tail -1 "$tmp/tiny/history.csv" | cut -d, -f2)
+nfiles=$(find "$tmp/tiny" -name 'particles_*.h5' | wc -l)
+[ "$nfiles" -eq $((last_step + 1)) ] && [ "$last_step" -gt 5 ] && ok \
+    || bad "output.interval = 1e-20: $nfiles particle files for $last_step steps"
+# ... and answers SIGTERM within a step: exit 4 and a checkpoint in a few seconds (10 s: a
+# loaded machine, a Debug build; the spinning schedule never answered)
+sed 's#"interval": 0.03#"interval": 1e-20#' tests/cli/cases/restart_collapse.json \
+    > "$tmp/tiny_long.json"
+timeout -k 5 60 "$exe" "$tmp/tiny_long.json" --output "$tmp/tiny_long" --quiet \
+    > "$tmp/out" 2>&1 &
+pid=$!
+for _ in $(seq 1 6000); do [ -f "$tmp/tiny_long/particles_000004.h5" ] && break; sleep 0.01; done
+start=$SECONDS
+kill -TERM "$pid"
+wait "$pid"
+rc=$?
+[ "$rc" -eq 4 ] && [ -s "$tmp/tiny_long/checkpoint.h5" ] && [ $((SECONDS - start)) -le 10 ] && ok \
+    || { bad "SIGTERM, output.interval = 1e-20: exit code $rc after $((SECONDS - start)) s"; \
+         cat "$tmp/out"; }
 
 # an existing output folder is not overwritten silently
 sum_before=$(md5sum "$tmp/run/history.csv")

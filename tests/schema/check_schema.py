@@ -42,6 +42,7 @@ SCHEMA_DETECTABLE = [
     "unknown_material_type", "unknown_output_field", "unknown_top_key", "wrong_type_dx_array",
     "wrong_type_gravity_string", "wrong_type_materials_object", "wrong_type_nx_string",
     "wrong_type_ppc_float", "wrong_type_tend_bool", "zero_dx", "zero_ppc", "zero_size_domain",
+    "name_too_long", "save_state_name_too_long", "output_directory_too_long",
 ]
 
 BASE = {
@@ -135,6 +136,19 @@ PROBES = [
     ("a body without min", variant(("bodies.0.min", None)), False),
     ("mu without terrain contact", variant(("contact", {"mu": 0.4})), False),
     ("a name with a blank", variant(("name", "my case")), False),
+    # the longest names and paths (names of files and folders on Linux: 255 bytes, paths 4095)
+    ("a name of 246 characters", variant(("name", "n" * 246)), True),
+    ("a name of 247 characters", variant(("name", "n" * 247)), False),
+    ("save_state with a file name of 251 characters", variant(("save_state", "s" * 251)), True),
+    ("save_state with a file name of 252 characters", variant(("save_state", "s" * 252)), False),
+    ("an output folder of 3839 characters",
+     variant(("output", {"directory": "/".join(["d" * 255] * 15)})), True),
+    ("an output folder of 3841 characters",
+     variant(("output", {"directory": "/".join(["d" * 255] * 15) + "/x"})), False),
+    ("an output folder name of 256 characters",
+     variant(("output", {"directory": "out/" + "d" * 256})), False),
+    ("a checkpoint file of 4092 characters",
+     variant(("checkpoint", {"file": "/".join(["c" * 250] * 16) + "/" + "c" * 76})), False),
     ("an empty string", variant(("save_state", "")), False),
     ("checkpoint and guard", variant(("checkpoint", {"every_steps": 100, "every_minutes": 5,
                                                      "file": "c.h5", "on_signal": False}),
