@@ -268,7 +268,8 @@ def run_column(exe, cells, shape, scheme, workdir):
         data = load_particles(outputs[-1][1])
         row.update(column_errors(data, case["domain"]["dx"]))
         history = load_history(output)
-        strain = float(history["strain_energy"][-1])
+        strain = float(history["elastic_energy" if "elastic_energy" in history
+                               else "strain_energy"][-1])
         row["kinetic_over_strain"] = (float(history["kinetic_energy"][-1]) / strain
                                       if strain > 0 else math.nan)
         row.update(best)

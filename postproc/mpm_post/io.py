@@ -7,7 +7,9 @@ particles_NNNNNN.h5
     n, 6 in 3D: xx yy zz xy yz zx; tension positive) [Pa, -], ``material`` (n), ``mass`` (n) [kg],
     ``volume`` (n) [m^3]; optional group ``/grid`` with ``position``, ``mass``, ``velocity``.
 history.csv
-    header ``time,step,kinetic_energy,strain_energy,potential_energy,damping_work,total``.
+    header ``time,step,kinetic_energy,elastic_energy,potential_energy,plastic_work,viscous_work,
+    damping_work,friction_work,load_work,total,residual`` (before issue 19:
+    ``time,step,kinetic_energy,strain_energy,potential_energy,damping_work,total``).
 terrain.h5 (runs with a terrain_stl contact)
     ``/terrain/position`` (3 n, 3) [m], the 3 corners of each of the n triangles, and
     ``/terrain/triangles`` (3 n), their 0-based indices.

@@ -140,7 +140,9 @@ def analyse(run_dir, par):
     cell_exact = np.array([exact_stress(par, y0[cell == c].mean()) for c in cells])
     history = load_history(run_dir)
     kinetic = history["kinetic_energy"]
-    strain = history["strain_energy"]
+    # the stored elastic energy (history.csv of before issue 19: the work of the stresses,
+    # the same for this elastic column)
+    strain = history["elastic_energy" if "elastic_energy" in history else "strain_energy"]
     pred = predicted(par)
     return {
         "cells": par["cells"],

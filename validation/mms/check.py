@@ -285,7 +285,7 @@ def main(argv=None):
                          "faces)"],
             ["particles", "2 per cell and axis, started displaced, stretched and stressed as "
                           "u(X, 0), at rest"],
-            ["solver", f"cpGIMP, FLIP; CFL {CFL:g} of dx / (c + |v|); the tension step "
+            ["solver", f"cpGIMP, FLIP; CFL {CFL:g} of dx / (c + \\|v\\|); the tension step "
                        f"adds dt <= {BUDGET:g} rho0 dx^2 / (sigma_max T), T = 0.02 s"],
             ["simulated time", "one period, 0.02 s"],
             ["error", "L2 = sqrt(mean over particles of (u_p - u(X_p, T))^2)"],
