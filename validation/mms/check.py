@@ -318,7 +318,7 @@ def main(argv=None):
             "An earlier set-up left the transverse velocity free; the one-cell strip then "
             "buckled under the compression of the solution (sigma down to -0.39 E) at a rate "
             "of about 0.3 c / dx, which destroyed the 256-cell runs of every scheme. The "
-            "set-up now holds it (tests/test_manufactured.f90 checks that).",
+            "set-up now holds it (tests/verification/test_manufactured.f90 checks that).",
         ],
     }
     png = results / "mms_convergence.png"

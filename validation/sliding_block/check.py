@@ -186,7 +186,7 @@ def targets_of(rows, pars):
                 "running mean of the normal impulse reaches tan(theta) / mu of its steady value "
                 "only after about 30 steps, during which the block starts to slip (about 1e-5 "
                 "m); 0.2 % of the frictionless slide (dx / 16) is the criterion of "
-                "tests/test_sliding_block.f90", unit="mm"))
+                "tests/verification/test_sliding_block.f90", unit="mm"))
         else:
             out.append(target(
                 f"{mu}: slide at {m['time_s']:g} s", m["slide_m"], m["slide_exact_m"],

@@ -71,7 +71,7 @@ AMPLITUDE_BAND = 0.01
 # strain energy from the stress work of that step; the two are half a step apart, so their sum
 # oscillates by up to (omega dt / 2) of the energy exchanged (d/dt of E cos^2(omega t) is at most
 # omega E). The band is omega dt, twice that, for the harmonics; a secular drift is reported
-# against the 0.1 % of tests/test_vibrating_bar.f90. At large amplitude the exchange rate
+# against the 0.1 % of tests/verification/test_vibrating_bar.f90. At large amplitude the exchange rate
 # exceeds omega E where the bar stiffens (taken from the reference), and the energy drifts down
 # at first order in dt: the oscillation about the fitted trend and the order of the trend are
 # the targets there.
@@ -422,7 +422,7 @@ def drift_target(m):
         "energy: secular drift", m["energy_secular_drift"], None,
         f"abs <= {DRIFT_BAND:.1%}", abs(m["energy_secular_drift"]) <= DRIFT_BAND, False,
         "reported: mean total energy over the last period against the first, the criterion "
-        "of tests/test_vibrating_bar.f90; the oscillation above averages out", unit="rel")
+        "of tests/verification/test_vibrating_bar.f90; the oscillation above averages out", unit="rel")
 
 
 def small_targets(m):
