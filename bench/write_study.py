@@ -181,7 +181,7 @@ def mms_findings(rows):
         "such step.", "",
         "**The remedy, adopted for MUSL**: moving the particles in MUSL with the remapped "
         "nodal velocity, the one that strains them, removes the growth (stretched bar: "
-        "growth 0 at CFL 0.1 to 0.5; tests/test_manufactured.f90 checks it) and lets the "
+        "growth 0 at CFL 0.1 to 0.5; tests/verification/test_manufactured.f90 checks it) and lets the "
         "20 %-strain vibrating bar follow its nonlinear reference (validation/vibrating_bar). "
         "USF cannot use it, as it strains with the velocities of the start of the step. The "
         "APIC transfer "
@@ -192,7 +192,7 @@ def mms_findings(rows):
         "the strip then buckled like a beam of depth dx under the compression of the "
         "solution (sigma down to -0.39 E), from round-off, at a rate of about 0.3 c / dx; at "
         "256 cells that destroyed the MUSL and USF runs within half a period and made USL "
-        "fail. tests/test_manufactured.f90 checks that every node holds it now.", ""]
+        "fail. tests/verification/test_manufactured.f90 checks that every node holds it now.", ""]
     return lines
 
 
