@@ -20,7 +20,7 @@ PYTEST_DIRS      = $(wildcard postproc/tests tests/python)
 LINT_DIRS        = $(wildcard src app)
 
 .PHONY: help deps deps-paraview deps-test build build-exe run test test-fortran test-python check lint \
-        debug test-debug coarray caf-build test-coarray fuzz bench study validate clean
+        debug test-debug coarray caf-build test-coarray fuzz bench study validate docs clean
 
 help:
 	@echo "mpm-geo make targets:"
@@ -41,6 +41,7 @@ help:
 	@echo "  make bench       run the benchmarks (bench/run_bench.sh)"
 	@echo "  make study       accuracy against cost (bench/run_study.sh -> docs/accuracy-vs-cost.md)"
 	@echo "  make validate    run the validation cases (validation/run_all.sh)"
+	@echo "  make docs        API pages from the doc comments (FORD, docs/ford.md) -> build/docs/"
 	@echo "  make clean       remove $(BUILD_DIR)/, $(DEBUG_DIR)/, $(CAF_DIR)/, $(FUZZ_DIR)/ (outputs/ and $(VENV)/"
 	@echo "                   are kept)"
 
@@ -159,6 +160,10 @@ validate: deps
 	else \
 	    echo "nothing to validate yet (validation/run_all.sh is missing)"; \
 	fi
+
+# API pages (FORD): build/docs/index.html; fails when FORD misreads a doc comment.
+docs:
+	@bash scripts/make_docs.sh
 
 clean:
 	rm -rf $(BUILD_DIR) $(DEBUG_DIR) $(CAF_DIR) $(FUZZ_DIR)
