@@ -9,7 +9,9 @@
 submodule (mpm_case) mpm_case_reader
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     use mpm_kinds, only: i8
-    use mpm_strings, only: lower, path_problem, max_name_bytes
+    use mpm_strings, only: lower, path_problem, max_name_bytes, int_text, fmt_real, fmt_below, &
+        fmt_vector, fmt_box, int_list, quoted_list, plain_list, join, text_or, yes_no, same, &
+        levenshtein, base_name, any_same
     use mpm_error, only: fatal_error, exit_input, exit_other
     use mpm_json, only: json_document_type, json_value_type, json_parse_file, &
         json_parse_string, json_free, json_root, json_is_valid, json_is_object, json_type_name, &
@@ -92,11 +94,6 @@ submodule (mpm_case) mpm_case_reader
     integer, parameter :: domain_digits = 12
         !! significant digits of computed coordinates (origin + n dx) in messages
 
-    !> Decimal text of an integer of default or i8 kind.
-    interface itoa
-        module procedure itoa_default, itoa_i8
-    end interface itoa
-
 contains
 
     module procedure read_case_file
@@ -148,7 +145,7 @@ contains
             text = text//"dimension   3"//nl
         end if
         line = "grid        "//int_list(case%ncells(1:dim), " x ")//" cells, " &
-            //int_list(case%ncells(1:dim) + 1, " x ")//" = "//itoa(node_count(case)) &
+            //int_list(case%ncells(1:dim) + 1, " x ")//" = "//int_text(node_count(case)) &
             //" nodes, dx = "//fmt_real(case%dx)//" m"
         text = text//line//nl
         extent(1:dim) = case%origin(1:dim) + case%ncells(1:dim)*case%dx
@@ -160,12 +157,12 @@ contains
             if (d < dim) line = line//","
         end do
         text = text//line//nl
-        line = "particles   ppc = "//itoa(case%ppc)//" ("//itoa(case%ppc**dim)//" per cell), " &
+        line = "particles   ppc = "//int_text(case%ppc)//" ("//int_text(case%ppc**dim)//" per cell), " &
             //trim(distribution_names(case%distribution))
-        if (case%distribution == dist_random) line = line//", seed "//itoa(case%seed)
+        if (case%distribution == dist_random) line = line//", seed "//int_text(case%seed)
         text = text//line//nl
         if (allocated(case%materials)) then
-            text = text//"materials   "//itoa(size(case%materials))//nl
+            text = text//"materials   "//int_text(size(case%materials))//nl
             do m = 1, size(case%materials)
                 text = text//material_text(case%materials(m))
             end do
@@ -178,7 +175,7 @@ contains
                 do b = 1, size(case%bodies)
                     total = total + body_particles(case, b)
                 end do
-                text = text//"bodies      "//itoa(size(case%bodies))//", "//itoa(total) &
+                text = text//"bodies      "//int_text(size(case%bodies))//", "//int_text(total) &
                     //" particles"//nl
             end if
             do b = 1, size(case%bodies)
@@ -192,7 +189,7 @@ contains
                     end if
                     text = text//line//": "//fmt_box(body%xmin(1:dim), body%xmax(1:dim)) &
                         //" m, v = "//fmt_vector(body%velocity(1:dim))//" m/s, " &
-                        //itoa(count)//" particles"//nl
+                        //int_text(count)//" particles"//nl
                 end associate
             end do
         end if
@@ -247,7 +244,7 @@ contains
         text = text//"save_state  "//text_or(case%save_state, "(none)", .true.)//nl
         text = text//"load_state  "//text_or(case%load_state, "(none)", .true.)//nl
         line = "checkpoint "
-        if (case%checkpoint_steps > 0) line = line//" every "//itoa(case%checkpoint_steps)// &
+        if (case%checkpoint_steps > 0) line = line//" every "//int_text(case%checkpoint_steps)// &
             " steps,"
         if (case%checkpoint_minutes > 0.0_wp) line = line//" every "// &
             fmt_real(case%checkpoint_minutes)//" min,"
@@ -262,7 +259,7 @@ contains
         line = "guard       energy created above "//fmt_real(case%guard_energy_factor)// &
             " x the energy scale; "
         if (case%guard_snapshot_steps > 0) then
-            line = line//"healthy copy every "//itoa(case%guard_snapshot_steps)//" steps"
+            line = line//"healthy copy every "//int_text(case%guard_snapshot_steps)//" steps"
         else
             line = line//"no healthy copy"
         end if
@@ -412,13 +409,13 @@ contains
         if (len(case%name) > max_case_name) then
             if (found) then
                 call input_error(error, src, 'name = "'//case%name(1:20)//'..." is '// &
-                    itoa(len(case%name))//" bytes long, at most "//itoa(max_case_name) &
+                    int_text(len(case%name))//" bytes long, at most "//int_text(max_case_name) &
                     //" (it names the file <name>.xdmf.tmp of the output folder, and a file "// &
-                    "name has at most "//itoa(max_name_bytes)//" bytes)")
+                    "name has at most "//int_text(max_name_bytes)//" bytes)")
             else
                 call input_error(error, src, 'the case name "'//case%name(1:20)//'..." taken '// &
-                    "from the file name is "//itoa(len(case%name))//" bytes long, at "// &
-                    "most "//itoa(max_case_name)//'; set a shorter "name" in the case file')
+                    "from the file name is "//int_text(len(case%name))//" bytes long, at "// &
+                    "most "//int_text(max_case_name)//'; set a shorter "name" in the case file')
             end if
             return
         end if
@@ -474,7 +471,7 @@ contains
         if (nodes > real(huge(1), wp)) then
             call input_error(error, src, "domain: "//int_list(case%ncells(1:dim), " x ") &
                 //" cells make "//fmt_real(nodes, 3)//" nodes, more than the " &
-                //itoa(huge(1))//" this version can number; use fewer cells (a larger dx)")
+                //int_text(huge(1))//" this version can number; use fewer cells (a larger dx)")
             return
         end if
         call get_real(domain, "dx", "domain", src, case%dx, error, required=.true., &
@@ -605,9 +602,9 @@ contains
         do d = 1, case%dim
             ! particle sub-cells are numbered with default integers along each axis
             if (int(case%ncells(d), i8)*case%ppc > huge(1)) then
-                call input_error(error, src, "particles.ppc = "//itoa(case%ppc)//" with domain.n" &
-                    //axis_names(d:d)//" = "//itoa(case%ncells(d))//" makes more than " &
-                    //itoa(huge(1))//" particle positions along "//axis_names(d:d) &
+                call input_error(error, src, "particles.ppc = "//int_text(case%ppc)//" with domain.n" &
+                    //axis_names(d:d)//" = "//int_text(case%ncells(d))//" makes more than " &
+                    //int_text(huge(1))//" particle positions along "//axis_names(d:d) &
                     //"; use fewer cells or a smaller ppc")
                 return
             end if
@@ -644,7 +641,7 @@ contains
         if (allocated(error)) return
         allocate (case%materials(json_size(list)))
         do i = 1, size(case%materials)
-            path = "materials["//itoa(i)//"]"
+            path = "materials["//int_text(i)//"]"
             item = json_item(list, i)
             call check_type(item, path, "object", "an object", src, error)
             if (allocated(error)) return
@@ -657,7 +654,7 @@ contains
                 do j = 1, i - 1
                     if (same(case%materials(j)%name, mat%name)) then
                         call input_error(error, src, path//'.name = "'//mat%name//'" is ' &
-                            //"already the name of materials["//itoa(j)//"]; material names " &
+                            //"already the name of materials["//int_text(j)//"]; material names " &
                             //"must be unique")
                         return
                     end if
@@ -1024,18 +1021,18 @@ contains
         allocate (case%bodies(json_size(list)))
         total = 0
         do i = 1, size(case%bodies)
-            path = "bodies["//itoa(i)//"]"
+            path = "bodies["//int_text(i)//"]"
             item = json_item(list, i)
             call check_object(item, path, body_keys, src, error)
             if (allocated(error)) return
             associate (body => case%bodies(i))
-                body%name = "body"//itoa(i)
+                body%name = "body"//int_text(i)
                 call get_string(item, "name", path, src, body%name, error)
                 if (allocated(error)) return
                 do j = 1, i - 1
                     if (same(case%bodies(j)%name, body%name)) then
                         call input_error(error, src, path//'.name = "'//body%name//'" is ' &
-                            //"already the name of bodies["//itoa(j)//"]; body names must " &
+                            //"already the name of bodies["//int_text(j)//"]; body names must " &
                             //"be unique")
                         return
                     end if
@@ -1085,8 +1082,8 @@ contains
             total = total + case%bodies(i)%particles
         end do
         if (total > huge(1)) then
-            call input_error(error, src, "the bodies hold "//itoa(total)//" particles, more " &
-                //"than the "//itoa(huge(1))//" this version can store; use a smaller " &
+            call input_error(error, src, "the bodies hold "//int_text(total)//" particles, more " &
+                //"than the "//int_text(huge(1))//" this version can store; use a smaller " &
                 //"particles.ppc or a larger domain.dx")
         end if
     end subroutine read_bodies
@@ -1177,7 +1174,7 @@ contains
         dim = case%dim
         tol = box_tolerance*case%dx
         associate (body => case%bodies(i))
-            label = "bodies["//itoa(i)//'] "'//body%name//'"'
+            label = "bodies["//int_text(i)//'] "'//body%name//'"'
             corner = "corner"
             what = "the box "//fmt_box(body%xmin(1:dim), body%xmax(1:dim))//" [m]"
             if (allocated(body%triangle)) then
@@ -1189,8 +1186,8 @@ contains
             end if
             do d = 1, dim
                 if (.not. body%xmin(d) < body%xmax(d)) then
-                    call input_error(error, src, label//": min["//itoa(d)//"] = " &
-                        //fmt_real(body%xmin(d))//" must be below max["//itoa(d)//"] = " &
+                    call input_error(error, src, label//": min["//int_text(d)//"] = " &
+                        //fmt_real(body%xmin(d))//" must be below max["//int_text(d)//"] = " &
                         //fmt_real(body%xmax(d))//" [m]")
                     return
                 end if
@@ -1218,7 +1215,7 @@ contains
             case%bodies(i)%particles = count
             if (count == 0) then
                 call input_error(error, src, label//": "//what//" holds no particle (with ppc = " &
-                    //itoa(case%ppc)//" particles sit at origin + (i + (k - 0.5)/ppc) dx, " &
+                    //int_text(case%ppc)//" particles sit at origin + (i + (k - 0.5)/ppc) dx, " &
                     //"k = 1..ppc, in each cell i); make the body larger or raise particles.ppc")
                 return
             end if
@@ -1226,7 +1223,7 @@ contains
                 associate (other => case%bodies(j))
                     if (all(min(body%xmax(1:dim), other%xmax(1:dim)) &
                         - max(body%xmin(1:dim), other%xmin(1:dim)) > tol)) then
-                        call input_error(error, src, label//" overlaps bodies["//itoa(j) &
+                        call input_error(error, src, label//" overlaps bodies["//int_text(j) &
                             //'] "'//other%name//'": the boxes (bounding boxes of STL ' &
                             //"surfaces) " &
                             //fmt_box(body%xmin(1:dim), body%xmax(1:dim))//" and " &
@@ -1481,7 +1478,7 @@ contains
         if (allocated(error) .or. .not. found) return
         fields = .false.
         do i = 1, json_size(list)
-            path = "output.fields["//itoa(i)//"]"
+            path = "output.fields["//int_text(i)//"]"
             item = json_item(list, i)
             call check_type(item, path, "string", "a field name", src, error)
             if (allocated(error)) return
@@ -1864,12 +1861,12 @@ contains
         allowed = " an integer"
         if (present(at_least)) then
             lower_bound = real(at_least, wp)
-            allowed = allowed//" >= "//itoa(at_least)
+            allowed = allowed//" >= "//int_text(at_least)
         end if
         if (present(at_most)) then
             upper_bound = real(at_most, wp)
             if (present(at_least)) allowed = allowed//" and"
-            allowed = allowed//" <= "//itoa(at_most)
+            allowed = allowed//" <= "//int_text(at_most)
         end if
         call get_typed(obj, key, path, src, "number", allowed(2:), val, is_present, error, &
             required)
@@ -1916,16 +1913,16 @@ contains
         integer :: i
         real(wp) :: x(3)
 
-        expect = "an array of "//itoa(n)//" numbers"//range_text(unit=unit)
+        expect = "an array of "//int_text(n)//" numbers"//range_text(unit=unit)
         call get_typed(obj, key, path, src, "array", expect, val, is_present, error, required)
         if (allocated(error) .or. .not. is_present) return
         if (json_size(val) /= n) then
-            call input_error(error, src, join(path, key)//" must have "//itoa(n)//" numbers " &
-                //"(one per axis, dimension = "//itoa(n)//"), found "//itoa(json_size(val)))
+            call input_error(error, src, join(path, key)//" must have "//int_text(n)//" numbers " &
+                //"(one per axis, dimension = "//int_text(n)//"), found "//int_text(json_size(val)))
             return
         end if
         do i = 1, n
-            associate (item_path => join(path, key)//"["//itoa(i)//"]")
+            associate (item_path => join(path, key)//"["//int_text(i)//"]")
                 call check_type(json_item(val, i), item_path, "number", "a number", src, error)
                 if (allocated(error)) return
                 call number_value(json_item(val, i), item_path, src, x(i), error)
@@ -2355,84 +2352,6 @@ contains
         if (present(at_most)) in_range = in_range .and. x <= at_most
     end function in_range
 
-    !> Shortest text that reads back as x ("0.1", "1000000", "1e-5", "2.5e9"), or x rounded
-    !> to `digits` significant digits. Plain decimals from 1e-4 to 1e7, exponents outside.
-    pure function fmt_real(x, digits) result(text)
-        real(wp), intent(in) :: x
-            !! finite number
-        integer, intent(in), optional :: digits
-            !! significant digits (default: as many as needed to read back exactly)
-        character(len=:), allocatable :: text
-
-        character(len=40) :: buf
-        character(len=:), allocatable :: mantissa
-        character(len=20) :: form
-        integer :: p, e, epos, nd, first, last
-        real(wp) :: y
-
-        if (x == 0.0_wp) then
-            text = "0"
-            return
-        end if
-        do p = 1, 17
-            if (present(digits)) then
-                if (p < digits) cycle
-            end if
-            write (form, "(a,i0,a)") "(es40.", p - 1, "e4)"
-            write (buf, form) x
-            read (buf, *) y
-            if (present(digits) .or. y == x) exit
-        end do
-        buf = adjustl(buf)
-        epos = index(buf, "E")
-        read (buf(epos + 1:), *) e
-        ! digits of the mantissa without sign, point and trailing zeros
-        mantissa = ""
-        first = merge(2, 1, buf(1:1) == "-")
-        do p = first, epos - 1
-            if (buf(p:p) /= ".") mantissa = mantissa//buf(p:p)
-        end do
-        last = len(mantissa)
-        do while (last > 1 .and. mantissa(last:last) == "0")
-            last = last - 1
-        end do
-        mantissa = mantissa(1:last)
-        nd = len(mantissa)
-        if (e >= 0 .and. e < 7) then
-            if (nd <= e + 1) then
-                text = mantissa//repeat("0", e + 1 - nd)
-            else
-                text = mantissa(1:e + 1)//"."//mantissa(e + 2:)
-            end if
-        else if (e < 0 .and. e >= -4) then
-            text = "0."//repeat("0", -e - 1)//mantissa
-        else if (nd > 1) then
-            text = mantissa(1:1)//"."//mantissa(2:)//"e"//itoa(e)
-        else
-            text = mantissa//"e"//itoa(e)
-        end if
-        if (x < 0.0_wp) text = "-"//text
-    end function fmt_real
-
-    !> `x` with the fewest digits (6 or more) whose text still reads as below `limit`, so a
-    !> message "A is above B" never shows B rounded up to A.
-    pure function fmt_below(x, limit) result(text)
-        real(wp), intent(in) :: x
-            !! number to show (x < limit)
-        real(wp), intent(in) :: limit
-            !! number it must stay below
-        character(len=:), allocatable :: text
-
-        integer :: digits
-        real(wp) :: y
-
-        do digits = 6, 17
-            text = fmt_real(x, digits)
-            read (text, *) y
-            if (y < limit) return
-        end do
-    end function fmt_below
-
     !> An angle given in radians, as degrees: enough digits to hide the round-off of the
     !> conversion, so 30 degrees shows as "30".
     pure function fmt_deg(angle) result(text)
@@ -2442,178 +2361,6 @@ contains
 
         text = fmt_real(angle/degree, 12)
     end function fmt_deg
-
-    !> "(1, 2.5)"
-    pure function fmt_vector(v, digits) result(text)
-        real(wp), intent(in) :: v(:)
-            !! components
-        integer, intent(in), optional :: digits
-            !! significant digits (default: exact)
-        character(len=:), allocatable :: text
-
-        integer :: i
-
-        text = "("
-        do i = 1, size(v)
-            if (i > 1) text = text//", "
-            text = text//fmt_real(v(i), digits)
-        end do
-        text = text//")"
-    end function fmt_vector
-
-    !> "[0, 1] x [0, 2]"
-    pure function fmt_box(lower, upper, digits) result(text)
-        real(wp), intent(in) :: lower(:)
-            !! lower corner
-        real(wp), intent(in) :: upper(:)
-            !! upper corner
-        integer, intent(in), optional :: digits
-            !! significant digits (default: exact)
-        character(len=:), allocatable :: text
-
-        integer :: d
-
-        text = ""
-        do d = 1, size(lower)
-            if (d > 1) text = text//" x "
-            text = text//"["//fmt_real(lower(d), digits)//", "//fmt_real(upper(d), digits)//"]"
-        end do
-    end function fmt_box
-
-    !> Decimal text of a default integer.
-    pure function itoa_default(i) result(text)
-        integer, intent(in) :: i
-            !! integer
-        character(len=:), allocatable :: text
-
-        text = itoa_i8(int(i, i8))
-    end function itoa_default
-
-    !> Decimal text of a 64-bit integer.
-    pure function itoa_i8(i) result(text)
-        integer(i8), intent(in) :: i
-            !! integer
-        character(len=:), allocatable :: text
-
-        character(len=24) :: buf
-
-        write (buf, "(i0)") i
-        text = trim(buf)
-    end function itoa_i8
-
-    !> "40 x 20"
-    pure function int_list(values, separator) result(text)
-        integer, intent(in) :: values(:)
-            !! integers
-        character(len=*), intent(in) :: separator
-            !! text between two integers
-        character(len=:), allocatable :: text
-
-        integer :: i
-
-        text = ""
-        do i = 1, size(values)
-            if (i > 1) text = text//separator
-            text = text//itoa(values(i))
-        end do
-    end function int_list
-
-    !> '"a", "b", "c"'
-    pure function quoted_list(names) result(text)
-        character(len=*), intent(in) :: names(:)
-            !! names (trailing blanks ignored)
-        character(len=:), allocatable :: text
-
-        integer :: i
-
-        text = ""
-        do i = 1, size(names)
-            if (i > 1) text = text//", "
-            text = text//'"'//trim(names(i))//'"'
-        end do
-    end function quoted_list
-
-    !> "a, b, c"
-    pure function plain_list(names) result(text)
-        character(len=*), intent(in) :: names(:)
-            !! names (trailing blanks ignored)
-        character(len=:), allocatable :: text
-
-        integer :: i
-
-        text = ""
-        do i = 1, size(names)
-            if (i > 1) text = text//", "
-            text = text//trim(names(i))
-        end do
-    end function plain_list
-
-    !> "a.b", or "b" when the path is empty.
-    pure function join(path, key) result(text)
-        character(len=*), intent(in) :: path
-            !! path of the parent ("" at the top level)
-        character(len=*), intent(in) :: key
-            !! key in the parent
-        character(len=:), allocatable :: text
-
-        if (len(path) == 0) then
-            text = key
-        else
-            text = path//"."//key
-        end if
-    end function join
-
-    !> The text of an allocatable string, or a default when it is unallocated (or empty).
-    pure function text_or(str, default, empty_too) result(text)
-        character(len=:), allocatable, intent(in) :: str
-            !! string that may be unallocated
-        character(len=*), intent(in) :: default
-            !! text used instead
-        logical, intent(in), optional :: empty_too
-            !! also use the default for an empty string
-        character(len=:), allocatable :: text
-
-        text = default
-        if (.not. allocated(str)) return
-        if (len(str) == 0 .and. is_true(empty_too)) return
-        text = str
-    end function text_or
-
-    pure function yes_no(flag) result(text)
-        logical, intent(in) :: flag
-        character(len=:), allocatable :: text
-
-        text = trim(merge("yes", "no ", flag))
-    end function yes_no
-
-    !> Equal strings, trailing blanks included (Fortran's == ignores them).
-    pure logical function same(a, b)
-        character(len=*), intent(in) :: a
-        character(len=*), intent(in) :: b
-
-        same = len(a) == len(b)
-        if (same) same = a == b
-    end function same
-
-    !> Edit distance between two strings (insertions, deletions, substitutions).
-    pure integer function levenshtein(a, b)
-        character(len=*), intent(in) :: a
-        character(len=*), intent(in) :: b
-
-        integer :: previous(0:len(b)), current(0:len(b))
-        integer :: i, j
-
-        previous = [(j, j = 0, len(b))]
-        do i = 1, len(a)
-            current(0) = i
-            do j = 1, len(b)
-                current(j) = min(previous(j) + 1, current(j - 1) + 1, &
-                    previous(j - 1) + merge(0, 1, a(i:i) == b(j:j)))
-            end do
-            previous = current
-        end do
-        levenshtein = previous(len(b))
-    end function levenshtein
 
     !> A case name is safe as a folder name: letters, digits, '-', '_', '.', not leading '.'.
     pure logical function valid_name(name)
@@ -2627,35 +2374,6 @@ contains
         if (.not. valid_name) return
         valid_name = name(1:1) /= "." .and. verify(name, allowed) == 0
     end function valid_name
-
-    !> File name without folder and extension: "inputs/column.json" -> "column".
-    pure function base_name(path) result(name)
-        character(len=*), intent(in) :: path
-            !! file path
-        character(len=:), allocatable :: name
-
-        integer :: slash, dot
-
-        slash = index(path, "/", back=.true.)
-        name = path(slash + 1:)
-        dot = index(name, ".", back=.true.)
-        if (dot > 1) name = name(1:dot - 1)
-    end function base_name
-
-    !> Whether `key` is one of `names` (exactly, trailing blanks of the names ignored).
-    pure logical function any_same(names, key)
-        character(len=*), intent(in) :: names(:)
-            !! names (trailing blanks ignored)
-        character(len=*), intent(in) :: key
-            !! key to find
-
-        integer :: i
-
-        any_same = .false.
-        do i = 1, size(names)
-            if (same(trim(names(i)), key)) any_same = .true.
-        end do
-    end function any_same
 
     !> True when the optional flag is present and true.
     pure logical function is_true(flag)
