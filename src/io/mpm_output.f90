@@ -144,7 +144,7 @@ contains
         end if
         if (len(writer%case_name) == 0) writer%case_name = "case"
         writer%dim = case%dim
-        writer%fields = case%output_fields
+        writer%fields = case%output%fields
         ! the accumulated plastic shear strain exists only where a material is plastic
         plastic = .false.
         do m = 1, size(case%materials)
@@ -152,7 +152,7 @@ contains
                 case%materials(m)%type == "drucker_prager"
         end do
         writer%fields(field_plastic_strain) = writer%fields(field_plastic_strain) .and. plastic
-        writer%grid = case%output_grid
+        writer%grid = case%output%grid
         if (allocated(case%materials)) then
             allocate (writer%materials(size(case%materials)))
             do i = 1, size(case%materials)
