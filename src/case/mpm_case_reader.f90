@@ -12,8 +12,11 @@ submodule (mpm_case) mpm_case_reader
     use mpm_case_cursor, only: cursor_type, new_cursor, input_error, describe
     use mpm_case_domain, only: read_domain, domain_keys, face_keys, face_object_keys
     use mpm_case_particles, only: read_particles, particle_keys
-    use mpm_case_materials, only: read_materials, material_keys, model_choices, &
-        model_choice_codes, softening_keys, any_material_keys
+    use mpm_case_materials, only: read_materials
+    use mpm_case_material_model, only: key_width
+    use mpm_case_material_registry, only: material_model_entry_type, material_models, &
+        material_choices, material_choice_codes, keys_of
+    use mpm_case_material_strength, only: softening_keys
     use mpm_case_bodies, only: read_bodies, body_keys
     use mpm_case_sites, only: body_site_count
     use mpm_case_states, only: read_states
@@ -72,7 +75,9 @@ contains
 
     module procedure case_key_paths
         character(len=key_path_width), allocatable :: list(:)
-        character(len=len(any_material_keys)), allocatable :: keys(:)
+        character(len=key_width), allocatable :: keys(:), choices(:)
+        type(material_model_entry_type), allocatable :: models(:)
+        integer, allocatable :: codes(:)
         character(len=:), allocatable :: material
         integer :: i, longest
 
@@ -86,9 +91,12 @@ contains
             call add_key_paths(list, "domain.boundaries."//trim(face_keys(i)), face_object_keys)
         end do
         call add_key_paths(list, "particles", particle_keys)
-        do i = 1, size(model_choices)
-            material = "materials[type="//trim(model_choices(i))//"]"
-            keys = material_keys(model_choice_codes(i))
+        models = material_models()
+        choices = material_choices()
+        codes = material_choice_codes()
+        do i = 1, size(choices)
+            material = "materials[type="//trim(choices(i))//"]"
+            keys = keys_of(models(codes(i))%model)
             call add_key_paths(list, material, keys)
             if (any_same(keys, "softening")) then
                 call add_key_paths(list, material//".softening", softening_keys)

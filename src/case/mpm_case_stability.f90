@@ -7,30 +7,24 @@ module mpm_case_stability
     use mpm_kinds, only: wp
     use mpm_case_materials, only: material_spec_type
     use mpm_case_bodies, only: body_spec_type
+    use mpm_case_material_registry, only: material_wave_speed, material_time_step_limit
     implicit none
     private
     public :: p_wave_speed, viscous_time_step, critical_time_step, start_time_step
 
 contains
 
-    !> P-wave speed of a material, sqrt((K + 4G/3)/rho) [m/s]; sqrt(K/rho) for a fluid.
+    !> P-wave speed of a material [m/s], from its model (mpm_case_material_registry):
+    !> sqrt((K + 4G/3)/rho) for a solid, sqrt(K/rho) for a fluid.
     pure real(wp) function p_wave_speed(mat)
         type(material_spec_type), intent(in) :: mat
             !! material
 
-        real(wp) :: bulk, shear
-
-        if (mat%type == "newtonian") then
-            p_wave_speed = sqrt(mat%bulk_modulus/mat%density)
-            return
-        end if
-        bulk = mat%young/(3.0_wp*(1.0_wp - 2.0_wp*mat%poisson))
-        shear = mat%young/(2.0_wp*(1.0_wp + mat%poisson))
-        p_wave_speed = sqrt((bulk + 4.0_wp*shear/3.0_wp)/mat%density)
+        p_wave_speed = material_wave_speed(mat)
     end function p_wave_speed
 
-    !> Stable time step of explicit viscous diffusion, rho dx^2 / (2 dim mu) [s]; huge when
-    !> the material has no viscosity.
+    !> Time-step limit of a material besides the CFL condition [s], from its model: the
+    !> viscous limit rho dx^2 / (2 dim mu) of a fluid, huge for the others.
     pure real(wp) function viscous_time_step(mat, dx, dim)
         type(material_spec_type), intent(in) :: mat
             !! material
@@ -39,11 +33,7 @@ contains
         integer, intent(in) :: dim
             !! space dimensions
 
-        if (mat%type == "newtonian" .and. mat%viscosity > 0.0_wp) then
-            viscous_time_step = mat%density*dx*dx/(2.0_wp*real(dim, wp)*mat%viscosity)
-        else
-            viscous_time_step = huge(1.0_wp)
-        end if
+        viscous_time_step = material_time_step_limit(mat, dx, dim)
     end function viscous_time_step
 
     !> Critical time step at t = 0 [s]: dx / max over bodies (c_p + |v0|), and the viscous

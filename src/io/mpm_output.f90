@@ -15,6 +15,7 @@ module mpm_output
     use mpm_error, only: error_type, fatal_error, exit_other
     use mpm_case, only: case_type, nfields, field_displacement, field_velocity, field_stress, &
         field_strain, field_material, field_mass, field_volume, field_plastic_strain
+    use mpm_case_material_registry, only: writes_plastic_strain
     use mpm_particles, only: particles_type
     use mpm_grid, only: grid_type, node_position
     use mpm_hdf5, only: hdf5_location_type, text_type, hdf5_initialize, hdf5_create_file, &
@@ -148,8 +149,7 @@ contains
         ! the accumulated plastic shear strain exists only where a material is plastic
         plastic = .false.
         do m = 1, size(case%materials)
-            plastic = plastic .or. case%materials(m)%type == "mohr_coulomb" .or. &
-                case%materials(m)%type == "drucker_prager"
+            plastic = plastic .or. writes_plastic_strain(case%materials(m))
         end do
         writer%fields(field_plastic_strain) = writer%fields(field_plastic_strain) .and. plastic
         writer%grid = case%output%grid
