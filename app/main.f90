@@ -63,10 +63,10 @@ program mpm_geo_main
         call read_case_file(cmd%case_path, case, error)
     end if
     if (allocated(error)) call fail(error)
-    if (allocated(cmd%output_dir)) case%output_dir = cmd%output_dir
-    if (cmd%overwrite) case%overwrite = .true.
-    if (cmd%checkpoint_steps >= 0) case%checkpoint_steps = cmd%checkpoint_steps
-    if (cmd%checkpoint_minutes >= 0.0_wp) case%checkpoint_minutes = cmd%checkpoint_minutes
+    if (allocated(cmd%output_dir)) case%output%directory = cmd%output_dir
+    if (cmd%overwrite) case%output%overwrite = .true.
+    if (cmd%checkpoint_steps >= 0) case%checkpoint%every_steps = cmd%checkpoint_steps
+    if (cmd%checkpoint_minutes >= 0.0_wp) case%checkpoint%every_minutes = cmd%checkpoint_minutes
 
     if (cmd%check_only) then
         ! a checkpoint: its particles must fit the case (grid, materials, domain)
@@ -136,7 +136,7 @@ contains
             end if
             call read_case_file(cmd%case_path, case, error)
             if (allocated(error)) return
-            if (allocated(cmd%output_dir)) case%output_dir = cmd%output_dir
+            if (allocated(cmd%output_dir)) case%output%directory = cmd%output_dir
             cmd%restart_path = checkpoint_path(case)
         end if
         call read_run_record(cmd%restart_path, run, error)
@@ -175,7 +175,7 @@ contains
             end if
             case%file = run%case_file
         end if
-        case%output_dir = run%output_dir
+        case%output%directory = run%output_dir
         cmd%output_dir = run%output_dir
     end subroutine read_restart
 

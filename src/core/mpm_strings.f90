@@ -5,6 +5,8 @@ module mpm_strings
     private
     public :: vector_text, int_text, lower, real_text, reals_text, path_problem
     public :: max_path_bytes, max_name_bytes
+    public :: fmt_real, fmt_below, fmt_vector, fmt_box, int_list, quoted_list, plain_list
+    public :: join, text_or, yes_no, same, levenshtein, base_name, any_same
 
     integer, parameter :: max_path_bytes = 4095
         !! longest path a system call takes [bytes] (Linux PATH_MAX 4096, with its NUL)
@@ -166,5 +168,276 @@ contains
         end do
         text = text//")"
     end function reals_text
+
+    ! ----------------------------------------------------------------------------------------
+    ! Text of messages and summaries (from the case reader)
+    ! ----------------------------------------------------------------------------------------
+
+    !> Shortest text that reads back as x ("0.1", "1000000", "1e-5", "2.5e9"), or x rounded
+    !> to `digits` significant digits. Plain decimals from 1e-4 to 1e7, exponents outside.
+    pure function fmt_real(x, digits) result(text)
+        real(wp), intent(in) :: x
+            !! finite number
+        integer, intent(in), optional :: digits
+            !! significant digits (default: as many as needed to read back exactly)
+        character(len=:), allocatable :: text
+
+        character(len=40) :: buf
+        character(len=:), allocatable :: mantissa
+        character(len=20) :: form
+        integer :: p, e, epos, nd, first, last
+        real(wp) :: y
+
+        if (x == 0.0_wp) then
+            text = "0"
+            return
+        end if
+        do p = 1, 17
+            if (present(digits)) then
+                if (p < digits) cycle
+            end if
+            write (form, "(a,i0,a)") "(es40.", p - 1, "e4)"
+            write (buf, form) x
+            read (buf, *) y
+            if (present(digits) .or. y == x) exit
+        end do
+        buf = adjustl(buf)
+        epos = index(buf, "E")
+        read (buf(epos + 1:), *) e
+        ! digits of the mantissa without sign, point and trailing zeros
+        mantissa = ""
+        first = merge(2, 1, buf(1:1) == "-")
+        do p = first, epos - 1
+            if (buf(p:p) /= ".") mantissa = mantissa//buf(p:p)
+        end do
+        last = len(mantissa)
+        do while (last > 1 .and. mantissa(last:last) == "0")
+            last = last - 1
+        end do
+        mantissa = mantissa(1:last)
+        nd = len(mantissa)
+        if (e >= 0 .and. e < 7) then
+            if (nd <= e + 1) then
+                text = mantissa//repeat("0", e + 1 - nd)
+            else
+                text = mantissa(1:e + 1)//"."//mantissa(e + 2:)
+            end if
+        else if (e < 0 .and. e >= -4) then
+            text = "0."//repeat("0", -e - 1)//mantissa
+        else if (nd > 1) then
+            text = mantissa(1:1)//"."//mantissa(2:)//"e"//int_text(e)
+        else
+            text = mantissa//"e"//int_text(e)
+        end if
+        if (x < 0.0_wp) text = "-"//text
+    end function fmt_real
+
+    !> `x` with the fewest digits (6 or more) whose text still reads as below `limit`, so a
+    !> message "A is above B" never shows B rounded up to A.
+    pure function fmt_below(x, limit) result(text)
+        real(wp), intent(in) :: x
+            !! number to show (x < limit)
+        real(wp), intent(in) :: limit
+            !! number it must stay below
+        character(len=:), allocatable :: text
+
+        integer :: digits
+        real(wp) :: y
+
+        do digits = 6, 17
+            text = fmt_real(x, digits)
+            read (text, *) y
+            if (y < limit) return
+        end do
+    end function fmt_below
+
+    !> "(1, 2.5)"
+    pure function fmt_vector(v, digits) result(text)
+        real(wp), intent(in) :: v(:)
+            !! components
+        integer, intent(in), optional :: digits
+            !! significant digits (default: exact)
+        character(len=:), allocatable :: text
+
+        integer :: i
+
+        text = "("
+        do i = 1, size(v)
+            if (i > 1) text = text//", "
+            text = text//fmt_real(v(i), digits)
+        end do
+        text = text//")"
+    end function fmt_vector
+
+    !> "[0, 1] x [0, 2]"
+    pure function fmt_box(lower, upper, digits) result(text)
+        real(wp), intent(in) :: lower(:)
+            !! lower corner
+        real(wp), intent(in) :: upper(:)
+            !! upper corner
+        integer, intent(in), optional :: digits
+            !! significant digits (default: exact)
+        character(len=:), allocatable :: text
+
+        integer :: d
+
+        text = ""
+        do d = 1, size(lower)
+            if (d > 1) text = text//" x "
+            text = text//"["//fmt_real(lower(d), digits)//", "//fmt_real(upper(d), digits)//"]"
+        end do
+    end function fmt_box
+
+    !> "40 x 20"
+    pure function int_list(values, separator) result(text)
+        integer, intent(in) :: values(:)
+            !! integers
+        character(len=*), intent(in) :: separator
+            !! text between two integers
+        character(len=:), allocatable :: text
+
+        integer :: i
+
+        text = ""
+        do i = 1, size(values)
+            if (i > 1) text = text//separator
+            text = text//int_text(values(i))
+        end do
+    end function int_list
+
+    !> '"a", "b", "c"'
+    pure function quoted_list(names) result(text)
+        character(len=*), intent(in) :: names(:)
+            !! names (trailing blanks ignored)
+        character(len=:), allocatable :: text
+
+        integer :: i
+
+        text = ""
+        do i = 1, size(names)
+            if (i > 1) text = text//", "
+            text = text//'"'//trim(names(i))//'"'
+        end do
+    end function quoted_list
+
+    !> "a, b, c"
+    pure function plain_list(names) result(text)
+        character(len=*), intent(in) :: names(:)
+            !! names (trailing blanks ignored)
+        character(len=:), allocatable :: text
+
+        integer :: i
+
+        text = ""
+        do i = 1, size(names)
+            if (i > 1) text = text//", "
+            text = text//trim(names(i))
+        end do
+    end function plain_list
+
+    !> "a.b", or "b" when the path is empty.
+    pure function join(path, key) result(text)
+        character(len=*), intent(in) :: path
+            !! path of the parent ("" at the top level)
+        character(len=*), intent(in) :: key
+            !! key in the parent
+        character(len=:), allocatable :: text
+
+        if (len(path) == 0) then
+            text = key
+        else
+            text = path//"."//key
+        end if
+    end function join
+
+    !> The text of an allocatable string, or a default when it is unallocated (or empty).
+    pure function text_or(str, default, empty_too) result(text)
+        character(len=:), allocatable, intent(in) :: str
+            !! string that may be unallocated
+        character(len=*), intent(in) :: default
+            !! text used instead
+        logical, intent(in), optional :: empty_too
+            !! also use the default for an empty string
+        character(len=:), allocatable :: text
+
+        text = default
+        if (.not. allocated(str)) return
+        if (len(str) == 0 .and. present(empty_too)) then
+            if (empty_too) return
+        end if
+        text = str
+    end function text_or
+
+    !> "yes" or "no".
+    pure function yes_no(flag) result(text)
+        logical, intent(in) :: flag
+            !! the flag
+        character(len=:), allocatable :: text
+            !! its text
+
+        text = trim(merge("yes", "no ", flag))
+    end function yes_no
+
+    !> Equal strings, trailing blanks included (Fortran's == ignores them).
+    pure logical function same(a, b)
+        character(len=*), intent(in) :: a
+            !! one string
+        character(len=*), intent(in) :: b
+            !! the other
+
+        same = len(a) == len(b)
+        if (same) same = a == b
+    end function same
+
+    !> Edit distance between two strings (insertions, deletions, substitutions).
+    pure integer function levenshtein(a, b)
+        character(len=*), intent(in) :: a
+            !! one string
+        character(len=*), intent(in) :: b
+            !! the other
+
+        integer :: previous(0:len(b)), current(0:len(b))
+        integer :: i, j
+
+        previous = [(j, j = 0, len(b))]
+        do i = 1, len(a)
+            current(0) = i
+            do j = 1, len(b)
+                current(j) = min(previous(j) + 1, current(j - 1) + 1, &
+                    previous(j - 1) + merge(0, 1, a(i:i) == b(j:j)))
+            end do
+            previous = current
+        end do
+        levenshtein = previous(len(b))
+    end function levenshtein
+
+    !> File name without folder and extension: "inputs/column.json" -> "column".
+    pure function base_name(path) result(name)
+        character(len=*), intent(in) :: path
+            !! file path
+        character(len=:), allocatable :: name
+
+        integer :: slash, dot
+
+        slash = index(path, "/", back=.true.)
+        name = path(slash + 1:)
+        dot = index(name, ".", back=.true.)
+        if (dot > 1) name = name(1:dot - 1)
+    end function base_name
+
+    !> Whether `key` is one of `names` (exactly, trailing blanks of the names ignored).
+    pure logical function any_same(names, key)
+        character(len=*), intent(in) :: names(:)
+            !! names (trailing blanks ignored)
+        character(len=*), intent(in) :: key
+            !! key to find
+
+        integer :: i
+
+        any_same = .false.
+        do i = 1, size(names)
+            if (same(trim(names(i)), key)) any_same = .true.
+        end do
+    end function any_same
 
 end module mpm_strings

@@ -15,6 +15,7 @@ module mpm_output
     use mpm_error, only: error_type, fatal_error, exit_other
     use mpm_case, only: case_type, nfields, field_displacement, field_velocity, field_stress, &
         field_strain, field_material, field_mass, field_volume, field_plastic_strain
+    use mpm_case_material_registry, only: writes_plastic_strain
     use mpm_particles, only: particles_type
     use mpm_grid, only: grid_type, node_position
     use mpm_hdf5, only: hdf5_location_type, text_type, hdf5_initialize, hdf5_create_file, &
@@ -144,15 +145,14 @@ contains
         end if
         if (len(writer%case_name) == 0) writer%case_name = "case"
         writer%dim = case%dim
-        writer%fields = case%output_fields
+        writer%fields = case%output%fields
         ! the accumulated plastic shear strain exists only where a material is plastic
         plastic = .false.
         do m = 1, size(case%materials)
-            plastic = plastic .or. case%materials(m)%type == "mohr_coulomb" .or. &
-                case%materials(m)%type == "drucker_prager"
+            plastic = plastic .or. writes_plastic_strain(case%materials(m))
         end do
         writer%fields(field_plastic_strain) = writer%fields(field_plastic_strain) .and. plastic
-        writer%grid = case%output_grid
+        writer%grid = case%output%grid
         if (allocated(case%materials)) then
             allocate (writer%materials(size(case%materials)))
             do i = 1, size(case%materials)

@@ -154,11 +154,11 @@ contains
             if (allocated(error)) exit steps
             call hdf5_write_attribute(file, "dimension", case%dim, error)
             if (allocated(error)) exit steps
-            call hdf5_write_attribute(file, "ncells", case%ncells, error)
+            call hdf5_write_attribute(file, "ncells", case%domain%ncells, error)
             if (allocated(error)) exit steps
-            call hdf5_write_attribute(file, "dx", case%dx, error)
+            call hdf5_write_attribute(file, "dx", case%domain%dx, error)
             if (allocated(error)) exit steps
-            call hdf5_write_attribute(file, "origin", case%origin, error)
+            call hdf5_write_attribute(file, "origin", case%domain%origin, error)
             if (allocated(error)) exit steps
             call hdf5_write_attribute(file, "n", particles%n, error)
             if (allocated(error)) exit steps
@@ -665,23 +665,23 @@ contains
         call hdf5_read_attribute(file, "origin", origin, error)
         if (allocated(error)) return
 
-        if (any(ncells(1:dim) /= case%ncells(1:dim))) then
+        if (any(ncells(1:dim) /= case%domain%ncells(1:dim))) then
             call fatal_error(error, refusal(path, "the state grid has ncells = "// &
                 ints_text(ncells(1:dim))//" but the case has ncells = "// &
-                ints_text(case%ncells(1:dim))), exit_input)
+                ints_text(case%domain%ncells(1:dim))), exit_input)
             return
         end if
-        if (.not. close_enough(dx, case%dx, 0.0_wp)) then
+        if (.not. close_enough(dx, case%domain%dx, 0.0_wp)) then
             call fatal_error(error, refusal(path, "the state grid has dx = "// &
-                real_text(dx)//" m but the case has dx = "//real_text(case%dx)//" m"), &
+                real_text(dx)//" m but the case has dx = "//real_text(case%domain%dx)//" m"), &
                 exit_input)
             return
         end if
         do d = 1, dim
-            if (.not. close_enough(origin(d), case%origin(d), case%dx)) then
+            if (.not. close_enough(origin(d), case%domain%origin(d), case%domain%dx)) then
                 call fatal_error(error, refusal(path, "the state grid has origin = "// &
                     reals_text(origin(1:dim))//" m but the case has origin = "// &
-                    reals_text(case%origin(1:dim))//" m"), exit_input)
+                    reals_text(case%domain%origin(1:dim))//" m"), exit_input)
                 return
             end if
         end do
@@ -758,16 +758,16 @@ contains
         real(wp) :: upper(3)
         character(len=:), allocatable :: box
 
-        upper = case%origin + real(case%ncells, wp)*case%dx
+        upper = case%domain%origin + real(case%domain%ncells, wp)*case%domain%dx
         do p = 1, particles%n
             do d = 1, case%dim
                 ! written so that a NaN position counts as outside
-                if (.not. (particles%x(d, p) >= case%origin(d) .and. &
+                if (.not. (particles%x(d, p) >= case%domain%origin(d) .and. &
                     particles%x(d, p) <= upper(d))) then
                     box = ""
                     do k = 1, case%dim
                         if (k > 1) box = box//" x "
-                        box = box//"["//real_text(case%origin(k))//", "//real_text(upper(k))//"]"
+                        box = box//"["//real_text(case%domain%origin(k))//", "//real_text(upper(k))//"]"
                     end do
                     call fatal_error(error, refusal(path, "particle "//int_text(p)//" at "// &
                         reals_text(particles%x(:, p))//" m lies outside the case domain "// &

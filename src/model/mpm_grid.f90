@@ -28,7 +28,7 @@ module mpm_grid
         real(wp) :: origin(3) = 0.0_wp
             !! position of node (0, 0, 0) [m]
         integer :: bc(2, 3) = 0
-            !! boundary condition of each face, as case%bc
+            !! boundary condition of each face, as case%domain%bc
         real(wp), allocatable :: mass(:)
             !! nodal mass (nnodes) [kg]
         real(wp), allocatable :: momentum(:, :)
@@ -138,13 +138,13 @@ contains
 
         grid%dim = case%dim
         grid%ncells = 1
-        grid%ncells(1:case%dim) = case%ncells(1:case%dim)
+        grid%ncells(1:case%dim) = case%domain%ncells(1:case%dim)
         grid%nn = 1
         grid%nn(1:case%dim) = grid%ncells(1:case%dim) + 1
         grid%nnodes = product(grid%nn)
-        grid%dx = case%dx
-        grid%origin = case%origin
-        grid%bc = case%bc
+        grid%dx = case%domain%dx
+        grid%origin = case%domain%origin
+        grid%bc = case%domain%bc
         d = case%dim
         allocate (grid%mass(grid%nnodes), grid%momentum(d, grid%nnodes), &
             grid%fint(d, grid%nnodes), grid%fext(d, grid%nnodes), &
@@ -206,7 +206,7 @@ contains
                                 grid%contact_normal(c) = merge(-1.0_wp, 1.0_wp, side == 1)
                                 grid%contact_dir(:, c) = 0.0_wp
                                 grid%contact_dir(a, c) = grid%contact_normal(c)
-                                grid%contact_mu(c) = case%bc_friction(side, a)
+                                grid%contact_mu(c) = case%domain%bc_friction(side, a)
                             case default
                                 continue
                             end select

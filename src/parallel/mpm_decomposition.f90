@@ -48,7 +48,7 @@ contains
     pure integer function cut_axis(case)
         type(case_type), intent(in) :: case
             !! resolved case
-        cut_axis = maxloc(case%ncells(1:case%dim), dim=1)
+        cut_axis = maxloc(case%domain%ncells(1:case%dim), dim=1)
     end function cut_axis
 
     !> Cell (0-based, along axis a) of a coordinate in the whole grid, clamped to the grid.
@@ -59,7 +59,7 @@ contains
             !! coordinate [m]
         integer, intent(in) :: a
             !! axis
-        global_cell = min(max(int((x - case%origin(a))/case%dx), 0), case%ncells(a) - 1)
+        global_cell = min(max(int((x - case%domain%origin(a))/case%domain%dx), 0), case%domain%ncells(a) - 1)
     end function global_cell
 
     !> Cut the grid of a case into `images` slabs across `cut_axis(case)` with about the same
@@ -94,7 +94,7 @@ contains
             return
         end if
         dec%axis = cut_axis(case)
-        cells = case%ncells(dec%axis)
+        cells = case%domain%ncells(dec%axis)
         if (cells < min_slab_cells*images) then
             call fatal_error(error, case%file//": "//int_text(images)//" images need at "// &
                 "least "//int_text(min_slab_cells*images)//" cells along the longest axis ("// &
@@ -162,11 +162,11 @@ contains
         local = case
         if (dec%axis == 0) return
         a = dec%axis
-        node_hi = min(case%ncells(a), dec%cell_hi + 1)
-        local%origin(a) = case%origin(a) + real(dec%node_lo, wp)*case%dx
-        local%ncells(a) = node_hi - dec%node_lo
-        if (dec%left > 0) local%bc(1, a) = bc_free
-        if (dec%right > 0) local%bc(2, a) = bc_free
+        node_hi = min(case%domain%ncells(a), dec%cell_hi + 1)
+        local%domain%origin(a) = case%domain%origin(a) + real(dec%node_lo, wp)*case%domain%dx
+        local%domain%ncells(a) = node_hi - dec%node_lo
+        if (dec%left > 0) local%domain%bc(1, a) = bc_free
+        if (dec%right > 0) local%domain%bc(2, a) = bc_free
     end function local_case
 
     !> Origin and nodes per axis of the grid of every image (output index).
@@ -189,9 +189,9 @@ contains
             other = dec
             if (dec%axis > 0) call set_image(other, k)
             local = local_case(case, other)
-            origins(:, k) = local%origin
+            origins(:, k) = local%domain%origin
             nns(:, k) = 1
-            nns(1:case%dim, k) = local%ncells(1:case%dim) + 1
+            nns(1:case%dim, k) = local%domain%ncells(1:case%dim) + 1
         end do
     end subroutine image_grids
 

@@ -15,7 +15,7 @@ contains
         class(shape_type), allocatable, intent(out) :: shape
             !! the shape function
         integer, intent(in) :: kind
-            !! case%shape
+            !! case%solver%shape
 
         select case (kind)
         case (shape_linear)

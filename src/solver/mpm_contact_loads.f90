@@ -73,11 +73,11 @@ contains
         integer :: a, side, nn(3)
 
         nn = 1
-        nn(1:case%dim) = case%ncells(1:case%dim) + 1
+        nn(1:case%dim) = case%domain%ncells(1:case%dim) + 1
         face_node_count = 0
         do a = 1, case%dim
             do side = 1, 2
-                if (case%bc(side, a) == bc_frictional) face_node_count = &
+                if (case%domain%bc(side, a) == bc_frictional) face_node_count = &
                     face_node_count + product(nn)/nn(a)
             end do
         end do
@@ -95,7 +95,7 @@ contains
         integer :: a, side, b, nn(3), ijk(3), stride, face, s
 
         nn = 1
-        nn(1:case%dim) = case%ncells(1:case%dim) + 1
+        nn(1:case%dim) = case%domain%ncells(1:case%dim) + 1
         ijk = global_ijk(grid, dec, grid%contact_node(c))
         a = grid%contact_axis(c)
         side = merge(1, 2, grid%contact_normal(c) < 0.0_wp)
@@ -104,7 +104,7 @@ contains
         do b = 1, case%dim
             do s = 1, 2
                 if (b == a .and. s == side) exit
-                if (case%bc(s, b) == bc_frictional) face_node = face_node + product(nn)/nn(b)
+                if (case%domain%bc(s, b) == bc_frictional) face_node = face_node + product(nn)/nn(b)
             end do
             if (b == a) exit
         end do
@@ -239,7 +239,7 @@ contains
         integer(i8) :: nn(3)
 
         nn = 1
-        nn(1:case%dim) = case%ncells(1:case%dim) + 1
+        nn(1:case%dim) = case%domain%ncells(1:case%dim) + 1
         ijk = global_ijk(grid, dec, id)
         global_node = 1_i8 + ijk(1) + nn(1)*(ijk(2) + nn(2)*ijk(3))
     end function global_node

@@ -153,16 +153,16 @@ contains
         quiet = options%quiet .or. .not. lead
         total = sum(counts_of_images(sim%particles%n))
         summary%particles = int(total)
-        summary%nodes = product(case%ncells(1:case%dim) + 1)
+        summary%nodes = product(case%domain%ncells(1:case%dim) + 1)
         if (total == 0) then
             call fatal_error(error, case%file//": the case holds no particles", exit_input)
             if (.not. lead) error%message = ""
             return
         end if
 
-        eps_t = 1.0e-12_wp*case%tend
+        eps_t = 1.0e-12_wp*case%time%tend
         next_output = huge(1.0_wp)
-        if (case%output_interval > 0.0_wp) next_output = case%output_interval
+        if (case%output%interval > 0.0_wp) next_output = case%output%interval
         next_history = 0.0_wp
         wall_before = 0.0_wp
         if (resumed) then
@@ -176,7 +176,7 @@ contains
             if (lead .and. .not. resumed) call prepare_output_dir(case, lock, error)
             call agree(error)
             if (allocated(error)) return
-            call new_output_writer(writer, case, case%output_dir, error, image_id(), image_count())
+            call new_output_writer(writer, case, case%output%directory, error, image_id(), image_count())
             if (.not. allocated(error) .and. resumed) call resume_output_writer(writer, &
                 run%output_time, run%output_step, run%output_counts, run%output_id, error)
             if (.not. allocated(error) .and. lead) then
@@ -185,7 +185,7 @@ contains
             end if
             ! the terrain surface, to open in ParaView beside the particles
             if (lead .and. allocated(sim%grid%terrain) .and. .not. allocated(error)) then
-                call write_terrain(case%output_dir, sim%grid%terrain%corner, error)
+                call write_terrain(case%output%directory, sim%grid%terrain%corner, error)
             end if
             call agree(error)
             if (allocated(error)) return
@@ -214,17 +214,17 @@ contains
         t_last_progress = t_start
         t_last_checkpoint = t_start
         imbalance = 0.0_wp
-        if (case%checkpoint_on_signal) call catch_stop_signals()
+        if (case%checkpoint%on_signal) call catch_stop_signals()
         ! the guard's copy is only written beside the outputs: no files, no copy
-        copies = case%guard_snapshot_steps > 0 .and. options%write_files
+        copies = case%guard%snapshot_steps > 0 .and. options%write_files
         if (copies) call take_snapshot(snapshot, sim, writer, next_output, next_history, &
             wall_before)
         ! the thread count of each step: the fastest (mpm_threads), starting with the largest
         call new_thread_governor(threads)
         nthreads = threads%most
-        do while (sim%time < case%tend - eps_t)
+        do while (sim%time < case%time%tend - eps_t)
             clock = wall_time()
-            dt = min(stable_time_step(sim), case%tend - sim%time)
+            dt = min(stable_time_step(sim), case%time%tend - sim%time)
             sim%phase_time(phase_other) = sim%phase_time(phase_other) + (wall_time() - clock)
             if (governor_threads(threads) /= nthreads) then
                 nthreads = governor_threads(threads)
@@ -242,7 +242,7 @@ contains
             written = .false.
             clock = wall_time()
             if (options%write_files) then
-                if (sim%time >= next_output - eps_t .or. sim%time >= case%tend - eps_t) then
+                if (sim%time >= next_output - eps_t .or. sim%time >= case%time%tend - eps_t) then
                     call compute_energies(sim)
                     call write_part(writer, sim, error)
                     if (allocated(error)) exit
@@ -251,14 +251,14 @@ contains
                     if (history_open) call flush_text_file(history_unit, error)
                     call agree(error)
                     if (allocated(error)) exit
-                    next_output = next_output_time(next_output, case%output_interval, &
+                    next_output = next_output_time(next_output, case%output%interval, &
                         sim%time + eps_t)
                     written = .true.
                 end if
                 if (sim%time >= next_history - eps_t .or. written) then
                     call compute_energies(sim)
                     if (lead) call write_history(history_unit, sim)
-                    next_history = sim%time + case%history_interval
+                    next_history = sim%time + case%output%history_interval
                 end if
                 sim%phase_time(phase_output) = sim%phase_time(phase_output) &
                     + (wall_time() - clock)
@@ -270,7 +270,7 @@ contains
             ! checkpoints: by step count, by wall time, and on a stop signal (collective)
             request = checkpoint_request(case, sim%step, wall_time() - t_last_checkpoint)
             ! (a run that has just finished needs none)
-            if (request > 0 .and. sim%time < case%tend - eps_t) then
+            if (request > 0 .and. sim%time < case%time%tend - eps_t) then
                 clock = wall_time()
                 ! the history up to the checkpoint is on disk before the checkpoint is: a
                 ! restart keeps those lines and writes the later ones again
@@ -293,17 +293,17 @@ contains
                 end if
             end if
             if (copies) then
-                if (mod(sim%step, int(case%guard_snapshot_steps, i8)) == 0) call take_snapshot( &
+                if (mod(sim%step, int(case%guard%snapshot_steps, i8)) == 0) call take_snapshot( &
                     snapshot, sim, writer, next_output, next_history, wall_before + &
                     (wall_time() - t_start))
             end if
-            if (.not. quiet .and. wall_time() - t_last_progress >= case%progress_seconds) then
+            if (.not. quiet .and. wall_time() - t_last_progress >= case%progress%interval) then
                 t_last_progress = wall_time()
-                call print_progress(sim, case%tend, t_last_progress - t_start, imbalance, &
+                call print_progress(sim, case%time%tend, t_last_progress - t_start, imbalance, &
                     first_step, first_time)
             end if
         end do
-        if (case%checkpoint_on_signal) call release_stop_signals()
+        if (case%checkpoint%on_signal) call release_stop_signals()
         ! the parallel loops after the run (outputs, state file) and the caller's get all
         call set_threads(threads%most)
         summary%threads = governor_text(threads)
@@ -324,7 +324,7 @@ contains
             ! (an image that does not report the failure has no message)
             if (options%write_files .and. len(error%message) > 0 .and. &
                 error%code /= exit_interrupted) error%message = &
-                error%message//new_line("a")//"outputs written so far are in "//case%output_dir
+                error%message//new_line("a")//"outputs written so far are in "//case%output%directory
             return
         end if
 
@@ -381,16 +381,16 @@ contains
             !! wall time since the last checkpoint (or the start) [s]
 
         checkpoint_request = 0
-        if (case%checkpoint_steps > 0) then
-            if (mod(step, int(case%checkpoint_steps, i8)) == 0) checkpoint_request = request_due
+        if (case%checkpoint%every_steps > 0) then
+            if (mod(step, int(case%checkpoint%every_steps, i8)) == 0) checkpoint_request = request_due
         end if
-        if (case%checkpoint_minutes > 0.0_wp) then
-            if (since_last/60.0_wp >= case%checkpoint_minutes) checkpoint_request = &
+        if (case%checkpoint%every_minutes > 0.0_wp) then
+            if (since_last/60.0_wp >= case%checkpoint%every_minutes) checkpoint_request = &
                 request_due
         end if
         if (stop_signal() /= 0) checkpoint_request = request_due + stop_signal()
-        if (image_count() > 1 .and. (case%checkpoint_minutes > 0.0_wp .or. &
-            case%checkpoint_on_signal)) call max_over_images(checkpoint_request)
+        if (image_count() > 1 .and. (case%checkpoint%every_minutes > 0.0_wp .or. &
+            case%checkpoint%on_signal)) call max_over_images(checkpoint_request)
     end function checkpoint_request
 
     !> The checkpoint file of a case: checkpoint.file, or checkpoint.h5 in the output folder.
@@ -399,9 +399,9 @@ contains
             !! the case
         character(len=:), allocatable :: path
 
-        path = case%output_dir//"/checkpoint.h5"
-        if (allocated(case%checkpoint_file)) then
-            if (len(case%checkpoint_file) > 0) path = case%checkpoint_file
+        path = case%output%directory//"/checkpoint.h5"
+        if (allocated(case%checkpoint%file)) then
+            if (len(case%checkpoint%file) > 0) path = case%checkpoint%file
         end if
     end function checkpoint_path
 
@@ -439,7 +439,7 @@ contains
         run%case_file = sim%case%file
         run%case_text = ""
         if (allocated(sim%case%text)) run%case_text = sim%case%text
-        run%output_dir = sim%case%output_dir
+        run%output_dir = sim%case%output%directory
         run%images = image_count()
         run%dt = sim%dt
         run%energy = energy_record(sim%energy)
@@ -499,7 +499,7 @@ contains
         character(len=:), allocatable :: path
 
         if (.not. snapshot%taken) return
-        path = case%output_dir//"/last_healthy.h5"
+        path = case%output%directory//"/last_healthy.h5"
         call save_particles(path, case, snapshot%particles, snapshot%time, snapshot%step, &
             failed, snapshot%run)
         if (len(error%message) == 0) return
@@ -617,15 +617,15 @@ contains
         integer(i8) :: row_step
         logical :: keep
 
-        if (.not. directory_exists(case%output_dir)) then
-            call fatal_error(error, "the output folder of the run, '"//case%output_dir// &
+        if (.not. directory_exists(case%output%directory)) then
+            call fatal_error(error, "the output folder of the run, '"//case%output%directory// &
                 "', is missing: a restart continues the outputs of the run in its folder", &
                 exit_input)
             return
         end if
-        call lock_folder(case%output_dir, lock, error)
+        call lock_folder(case%output%directory, lock, error)
         if (allocated(error)) return
-        path = case%output_dir//"/history.csv"
+        path = case%output%directory//"/history.csv"
         if (.not. file_exists(path)) return
         open (newunit=input, file=path, status="old", action="read", iostat=stat, iomsg=msg)
         if (stat /= 0) then
@@ -668,10 +668,10 @@ contains
         type(text_file_type), intent(inout) :: unit
         type(error_type), allocatable, intent(out) :: error
 
-        if (resumed .and. file_exists(case%output_dir//"/history.csv")) then
-            call open_text_file(case%output_dir//"/history.csv", unit, error, append=.true.)
+        if (resumed .and. file_exists(case%output%directory//"/history.csv")) then
+            call open_text_file(case%output%directory//"/history.csv", unit, error, append=.true.)
         else
-            call open_text_file(case%output_dir//"/history.csv", unit, error)
+            call open_text_file(case%output%directory//"/history.csv", unit, error)
             if (.not. allocated(error)) call put_line(unit, "time,step,kinetic_energy,"// &
                 "elastic_energy,potential_energy,plastic_work,viscous_work,damping_work,"// &
                 "friction_work,load_work,total,residual")
@@ -695,19 +695,19 @@ contains
 
         d = real(case%dim, wp)
         ns = merge(4.0_wp, 6.0_wp, case%dim == 2)
-        nps = merge(2.0_wp, 3.0_wp, case%shape == shape_linear)
+        nps = merge(2.0_wp, 3.0_wp, case%solver%shape == shape_linear)
         ! x, u, v, lp0, lp; mass, volume, volume0; stress, strain; F; 2 state variables;
         ! material (+ id on several images)
         per_particle = real_bytes*(5.0_wp*d + 3.0_wp + 2.0_wp*ns + d*d + 2.0_wp) + int_bytes
-        if (case%apic) per_particle = per_particle + real_bytes*d*d
+        if (case%solver%apic) per_particle = per_particle + real_bytes*d*d
         if (image_count() > 1) per_particle = per_particle + int_bytes
-        if (case%guard_snapshot_steps > 0) per_particle = 2.0_wp*per_particle
+        if (case%guard%snapshot_steps > 0) per_particle = 2.0_wp*per_particle
         ! stencils: weights and gradients, first node, order, cell
         per_particle = per_particle + real_bytes*(2.0_wp*nps - 1.0_wp)*d + int_bytes*(d + 2.0_wp)
         ! nodal fields (mass, momentum, forces, velocity, acceleration; constraints) and the
         ! scatter buffers (mass, momentum, force per node at least)
         per_node = real_bytes*(1.0_wp + 5.0_wp*d) + 4.0_wp*d + real_bytes*(2.0_wp*d + 1.0_wp)
-        nodes = product(real(case%ncells(1:case%dim), wp) + 1.0_wp)
+        nodes = product(real(case%domain%ncells(1:case%dim), wp) + 1.0_wp)
         bytes = (per_particle*real(particles, wp) + per_node*nodes)/real(image_count(), wp)
     end function memory_estimate
 
@@ -744,7 +744,7 @@ contains
         call fatal_error(error, case%file//": the case needs about "//size_text(need)// &
             " of memory"//trim(merge(" per image", "          ", image_count() > 1))//" ("// &
             int_text(particles)//" particles and "// &
-            int_text(int(product(real(case%ncells(1:case%dim), wp) + 1.0_wp), i8))// &
+            int_text(int(product(real(case%domain%ncells(1:case%dim), wp) + 1.0_wp), i8))// &
             " grid nodes) but "//size_text(real(available, wp))//" is available; use a "// &
             "larger domain.dx, fewer particles.ppc, a smaller domain, or more images "// &
             "(docs/hpc.md); guard.snapshot_steps = 0 saves the guard's copy of the particles", &
@@ -797,24 +797,24 @@ contains
             !! the lock of the folder, held by the caller for the run
         type(error_type), allocatable, intent(out) :: error
 
-        if (directory_exists(case%output_dir) .and. .not. case%overwrite) then
-            call fatal_error(error, "output folder '"//case%output_dir//"' exists already; "// &
+        if (directory_exists(case%output%directory) .and. .not. case%output%overwrite) then
+            call fatal_error(error, "output folder '"//case%output%directory//"' exists already; "// &
                 "mpm_geo does not overwrite results: pass --overwrite (or set "// &
                 """output"": {""overwrite"": true}), or choose another folder with --output DIR", &
                 exit_input)
             return
         end if
-        call make_directory(case%output_dir, error)
+        call make_directory(case%output%directory, error)
         if (allocated(error)) return
-        call lock_folder(case%output_dir, lock, error)
+        call lock_folder(case%output%directory, lock, error)
         if (allocated(error)) return
-        call remove_outputs(case%output_dir, case%name, error)
+        call remove_outputs(case%output%directory, case%name, error)
         if (allocated(error)) return
         ! an earlier run's checkpoints would continue that run in this one's folder
-        call remove_file(case%output_dir//"/checkpoint.h5", error)
-        if (.not. allocated(error)) call remove_file(case%output_dir//"/checkpoint.h5.tmp", error)
-        if (.not. allocated(error)) call remove_file(case%output_dir//"/last_healthy.h5", error)
-        if (.not. allocated(error)) call remove_file(case%output_dir//"/last_healthy.h5.tmp", &
+        call remove_file(case%output%directory//"/checkpoint.h5", error)
+        if (.not. allocated(error)) call remove_file(case%output%directory//"/checkpoint.h5.tmp", error)
+        if (.not. allocated(error)) call remove_file(case%output%directory//"/last_healthy.h5", error)
+        if (.not. allocated(error)) call remove_file(case%output%directory//"/last_healthy.h5.tmp", &
             error)
     end subroutine prepare_output_dir
 
@@ -874,7 +874,7 @@ contains
         if (allocated(summary%threads)) write (output_unit, "(a)") "  threads              "// &
             summary%threads
         write (output_unit, "(a,i0,a)") "  output files         ", summary%outputs, &
-            " in "//case%output_dir
+            " in "//case%output%directory
         write (output_unit, "(a)", advance="no") "  time per phase      "
         do k = 1, nphases
             write (output_unit, "(1x,a,'=',f0.3)", advance="no") trim(phase_names(k)), &

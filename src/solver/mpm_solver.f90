@@ -12,7 +12,8 @@ module mpm_solver
     use mpm_strings, only: vector_text
     use mpm_error, only: error_type, fatal_error, exit_numerical, exit_input
     use mpm_case, only: case_type, scheme_usf, scheme_usl, scheme_musl, damping_kinetic, &
-        p_wave_speed, viscous_time_step, field_strain, field_displacement
+        field_strain, field_displacement
+    use mpm_case_stability, only: p_wave_speed, viscous_time_step
     use mpm_grid, only: grid_type, new_grid, add_terrain
     use mpm_stl, only: stl_mesh_type, read_stl
     use mpm_terrain, only: terrain_misses_domain
@@ -163,10 +164,10 @@ contains
         nstate = 0
         do i = 1, size(sim%materials)
             sim%wave_speed(i) = p_wave_speed(case%materials(i))
-            sim%time_step_limit(i) = viscous_time_step(case%materials(i), case%dx, case%dim)
+            sim%time_step_limit(i) = viscous_time_step(case%materials(i), case%domain%dx, case%dim)
             nstate = max(nstate, sim%materials(i)%m%nstate())
         end do
-        call new_shape(sim%shape, case%shape)
+        call new_shape(sim%shape, case%solver%shape)
         if (present(restart)) then
             call load_state(restart, case, sim%particles, state_time, state_step, error, nstate)
             if (allocated(error)) return
@@ -201,16 +202,16 @@ contains
         ! this image's grid: the whole grid, or its slab with the ghost cells
         call slab_grid(sim, error)
         if (allocated(error)) return
-        if (case%contact_type == "terrain_stl") then
+        if (case%contact%type == "terrain_stl") then
             call terrain_contact(sim, error)
             if (allocated(error)) return
         end if
         ! a case stores what it writes: the accumulated strain and the displacement only when
         ! an output field or a state file asks for them
-        if (.not. (case%output_fields(field_strain) .or. has_text(case%save_state))) then
+        if (.not. (case%output%fields(field_strain) .or. has_text(case%save_state))) then
             deallocate (sim%particles%strain)
         end if
-        if (.not. (case%output_fields(field_displacement) .or. has_text(case%save_state))) then
+        if (.not. (case%output%fields(field_displacement) .or. has_text(case%save_state))) then
             deallocate (sim%particles%u)
         end if
         ! the same threshold on every image: the shared nodes get the same update
@@ -220,10 +221,10 @@ contains
         if (lightest < huge(1.0_wp)) sim%grid%small_mass = 1.0e-2_wp*lightest
         ! APIC affine velocities: kept from a state file of an APIC run, zero otherwise (a
         ! uniform velocity per body); dropped when this stage does not use APIC
-        if (.not. case%apic .and. allocated(sim%particles%affine)) then
+        if (.not. case%solver%apic .and. allocated(sim%particles%affine)) then
             deallocate (sim%particles%affine)
         end if
-        if (case%apic .and. .not. allocated(sim%particles%affine)) then
+        if (case%solver%apic .and. .not. allocated(sim%particles%affine)) then
             allocate (sim%particles%affine(case%dim, case%dim, sim%particles%n), stat=stat, &
                 errmsg=msg)
             if (stat /= 0) then
@@ -397,7 +398,7 @@ contains
         end if
         ! frictional faces average the normal impulse over five wave transits of a cell (the
         ! weight 0.1 per step it had at CFL 0.5), so that a smaller step does not shorten it
-        sim%grid%contact_time = 5.0_wp*sim%case%dx/max(maxval(sim%wave_speed), tiny(1.0_wp))
+        sim%grid%contact_time = 5.0_wp*sim%case%domain%dx/max(maxval(sim%wave_speed), tiny(1.0_wp))
     end subroutine slab_grid
 
     !> Frictional contact with the terrain surface of contact.file (read once, kept for the
@@ -410,8 +411,8 @@ contains
 
         type(stl_mesh_type) :: mesh
 
-        call read_stl(sim%case%contact_file, mesh, error, sim%case%contact_scale, &
-            sim%case%contact_offset, key="contact.file")
+        call read_stl(sim%case%contact%file, mesh, error, sim%case%contact%scale, &
+            sim%case%contact%offset, key="contact.file")
         if (allocated(error)) then
             error%message = sim%case%file//": "//error%message
             return
@@ -433,8 +434,8 @@ contains
 
         offset = 0
         if (sim%dec%axis > 0) offset(sim%dec%axis) = sim%dec%node_lo
-        call add_terrain(sim%grid, sim%terrain_corner, sim%case%contact_mu, sim%case%gravity, &
-            error, global_origin=sim%case%origin, offset=offset, &
+        call add_terrain(sim%grid, sim%terrain_corner, sim%case%contact%mu, sim%case%gravity, &
+            error, global_origin=sim%case%domain%origin, offset=offset, &
             allow_empty=image_count() > 1)
         if (image_count() > 1) then
             call agree(error)
@@ -451,7 +452,7 @@ contains
         end if
         if (allocated(error)) then
             if (len(error%message) > 0) error%message = sim%case%file//': contact.file = "'// &
-                sim%case%contact_file//'": '//error%message
+                sim%case%contact%file//'": '//error%message
         end if
     end subroutine slab_terrain
 
@@ -479,7 +480,7 @@ contains
 
         if (sim%dec%axis == 0 .or. mod(sim%step, int(rebalance_steps, i8)) /= 0) return
         axis = sim%dec%axis
-        allocate (histogram(0:sim%case%ncells(axis) - 1))
+        allocate (histogram(0:sim%case%domain%ncells(axis) - 1))
         histogram = 0
         do p = 1, sim%particles%n
             c = global_cell(sim%case, sim%particles%x(axis, p), axis)
@@ -545,7 +546,7 @@ contains
         integer :: axis
 
         axis = cut_axis(sim%case)
-        allocate (histogram(0:sim%case%ncells(axis) - 1))
+        allocate (histogram(0:sim%case%domain%ncells(axis) - 1))
         call body_cell_histogram(sim%case, axis, histogram)
         call new_decomposition(sim%dec, sim%case, image_count(), image_id(), histogram, error)
     end subroutine decompose_bodies
@@ -568,7 +569,7 @@ contains
         end if
         associate (particles => sim%particles)
             axis = cut_axis(sim%case)
-            allocate (histogram(0:sim%case%ncells(axis) - 1), keep(particles%n))
+            allocate (histogram(0:sim%case%domain%ncells(axis) - 1), keep(particles%n))
             histogram = 0
             do p = 1, particles%n
                 c = global_cell(sim%case, particles%x(axis, p), axis)
@@ -635,8 +636,8 @@ contains
         integer :: p
         real(wp) :: speed
 
-        if (sim%case%dt > 0.0_wp) then
-            stable_time_step = sim%case%dt
+        if (sim%case%time%dt > 0.0_wp) then
+            stable_time_step = sim%case%time%dt
             return
         end if
         speed = 0.0_wp
@@ -648,7 +649,7 @@ contains
         end do
         !$omp end parallel do
         call max_over_images(speed)
-        stable_time_step = sim%case%cfl*min(sim%case%dx/max(speed, tiny(1.0_wp)), &
+        stable_time_step = sim%case%time%cfl*min(sim%case%domain%dx/max(speed, tiny(1.0_wp)), &
             minval(sim%time_step_limit))
     end function stable_time_step
 
@@ -667,14 +668,14 @@ contains
         type(motion_type) :: motion
         type(energies_type) :: next
 
-        scheme = sim%case%scheme
+        scheme = sim%case%solver%scheme
         clock = wall_time()
         call compute_stencils(sim%stencils, sim%grid, sim%particles, sim%shape, error, &
-            cells=sim%case%fbar)
+            cells=sim%case%solver%fbar)
         if (allocated(error)) return
         call lap(sim, phase_stencils, clock)
         associate (grid => sim%grid, particles => sim%particles, stc => sim%stencils, &
-                   fbar => sim%case%fbar)
+                   fbar => sim%case%solver%fbar)
             if (scheme == scheme_usf) then
                 call p2g(grid, particles, stc, .true., .false., fbar)
                 call lap(sim, phase_p2g, clock)
@@ -688,17 +689,17 @@ contains
                 call p2g(grid, particles, stc, .true., .true., fbar)
             end if
             call lap(sim, phase_p2g, clock)
-            call integrate_nodes(grid, dt, sim%case%gravity, sim%case%damping, &
-                sim%case%damping_value, nodal_work)
+            call integrate_nodes(grid, dt, sim%case%gravity, sim%case%damping%type, &
+                sim%case%damping%value, nodal_work)
             call lap(sim, phase_nodal, clock)
             ! MUSL: the same pass maps the updated particle momentum back to the nodes, and the
             ! particles move in the stress update; USL, USF: they move here
             if (scheme == scheme_usl .and. .not. fbar) then
                 ! the stress update needs the nodal velocities of the moves: same pass
-                call g2p(grid, particles, stc, dt, sim%case%flip_fraction, sim%case%gravity, &
+                call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, sim%case%gravity, &
                     .false., motion, kinetic, sim%materials, work)
             else
-                call g2p(grid, particles, stc, dt, sim%case%flip_fraction, sim%case%gravity, &
+                call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, sim%case%gravity, &
                     scheme == scheme_musl, motion, kinetic)
             end if
             call lap(sim, phase_g2p, clock)
@@ -727,8 +728,8 @@ contains
         call check_blow_up(sim, motion, next, error)
         if (.not. allocated(error) .and. motion%lost > 0) then
             ! the corners of the whole grid (this image's is a slab of it)
-            call report_lost(sim%case%origin, sim%case%origin + sim%case%dx* &
-                real(merge(sim%case%ncells, 0, [1, 2, 3] <= sim%case%dim), wp), sim%particles, &
+            call report_lost(sim%case%domain%origin, sim%case%domain%origin + sim%case%domain%dx* &
+                real(merge(sim%case%domain%ncells, 0, [1, 2, 3] <= sim%case%dim), wp), sim%particles, &
                 motion%lost, error)
             error%message = step_prefix(sim)//error%message
         end if
@@ -738,7 +739,7 @@ contains
         sim%step = sim%step + 1
         sim%dt = dt
         sim%energy = next
-        if (sim%case%damping == damping_kinetic) call kinetic_damping(sim)
+        if (sim%case%damping%type == damping_kinetic) call kinetic_damping(sim)
         ! on several images: particles that left the slab go to their new image, and now
         ! and then the cuts follow the particles
         call migrate_particles(sim, error)
@@ -836,14 +837,14 @@ contains
 
         associate (ke => next%kinetic, particles => sim%particles)
             ! a stable explicit step moves no material point by more than a cell
-            if (motion%jump > sim%case%dx) then
+            if (motion%jump > sim%case%domain%dx) then
                 p = motion%jump_particle
                 write (msg, "(a,i0,a,a,a,es10.3,a,es10.3,a)") &
                     "the run became unstable: particle ", particle_number(particles, p), &
                     " (now at ", &
                     trim(vector_text(particles%x(:, p))), ") m moved ", &
                     motion%jump_length, " m in one step, more than a cell (dx = ", &
-                    sim%case%dx, " m)"
+                    sim%case%domain%dx, " m)"
                 call fatal_error(error, step_prefix(sim)//trim(msg)// &
                     "; reduce time.dt or time.cfl", exit_numerical)
                 return
@@ -851,7 +852,7 @@ contains
             created = energy_residual(next)
             scale = energy_scale(next, sim%energy_floor)
             if (ke <= huge(1.0_wp) .and. abs(created) <= huge(1.0_wp) .and. &
-                .not. created > sim%case%guard_energy_factor*scale) return
+                .not. created > sim%case%guard%energy_factor*scale) return
             ! the particle that shows it: the first with a non-finite velocity or stress,
             ! else the fastest
             worst = 0
@@ -880,7 +881,7 @@ contains
                 write (msg, "(a,es10.3,a,g0.4,a,es10.3,a,i0,a,a,a,es10.3,a,es10.3,a,f0.3,a)") &
                     "the run became unstable: it created energy, the energy residual ", &
                     created, " J is more than guard.energy_factor = ", &
-                    sim%case%guard_energy_factor, " times the energy scale of the run (", &
+                    sim%case%guard%energy_factor, " times the energy scale of the run (", &
                     scale, " J: initial kinetic + elastic energy, largest |work of gravity "// &
                     "and loads|); fastest particle ", particle_number(particles, worst), &
                     " at (", trim(vector_text(particles%x(:, worst))), ") m, |v| = ", &

@@ -434,7 +434,7 @@ contains
         real(wp), intent(in) :: gravity(3)
             !! gravitational acceleration [m/s2]
         integer, intent(in) :: damping
-            !! case%damping
+            !! case%damping%type
         real(wp), intent(in) :: alpha
             !! local damping coefficient [-]
         real(wp), intent(out) :: dissipated(nnodal_sums)

@@ -280,7 +280,7 @@ contains
         if (tension <= 0.0_wp .or. budget <= 0.0_wp .or. duration <= 0.0_wp) then
             tension_time_step = huge(1.0_wp)
         else
-            tension_time_step = budget*rho0*sim%case%dx**2/(tension*duration)
+            tension_time_step = budget*rho0*sim%case%domain%dx**2/(tension*duration)
         end if
     end function tension_time_step
 
@@ -362,7 +362,7 @@ contains
             result%time = sim%time
             result%speed_end = rms(pt%v(1, :))
         end associate
-        result%estimate = max(result%stress, 0.0_wp)*result%dt/(density*sim%case%dx**2)
+        result%estimate = max(result%stress, 0.0_wp)*result%dt/(density*sim%case%domain%dx**2)
         ! least-squares slope of log(rms speed) over the second half of the run
         n = size(times)
         first = n/2 + 1

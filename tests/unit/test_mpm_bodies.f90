@@ -60,14 +60,14 @@ contains
         call create_particles(case, particles, error)
         call check(suite, .not. allocated(error), label//": particles created")
         if (allocated(error)) return
-        h = case%dx/case%ppc
+        h = case%domain%dx/case%particles%ppc
         first = 1
         do b = 1, size(case%bodies)
             ! sub-cell centres inside [min, max): counted by hand per axis
             expected = 1
             do a = 1, dim
-                expected = expected*count_centres(case%bodies(b)%xmin(a) - case%origin(a), &
-                    case%bodies(b)%xmax(a) - case%origin(a), h)
+                expected = expected*count_centres(case%bodies(b)%xmin(a) - case%domain%origin(a), &
+                    case%bodies(b)%xmax(a) - case%domain%origin(a), h)
             end do
             call check(suite, count_body_particles(case, b) == expected, &
                 label//": particle count of a body")
@@ -86,7 +86,7 @@ contains
                     ! centre is inside the body: the point is within h/2 of the box
                     inside = inside .and. particles%x(a, p) > case%bodies(b)%xmin(a) - h/2 &
                         .and. particles%x(a, p) < case%bodies(b)%xmax(a) + h/2
-                    sub(a) = (particles%x(a, p) - case%origin(a))/h
+                    sub(a) = (particles%x(a, p) - case%domain%origin(a))/h
                     in_subcell = in_subcell .and. sub(a) - floor(sub(a)) > 0.0_wp
                 end do
                 if (distribution == "regular") in_subcell = in_subcell .and. &
@@ -174,7 +174,7 @@ contains
         call create_particles(case, particles, error)
         call check(suite, .not. allocated(error), "tilted box: particles created")
         if (allocated(error)) return
-        h = case%dx/case%ppc
+        h = case%domain%dx/case%particles%ppc
         call check(suite, particles%n == count_body_particles(case, 1), &
             "tilted box: count = particles created")
         ! the sub-cells cut by the 4 tilted faces err either way: about (sides x h) / 2
@@ -216,7 +216,7 @@ contains
         call create_particles(case, particles, error)
         call check(suite, .not. allocated(error), "prism: particles created")
         if (allocated(error)) return
-        h = case%dx/case%ppc
+        h = case%domain%dx/case%particles%ppc
         ! sub-cell centres inside the triangle (0.1, 0.1), (0.7, 0.1), (0.1, 0.5), by hand
         expected = 0
         do j = 0, 31

@@ -5,11 +5,12 @@ program test_mpm_case
     use mpm_kinds, only: wp
     use mpm_error, only: error_type, exit_input
     use mpm_case, only: case_type, read_case_file, read_case_string, case_summary, &
-        critical_time_step, p_wave_speed, bc_free, bc_sliding, bc_fixed, bc_frictional, &
+        bc_free, bc_sliding, bc_fixed, bc_frictional, &
         scheme_musl, scheme_usl, shape_cpgimp, shape_linear, damping_none, damping_local, &
         dist_regular, dist_random, field_position, field_velocity, field_stress, &
         softening_none, softening_linear, softening_exponential, cone_plane_strain, &
         cone_compression
+    use mpm_case_stability, only: critical_time_step, p_wave_speed
     use mpm_testing, only: test_suite_type, new_suite, check, check_close, check_contains, finish
     implicit none
 
@@ -164,15 +165,15 @@ contains
             case, "valid 2D case")
         if (.not. allocated(case%bodies)) return
         call check(suite, case%dim == 2, "2D: dimension 2 without nz")
-        call check(suite, .not. case%fbar, "2D: no locking correction by default")
-        call check(suite, case%apic, "2D: APIC transfer")
-        call check(suite, all(case%ncells == [4, 2, 1]), "2D: ncells with nz = 1")
-        call check_close(suite, case%dx, 0.1_wp, tol, "2D: dx")
-        call check(suite, all(case%origin == 0.0_wp), "2D: origin defaults to zero")
-        call check(suite, case%bc(1, 1) == bc_fixed .and. case%bc(2, 1) == bc_sliding, &
+        call check(suite, .not. case%solver%fbar, "2D: no locking correction by default")
+        call check(suite, case%solver%apic, "2D: APIC transfer")
+        call check(suite, all(case%domain%ncells == [4, 2, 1]), "2D: ncells with nz = 1")
+        call check_close(suite, case%domain%dx, 0.1_wp, tol, "2D: dx")
+        call check(suite, all(case%domain%origin == 0.0_wp), "2D: origin defaults to zero")
+        call check(suite, case%domain%bc(1, 1) == bc_fixed .and. case%domain%bc(2, 1) == bc_sliding, &
             "2D: x boundaries (any case)")
-        call check(suite, all(case%bc(:, 2:3) == bc_free), "2D: other faces free")
-        call check(suite, case%ppc == 2 .and. case%distribution == dist_regular, &
+        call check(suite, all(case%domain%bc(:, 2:3) == bc_free), "2D: other faces free")
+        call check(suite, case%particles%ppc == 2 .and. case%particles%distribution == dist_regular, &
             "2D: particles default to ppc 2, regular")
         call check(suite, case%materials(1)%name == "soil" .and. &
             case%materials(1)%type == "linear_elastic", "2D: material name and type")
@@ -183,25 +184,26 @@ contains
         call check_close(suite, case%bodies(1)%xmax(1), 0.2_wp, tol, "2D: body max x")
         call check_close(suite, case%bodies(1)%velocity(1), 1.0_wp, tol, "2D: body velocity")
         call check_close(suite, case%gravity(2), -9.81_wp, tol*10, "2D: gravity y")
-        call check(suite, case%scheme == scheme_musl, "2D: scheme 'musl' is MUSL")
-        call check(suite, case%shape == shape_cpgimp, "2D: 'GIMP' is cpgimp")
-        call check_close(suite, case%tend, 0.1_wp, tol, "2D: tend")
-        call check(suite, case%dt == 0.0_wp, "2D: no fixed dt")
-        call check_close(suite, case%cfl, 0.5_wp, 0.0_wp, "2D: cfl defaults to 0.5")
-        call check(suite, case%damping == damping_none, "2D: no damping by default")
-        call check_close(suite, case%output_interval, 0.1_wp/20, tol, "2D: interval tend/20")
-        call check_close(suite, case%history_interval, 0.1_wp/200, tol, &
+        call check(suite, case%solver%scheme == scheme_musl, "2D: scheme 'musl' is MUSL")
+        call check(suite, case%solver%shape == shape_cpgimp, "2D: 'GIMP' is cpgimp")
+        call check_close(suite, case%time%tend, 0.1_wp, tol, "2D: tend")
+        call check(suite, case%time%dt == 0.0_wp, "2D: no fixed dt")
+        call check_close(suite, case%time%cfl, 0.5_wp, 0.0_wp, "2D: cfl defaults to 0.5")
+        call check(suite, case%damping%type == damping_none, "2D: no damping by default")
+        call check_close(suite, case%output%interval, 0.1_wp/20, tol, "2D: interval tend/20")
+        call check_close(suite, case%output%history_interval, 0.1_wp/200, tol, &
             "2D: history interval is interval/10")
-        call check(suite, case%output_dir == "outputs/column", "2D: output folder")
-        call check(suite, all(case%output_fields), "2D: all fields by default")
-        call check(suite, .not. case%output_grid .and. .not. case%overwrite, &
+        call check(suite, case%output%directory == "outputs/column", "2D: output folder")
+        call check(suite, all(case%output%fields), "2D: all fields by default")
+        call check(suite, .not. case%output%grid .and. .not. case%output%overwrite, &
             "2D: no grid output, no overwrite")
         call check(suite, case%save_state == "" .and. case%load_state == "", "2D: no states")
-        call check(suite, case%contact_type == "none", "2D: contact none")
+        call check(suite, case%contact%type == "none", "2D: contact none")
         call check(suite, case%file == "<string>", "2D: file of a string case")
-        call check_close(suite, case%progress_seconds, 2.0_wp, 0.0_wp, "2D: progress 2 s")
-        call check_close(suite, critical_time_step(case), 0.1_wp/(sqrt(1.0e3_wp) + 1), &
-            1.0e-12_wp, "2D: critical step dx/(c_p + |v|)")
+        call check_close(suite, case%progress%interval, 2.0_wp, 0.0_wp, "2D: progress 2 s")
+        call check_close(suite, critical_time_step(case%dim, case%domain%dx, case%materials, &
+            case%bodies), 0.1_wp/(sqrt(1.0e3_wp) + 1), 1.0e-12_wp, &
+            "2D: critical step dx/(c_p + |v|)")
         call read_valid(case_text(), case, "default pieces")
         call check(suite, case%name == "case", "name of a case without source is 'case'")
     end subroutine test_valid_2d
@@ -222,32 +224,32 @@ contains
             //'"save_state": "out/cube/state.h5"}', case, "valid 3D case")
         if (.not. allocated(case%bodies)) return
         call check(suite, case%dim == 3, "3D: dimension 3 from nz")
-        call check(suite, all(case%ncells == [2, 3, 4]), "3D: ncells")
-        call check(suite, all(abs(case%origin - [1, 2, 3]) <= tol*3), "3D: origin")
-        call check(suite, case%bc(1, 3) == bc_fixed .and. case%bc(2, 3) == bc_free, &
+        call check(suite, all(case%domain%ncells == [2, 3, 4]), "3D: ncells")
+        call check(suite, all(abs(case%domain%origin - [1, 2, 3]) <= tol*3), "3D: origin")
+        call check(suite, case%domain%bc(1, 3) == bc_fixed .and. case%domain%bc(2, 3) == bc_free, &
             "3D: z faces")
-        call check(suite, case%ppc == 3 .and. case%distribution == dist_random .and. &
-            case%seed == 7, "3D: random particles with seed")
+        call check(suite, case%particles%ppc == 3 .and. case%particles%distribution == dist_random .and. &
+            case%particles%seed == 7, "3D: random particles with seed")
         call check(suite, case%materials(2)%type == "linear_elastic", &
             "3D: 'elastic' resolves to linear_elastic")
         call check_close(suite, case%materials(2)%poisson, 0.25_wp, tol, "3D: nu")
         call check(suite, case%bodies(1)%material == 2, "3D: body uses material 2")
-        call check(suite, case%scheme == scheme_usl .and. case%shape == shape_linear, &
+        call check(suite, case%solver%scheme == scheme_usl .and. case%solver%shape == shape_linear, &
             "3D: scheme and shape")
-        call check(suite, case%fbar, "3D: F-bar locking correction")
-        call check(suite, .not. case%apic .and. case%flip_fraction == 1.0_wp, &
+        call check(suite, case%solver%fbar, "3D: F-bar locking correction")
+        call check(suite, .not. case%solver%apic .and. case%solver%flip_fraction == 1.0_wp, &
             "3D: FLIP transfer by default")
-        call check_close(suite, case%dt, 1.0e-5_wp, tol*1.0e-5_wp, "3D: fixed dt")
-        call check(suite, case%damping == damping_local, "3D: local damping")
-        call check_close(suite, case%damping_value, 0.05_wp, tol, "3D: damping alpha")
-        call check(suite, case%output_interval == 0.0_wp .and. case%history_interval == 0.0_wp, &
+        call check_close(suite, case%time%dt, 1.0e-5_wp, tol*1.0e-5_wp, "3D: fixed dt")
+        call check(suite, case%damping%type == damping_local, "3D: local damping")
+        call check_close(suite, case%damping%value, 0.05_wp, tol, "3D: damping alpha")
+        call check(suite, case%output%interval == 0.0_wp .and. case%output%history_interval == 0.0_wp, &
             "3D: interval 0 gives history interval 0")
-        call check(suite, case%output_fields(field_position) .and. &
-            case%output_fields(field_velocity) .and. case%output_fields(field_stress) .and. &
-            count(case%output_fields) == 3, "3D: listed fields plus position")
-        call check(suite, case%output_grid .and. case%overwrite, "3D: grid and overwrite")
-        call check(suite, case%output_dir == "out/cube", "3D: output directory")
-        call check_close(suite, case%progress_seconds, 0.5_wp, 0.0_wp, "3D: progress")
+        call check(suite, case%output%fields(field_position) .and. &
+            case%output%fields(field_velocity) .and. case%output%fields(field_stress) .and. &
+            count(case%output%fields) == 3, "3D: listed fields plus position")
+        call check(suite, case%output%grid .and. case%output%overwrite, "3D: grid and overwrite")
+        call check(suite, case%output%directory == "out/cube", "3D: output directory")
+        call check_close(suite, case%progress%interval, 0.5_wp, 0.0_wp, "3D: progress")
         call check(suite, case%save_state == "out/cube/state.h5", "3D: save_state")
         call check(suite, case%name == "cube-3d.v1", "3D: name with '-' and '.'")
     end subroutine test_valid_3d
@@ -280,9 +282,9 @@ contains
             case, error)
         call check(suite, .not. allocated(error), "contact terrain_stl with scale and offset")
         if (.not. allocated(error)) then
-            call check(suite, case%contact_type == "terrain_stl" .and. case%contact_mu == 0.4_wp &
-                .and. case%contact_file == "tests/data/stl/floor_2.stl" .and. &
-                case%contact_scale == 0.001_wp .and. all(case%contact_offset == [1, 2, 3]), &
+            call check(suite, case%contact%type == "terrain_stl" .and. case%contact%mu == 0.4_wp &
+                .and. case%contact%file == "tests/data/stl/floor_2.stl" .and. &
+                case%contact%scale == 0.001_wp .and. all(case%contact%offset == [1, 2, 3]), &
                 "contact: type, mu, file, scale and offset read")
         end if
         call read_case_string(case_text(extra='"contact": {"file": "t.stl"}'), case, error)
@@ -302,7 +304,7 @@ contains
         if (allocated(error)) return
         call check(suite, case%name == "test_mpm_case_tmp", "default name from the file name")
         call check(suite, case%file == case_file, "case%file is the path")
-        call check(suite, case%output_dir == "outputs/test_mpm_case_tmp", "default output dir")
+        call check(suite, case%output%directory == "outputs/test_mpm_case_tmp", "default output dir")
 
         call write_text(case_file, case_text(domain='"domain": {"nx": 4, "ny": 2, "dx": -1}'))
         call read_case_file(case_file, case, error)
@@ -341,9 +343,9 @@ contains
             if (.not. allocated(case%bodies)) cycle
             do d = 1, 2
                 axis_count(d) = 0
-                do i = 0, case%ncells(d) - 1
-                    do k = 1, case%ppc
-                        x = (i + (k - 0.5_wp)/case%ppc)*case%dx
+                do i = 0, case%domain%ncells(d) - 1
+                    do k = 1, case%particles%ppc
+                        x = (i + (k - 0.5_wp)/case%particles%ppc)*case%domain%dx
                         if (x >= lower(d, b) .and. x < upper(d, b)) then
                             axis_count(d) = axis_count(d) + 1
                         end if
@@ -396,23 +398,23 @@ contains
             //'"file": "ck/run.h5", "on_signal": false}, "guard": {"energy_factor": 50, ' &
             //'"snapshot_steps": 0}')
         call read_valid(text, case, "checkpoint and guard")
-        call check(suite, case%checkpoint_steps == 250, "checkpoint.every_steps")
-        call check_close(suite, case%checkpoint_minutes, 30.0_wp, 0.0_wp, &
+        call check(suite, case%checkpoint%every_steps == 250, "checkpoint.every_steps")
+        call check_close(suite, case%checkpoint%every_minutes, 30.0_wp, 0.0_wp, &
             "checkpoint.every_minutes")
-        call check(suite, case%checkpoint_file == "ck/run.h5", "checkpoint.file")
-        call check(suite, .not. case%checkpoint_on_signal, "checkpoint.on_signal")
-        call check_close(suite, case%guard_energy_factor, 50.0_wp, 0.0_wp, "guard.energy_factor")
-        call check(suite, case%guard_snapshot_steps == 0, "guard.snapshot_steps")
+        call check(suite, case%checkpoint%file == "ck/run.h5", "checkpoint.file")
+        call check(suite, .not. case%checkpoint%on_signal, "checkpoint.on_signal")
+        call check_close(suite, case%guard%energy_factor, 50.0_wp, 0.0_wp, "guard.energy_factor")
+        call check(suite, case%guard%snapshot_steps == 0, "guard.snapshot_steps")
         call check(suite, case%text == text, "the case text is kept")
         call check_contains(suite, case_summary(case), "checkpoint  every 250 steps, every " &
             //"30 min, not on signals, file ck/run.h5", "summary: checkpoint")
         call check_contains(suite, case_summary(case), "no healthy copy", "summary: no copy")
         call read_valid(case_text(), case, "defaults")
-        call check(suite, case%checkpoint_steps == 0 .and. case%checkpoint_minutes == 0.0_wp &
-            .and. case%checkpoint_on_signal .and. case%checkpoint_file == "", &
+        call check(suite, case%checkpoint%every_steps == 0 .and. case%checkpoint%every_minutes == 0.0_wp &
+            .and. case%checkpoint%on_signal .and. case%checkpoint%file == "", &
             "checkpoint defaults: none periodic, on signals, default file")
-        call check(suite, case%guard_energy_factor == 1.0_wp .and. &
-            case%guard_snapshot_steps == 100, "guard defaults")
+        call check(suite, case%guard%energy_factor == 1.0_wp .and. &
+            case%guard%snapshot_steps == 100, "guard defaults")
         call expect_error(case_text(extra='"checkpoint": {"every_steps": 0}'), &
             [character(len=40) :: "checkpoint.every_steps", ">= 1"], "every_steps 0")
         call expect_error(case_text(extra='"checkpoint": {"every_minutes": -1}'), &
@@ -492,7 +494,7 @@ contains
             "particles.ppc = 1.5 is not a whole number: must be an integer >= 1 and <= 10"], &
             "ppc = 1.5")
         call read_valid(case_text(extra='"particles": {"ppc": 3.0}'), case, "ppc = 3.0")
-        call check(suite, case%ppc == 3, "ppc = 3.0 is the integer 3")
+        call check(suite, case%particles%ppc == 3, "ppc = 3.0 is the integer 3")
         call expect_error(case_text(extra='"particles": {"seed": 3}'), [character(len=200) :: &
             "particles.seed only applies to particles.distribution"], "seed without random")
         call expect_error(case_text(extra='"name": "my case"'), [character(len=200) :: &
@@ -625,8 +627,8 @@ contains
             //"time.cfl instead"], "dt above the critical step")
         call read_valid(case_text(time='"time": {"tend": 1, "dt": 0.003}'), case, &
             "dt below the critical step")
-        call check_close(suite, critical_time_step(case), &
-            0.1_wp/p_wave_speed(case%materials(1)), 1.0e-15_wp, "critical step of the case")
+        call check_close(suite, critical_time_step(case%dim, case%domain%dx, case%materials, &
+            case%bodies), 0.1_wp/p_wave_speed(case%materials(1)), 1.0e-15_wp, "critical step of the case")
         call expect_error(case_text(time='"time": {"tend": 1, "dt": 1e-3, "cfl": 0.5}'), &
             [character(len=200) :: "time.dt and time.cfl are alternatives"], "dt and cfl")
         call expect_error(case_text(time='"time": {"tend": 1, "cfl": 1.5}'), &
@@ -1029,13 +1031,13 @@ contains
         call read_valid(faces_case('{"ymin": {"type": "Frictional", "mu": 0.4}, ' &
             //'"xmin": {"type": "fixed"}, "xmax": "sliding", "ymax": {"type": "frictional", ' &
             //'"mu": 0}}'), case, "frictional faces")
-        call check(suite, case%bc(1, 2) == bc_frictional, "ymin is frictional")
-        call check_close(suite, case%bc_friction(1, 2), 0.4_wp, tol, "ymin mu")
-        call check(suite, case%bc(2, 2) == bc_frictional .and. case%bc_friction(2, 2) == 0, &
+        call check(suite, case%domain%bc(1, 2) == bc_frictional, "ymin is frictional")
+        call check_close(suite, case%domain%bc_friction(1, 2), 0.4_wp, tol, "ymin mu")
+        call check(suite, case%domain%bc(2, 2) == bc_frictional .and. case%domain%bc_friction(2, 2) == 0, &
             "mu = 0 is allowed")
-        call check(suite, case%bc(1, 1) == bc_fixed, "object form of a fixed face")
-        call check(suite, case%bc(2, 1) == bc_sliding, "string form beside object forms")
-        call check(suite, all(case%bc_friction(:, 1) == 0.0_wp), "no mu on other faces")
+        call check(suite, case%domain%bc(1, 1) == bc_fixed, "object form of a fixed face")
+        call check(suite, case%domain%bc(2, 1) == bc_sliding, "string form beside object forms")
+        call check(suite, all(case%domain%bc_friction(:, 1) == 0.0_wp), "no mu on other faces")
         call check_contains(suite, case_summary(case), "boundaries  xmin fixed, xmax sliding, " &
             //"ymin frictional (mu = 0.4), ymax frictional (mu = 0)", "summary: frictional faces")
         call expect_error(faces_case('{"ymin": {"type": "frictional"}}'), &
@@ -1105,7 +1107,7 @@ contains
             [character(len=60) :: "time.cfl", "2"], "cfl above 1 without override")
         call read_valid(case_text(time='"time": {"tend": 0.1, "cfl": 2, "allow_unstable": true}'), &
             case, "cfl above 1 with allow_unstable")
-        call check(suite, case%allow_unstable .and. abs(case%cfl - 2.0_wp) < tol, &
+        call check(suite, case%time%allow_unstable .and. abs(case%time%cfl - 2.0_wp) < tol, &
             "allow_unstable and cfl resolved")
         call expect_error(case_text(time='"time": {"tend": 0.1, "dt": 0.01}'), &
             [character(len=60) :: "time.dt", "critical time step", "allow_unstable"], &

@@ -75,14 +75,14 @@ contains
 
         case%name = "tiny"
         case%dim = 2
-        case%ncells = [4, 3, 1]
-        case%dx = 0.5_wp
-        case%origin = [1.0_wp, -1.0_wp, 0.0_wp]
+        case%domain%ncells = [4, 3, 1]
+        case%domain%dx = 0.5_wp
+        case%domain%origin = [1.0_wp, -1.0_wp, 0.0_wp]
         allocate (case%materials(2))
         case%materials(1)%name = "sand"
         case%materials(2)%name = "clay"
-        case%output_fields = .true.
-        case%output_grid = .true.
+        case%output%fields = .true.
+        case%output%grid = .true.
     end subroutine tiny_case
 
     !> n particles inside the case domain with a distinct value in every array element.
@@ -100,7 +100,7 @@ contains
         do p = 1, n
             do d = 1, case%dim
                 ! strictly inside the domain
-                particles%x(d, p) = case%origin(d) + case%ncells(d)*case%dx* &
+                particles%x(d, p) = case%domain%origin(d) + case%domain%ncells(d)*case%domain%dx* &
                     modulo(0.1_wp + 0.13_wp*p + 0.37_wp*d, 1.0_wp)
                 particles%u(d, p) = 1.0e-3_wp*(10*p + d)
                 particles%v(d, p) = -0.5_wp*p + 0.01_wp*d
@@ -346,10 +346,10 @@ contains
         call tiny_case(case)
         case%name = "cube"
         case%dim = 3
-        case%ncells = [2, 3, 4]
-        case%output_fields(field_displacement) = .false.
-        case%output_fields(field_strain) = .false.
-        case%output_grid = .false.
+        case%domain%ncells = [2, 3, 4]
+        case%output%fields(field_displacement) = .false.
+        case%output%fields(field_strain) = .false.
+        case%output%grid = .false.
         call fill_particles(case, n, particles)
         call make_directory(dir, error)
         call new_output_writer(writer, case, dir, error)
@@ -394,7 +394,7 @@ contains
             'CollectionType="Temporal">', "xdmf: particles-only temporal collection")
 
         ! 3D grid: XDMF lists the node counts slowest first (z y x), nodes are x fastest
-        case%output_grid = .true.
+        case%output%grid = .true.
         call new_grid(grid, case, error)
         grid%mass = 1.0_wp
         grid%velocity = 0.0_wp
@@ -454,9 +454,9 @@ contains
         ! different sizes, so the index must take each part's grid from its own column
         call tiny_case(case)
         slab = case
-        slab(1)%ncells = [3, 3, 1]
-        slab(2)%ncells = [2, 3, 1]
-        slab(2)%origin(1) = 2.0_wp
+        slab(1)%domain%ncells = [3, 3, 1]
+        slab(2)%domain%ncells = [2, 3, 1]
+        slab(2)%domain%origin(1) = 2.0_wp
         do k = 1, 2
             call new_grid(grid(k), slab(k), error)
             call check(suite, .not. allocated(error), "new_grid of a slab")
@@ -667,8 +667,8 @@ contains
             call tiny_case(case)
             if (dim == 3) then
                 case%dim = 3
-                case%ncells = [4, 3, 2]
-                case%origin(3) = 7.0_wp
+                case%domain%ncells = [4, 3, 2]
+                case%domain%origin(3) = 7.0_wp
             end if
             call fill_particles(case, 6, saved)
             path = root//"/states/d"//achar(iachar("0") + dim)//"/state.h5"
@@ -754,11 +754,11 @@ contains
         call check(suite, .not. allocated(error), "save_state for refusals")
 
         other = case
-        other%dx = 0.25_wp
+        other%domain%dx = 0.25_wp
         call expect_refusal(path, other, ["dx = 0.5 m ", "dx = 0.25 m"], "different dx")
 
         other = case
-        other%dx = 0.5_wp*(1.0_wp + 1.0e-14_wp)
+        other%domain%dx = 0.5_wp*(1.0_wp + 1.0e-14_wp)
         call load_state(path, other, loaded, time, step, error)
         call check(suite, .not. allocated(error), "dx within 1e-12 relative is accepted")
 
@@ -768,11 +768,11 @@ contains
             "different dimension")
 
         other = case
-        other%ncells = [4, 6, 1]
+        other%domain%ncells = [4, 6, 1]
         call expect_refusal(path, other, ["ncells = 4 3", "ncells = 4 6"], "different ncells")
 
         other = case
-        other%origin(2) = -2.0_wp
+        other%domain%origin(2) = -2.0_wp
         call expect_refusal(path, other, ["origin = (1, -1)", "origin = (1, -2)"], &
             "different origin")
 

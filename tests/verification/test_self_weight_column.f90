@@ -69,7 +69,7 @@ contains
         end if
         call new_simulation(sim, case, error)
         if (allocated(error)) return
-        do while (sim%time < case%tend)
+        do while (sim%time < case%time%tend)
             call advance(sim, stable_time_step(sim), error)
             if (allocated(error)) then
                 call check(suite, .false., label//": run failed: "//error%message)
@@ -151,7 +151,7 @@ contains
         call check(suite, all(sim%particles%stress == settled%particles%stress) .and. &
             all(sim%particles%x == settled%particles%x), "state restores stress and positions")
         ke_max = 0.0_wp
-        do while (sim%time < case%tend)
+        do while (sim%time < case%time%tend)
             call advance(sim, stable_time_step(sim), error)
             if (allocated(error)) return
             ke_max = max(ke_max, sim%energy%kinetic)

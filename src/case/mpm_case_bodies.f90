@@ -1,0 +1,336 @@
+!> The `bodies` key of a case: boxes or closed STL surfaces filled with particles.
+module mpm_case_bodies
+    use mpm_kinds, only: wp, i8
+    use mpm_error, only: error_type, fatal_error, exit_other
+    use mpm_strings, only: int_text, fmt_real, fmt_vector, fmt_box, same
+    use mpm_stl, only: stl_mesh_type, read_stl, check_closed
+    use mpm_case_cursor, only: cursor_type
+    use mpm_case_domain, only: domain_section_type
+    use mpm_case_particles, only: particles_section_type
+    use mpm_case_materials, only: material_spec_type, material_index, material_list
+    implicit none
+    private
+    public :: body_spec_type, read_bodies, body_keys, body_count_interface, domain_digits
+
+    character(len=*), parameter :: body_keys(*) = [character(len=8) :: "name", "material", &
+        "min", "max", "velocity", "file", "scale", "offset"]
+        !! keys of an item of `bodies`
+    character(len=*), parameter :: body_stl_keys(*) = [character(len=6) :: "scale", "offset"]
+        !! keys of a body that only apply with `file`
+    real(wp), parameter :: box_tolerance = 1.0e-9_wp
+        !! tolerance of box tests, relative to dx: absorbs round-off of corners like 3*0.1
+    integer, parameter :: domain_digits = 12
+        !! significant digits of computed coordinates (origin + n dx) in messages
+
+    !> A body of particles of one material: a box, or the inside of a closed STL surface.
+    type :: body_spec_type
+        character(len=:), allocatable :: name
+            !! name of the body (for messages and output)
+        integer :: material = 0
+            !! index into case%materials
+        real(wp) :: xmin(3) = 0.0_wp
+            !! lower corner of the box (of the surface's bounding box for an STL body) [m]
+        real(wp) :: xmax(3) = 0.0_wp
+            !! upper corner of the box (of the surface's bounding box for an STL body) [m]
+        real(wp) :: velocity(3) = 0.0_wp
+            !! initial velocity [m/s]
+        character(len=:), allocatable :: file
+            !! STL file of the closed surface ("" for a box)
+        real(wp) :: scale = 1.0_wp
+            !! factor applied to the STL coordinates before `offset` [m per unit]
+        real(wp) :: offset(3) = 0.0_wp
+            !! translation added to the scaled STL coordinates [m]
+        real(wp), allocatable :: triangle(:, :, :)
+            !! corners (coordinate, corner 1..3, triangle) of the closed surface after scale and
+            !! offset; not allocated for a box [m]
+        integer(i8) :: particles = -1
+            !! particles the body holds, counted by the reader (-1: not counted)
+    end type body_spec_type
+
+    abstract interface
+        !> Number of particles body b holds; -1 when the memory to fill an STL body is missing.
+        integer(i8) function body_count_interface(dim, domain, particles, bodies, b)
+            import :: i8, domain_section_type, particles_section_type, body_spec_type
+            integer, intent(in) :: dim
+                !! number of space dimensions
+            type(domain_section_type), intent(in) :: domain
+                !! the grid
+            type(particles_section_type), intent(in) :: particles
+                !! particles per cell and their placement
+            type(body_spec_type), intent(in) :: bodies(:)
+                !! bodies 1..b set
+            integer, intent(in) :: b
+                !! body index
+        end function body_count_interface
+    end interface
+
+contains
+
+    !> `bodies`: boxes or closed STL surfaces filled with particles, inside the domain, not
+    !> overlapping (bounding boxes for STL bodies), each with particles.
+    subroutine read_bodies(root, dim, domain, particles, materials, load_state, count, bodies, &
+            error)
+        type(cursor_type), intent(in) :: root
+            !! top-level object
+        integer, intent(in) :: dim
+            !! number of space dimensions
+        type(domain_section_type), intent(in) :: domain
+            !! the grid
+        type(particles_section_type), intent(in) :: particles
+            !! particles per cell and their placement
+        type(material_spec_type), intent(in) :: materials(:)
+            !! the materials
+        character(len=*), intent(in) :: load_state
+            !! state file the particles come from ("" for none)
+        procedure(body_count_interface) :: count
+            !! particles a body holds (the case layer's geometry, mpm_case_sites)
+        type(body_spec_type), allocatable, intent(out) :: bodies(:)
+            !! the bodies, in file order
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(cursor_type) :: list, item
+        character(len=:), allocatable :: path, material
+        integer :: i, j
+        integer(i8) :: total
+
+        if (len(load_state) > 0) then
+            if (root%has("bodies")) then
+                call root%fail(error, "bodies cannot be given together with load_state: " &
+                    //"the particles come from the state file '"//load_state//"'; " &
+                    //"remove the bodies or remove load_state")
+                return
+            end if
+            allocate (bodies(0))
+            return
+        end if
+        if (.not. root%has("bodies")) then
+            call root%fail(error, "missing required key 'bodies' (an array of boxes or " &
+                //"closed STL surfaces of particles); give load_state instead to start from a " &
+                //"saved state")
+            return
+        end if
+        call root%get_list("bodies", "body", list, error)
+        if (allocated(error)) return
+        allocate (bodies(list%size()))
+        total = 0
+        do i = 1, size(bodies)
+            item = list%item(i)
+            path = item%path
+            call item%check_object(body_keys, error)
+            if (allocated(error)) return
+            associate (body => bodies(i))
+                body%name = "body"//int_text(i)
+                call item%get_string("name", body%name, error)
+                if (allocated(error)) return
+                do j = 1, i - 1
+                    if (same(bodies(j)%name, body%name)) then
+                        call root%fail(error, path//'.name = "'//body%name//'" is ' &
+                            //"already the name of bodies["//int_text(j)//"]; body names must " &
+                            //"be unique")
+                        return
+                    end if
+                end do
+                material = ""
+                call item%get_string("material", material, error, required=.true.)
+                if (allocated(error)) return
+                body%material = material_index(materials, material)
+                if (body%material == 0) then
+                    call root%fail(error, path//'.material = "'//material//'" is not a ' &
+                        //"material of this case; the materials are: " &
+                        //material_list(materials))
+                    return
+                end if
+                if (item%has("file")) then
+                    call read_body_surface(item, dim, body, error)
+                    if (allocated(error)) return
+                else
+                    if (.not. (item%has("min") &
+                        .or. item%has("max"))) then
+                        call root%fail(error, path//' "'//body%name//'": give either ' &
+                            //"'file' (a closed STL surface) or 'min' and 'max' (a box); " &
+                            //"neither was given")
+                        return
+                    end if
+                    do j = 1, 2
+                        if (item%has(trim(body_stl_keys(j)))) then
+                            call root%fail(error, path//"."//trim(body_stl_keys(j)) &
+                                //" only applies to a body given by 'file' (a closed STL " &
+                                //"surface); remove it")
+                            return
+                        end if
+                    end do
+                    call item%get_vector("min", dim, body%xmin, error, &
+                        required=.true., unit="m")
+                    if (allocated(error)) return
+                    call item%get_vector("max", dim, body%xmax, error, &
+                        required=.true., unit="m")
+                    if (allocated(error)) return
+                end if
+                call item%get_vector("velocity", dim, body%velocity, error, &
+                    unit="m/s")
+                if (allocated(error)) return
+            end associate
+            call check_body_box(root, dim, domain, particles, count, bodies, i, error)
+            if (allocated(error)) return
+            total = total + bodies(i)%particles
+        end do
+        if (total > huge(1)) then
+            call root%fail(error, "the bodies hold "//int_text(total)//" particles, more " &
+                //"than the "//int_text(huge(1))//" this version can store; use a smaller " &
+                //"particles.ppc or a larger domain.dx")
+        end if
+    end subroutine read_bodies
+
+    !> An STL body (`file`, `scale`, `offset`): reads the surface, refuses an open one or one
+    !> given together with `min`/`max`, and sets min/max to its bounding box.
+    subroutine read_body_surface(item, dim, body, error)
+        type(cursor_type), intent(in) :: item
+            !! the body's object ("bodies[i]")
+        integer, intent(in) :: dim
+            !! number of space dimensions
+        type(body_spec_type), intent(inout) :: body
+            !! the body (name set)
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(stl_mesh_type) :: mesh
+        type(error_type), allocatable :: stl_error
+        character(len=:), allocatable :: path, label, message
+        logical :: exists, closed
+
+        path = item%path
+        label = path//' "'//body%name//'"'
+        if (item%has("min") .or. item%has("max")) then
+            call item%fail(error, label//": give either 'file' (a closed STL surface) " &
+                //"or 'min' and 'max' (a box), not both")
+            return
+        end if
+        body%file = ""
+        call item%get_path("file", 0, body%file, error, required=.true.)
+        if (allocated(error)) return
+        inquire (file=body%file, exist=exists)
+        if (len(body%file) == 0 .or. .not. exists) then
+            call item%fail(error, path//".file: STL file '"//body%file//"' not found " &
+                //"(a relative path is taken from the current working directory)")
+            return
+        end if
+        call item%get_real("scale", body%scale, error, above=0.0_wp)
+        if (allocated(error)) return
+        call item%get_vector("offset", 3, body%offset, error, unit="m")
+        if (allocated(error)) return
+        call read_stl(body%file, mesh, stl_error, body%scale, body%offset, path//".file")
+        if (allocated(stl_error)) then
+            call fatal_error(error, item%src//": "//stl_error%message, stl_error%code)
+            return
+        end if
+        call check_closed(mesh, closed, message, stl_error)
+        if (allocated(stl_error)) then
+            call fatal_error(error, item%src//": "//stl_error%message, stl_error%code)
+            return
+        end if
+        if (.not. closed) then
+            call item%fail(error, label//": the surface '"//body%file//"' is not closed: " &
+                //message//"; a body needs a closed surface")
+            return
+        end if
+        body%xmin = mesh%lo
+        body%xmax = mesh%hi
+        call move_alloc(mesh%vertex, body%triangle)
+        if (dim == 2 .and. .not. (body%xmin(3) < 0.0_wp .and. 0.0_wp < body%xmax(3))) then
+            call item%fail(error, label//": the surface '"//body%file//"' spans z = " &
+                //fmt_real(body%xmin(3))//" .. "//fmt_real(body%xmax(3))//" [m]; a 2D body " &
+                //"is its section by the plane z = 0, which must cross the surface")
+        end if
+    end subroutine read_body_surface
+
+    !> Geometric checks of body `i`: a proper box, inside the domain, holding particles and
+    !> overlapping none of the bodies before it.
+    subroutine check_body_box(root, dim, domain, particles, count_particles, bodies, i, error)
+        type(cursor_type), intent(in) :: root
+            !! top-level object (for messages)
+        integer, intent(in) :: dim
+            !! number of space dimensions
+        type(domain_section_type), intent(in) :: domain
+            !! the grid
+        type(particles_section_type), intent(in) :: particles
+            !! particles per cell and their placement
+        procedure(body_count_interface) :: count_particles
+            !! particles a body holds
+        type(body_spec_type), intent(inout) :: bodies(:)
+            !! bodies 1..i read; body i gets its particle count
+        integer, intent(in) :: i
+            !! body to check
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        character(len=:), allocatable :: label, corner, what
+        real(wp) :: lower(3), upper(3), tol
+        integer :: d, j
+        integer(i8) :: count
+
+        tol = box_tolerance*domain%dx
+        associate (body => bodies(i))
+            label = "bodies["//int_text(i)//'] "'//body%name//'"'
+            corner = "corner"
+            what = "the box "//fmt_box(body%xmin(1:dim), body%xmax(1:dim))//" [m]"
+            if (allocated(body%triangle)) then
+                corner = "the bounding box of the surface '"//body%file//"', corner"
+                what = "the closed surface '"//body%file//"' (bounding box " &
+                    //fmt_box(body%xmin(1:dim), body%xmax(1:dim))//" [m]"
+                if (dim == 2) what = what//", section by z = 0"
+                what = what//")"
+            end if
+            do d = 1, dim
+                if (.not. body%xmin(d) < body%xmax(d)) then
+                    call root%fail(error, label//": min["//int_text(d)//"] = " &
+                        //fmt_real(body%xmin(d))//" must be below max["//int_text(d)//"] = " &
+                        //fmt_real(body%xmax(d))//" [m]")
+                    return
+                end if
+            end do
+            lower(1:dim) = domain%origin(1:dim)
+            upper(1:dim) = domain%origin(1:dim) + domain%ncells(1:dim)*domain%dx
+            if (any(body%xmin(1:dim) < lower(1:dim) - tol)) then
+                call root%fail(error, label//": "//corner//" min = " &
+                    //fmt_vector(body%xmin(1:dim))//" lies outside the domain " &
+                    //fmt_box(lower(1:dim), upper(1:dim), domain_digits)//" [m]")
+                return
+            end if
+            if (any(body%xmax(1:dim) > upper(1:dim) + tol)) then
+                call root%fail(error, label//": "//corner//" max = " &
+                    //fmt_vector(body%xmax(1:dim))//" lies outside the domain " &
+                    //fmt_box(lower(1:dim), upper(1:dim), domain_digits)//" [m]")
+                return
+            end if
+            count = count_particles(dim, domain, particles, bodies, i)
+            if (count < 0) then
+                call fatal_error(error, root%src//": "//label//": cannot allocate the memory to " &
+                    //"fill the closed surface '"//body%file//"' with particles", exit_other)
+                return
+            end if
+            bodies(i)%particles = count
+            if (count == 0) then
+                call root%fail(error, label//": "//what//" holds no particle (with ppc = " &
+                    //int_text(particles%ppc)//" particles sit at origin + (i + (k - 0.5)/ppc) dx, " &
+                    //"k = 1..ppc, in each cell i); make the body larger or raise particles.ppc")
+                return
+            end if
+            do j = 1, i - 1
+                associate (other => bodies(j))
+                    if (all(min(body%xmax(1:dim), other%xmax(1:dim)) &
+                        - max(body%xmin(1:dim), other%xmin(1:dim)) > tol)) then
+                        call root%fail(error, label//" overlaps bodies["//int_text(j) &
+                            //'] "'//other%name//'": the boxes (bounding boxes of STL ' &
+                            //"surfaces) " &
+                            //fmt_box(body%xmin(1:dim), body%xmax(1:dim))//" and " &
+                            //fmt_box(other%xmin(1:dim), other%xmax(1:dim))//" [m] share a " &
+                            //"volume; bodies must not overlap")
+                        return
+                    end if
+                end associate
+            end do
+        end associate
+    end subroutine check_body_box
+
+end module mpm_case_bodies

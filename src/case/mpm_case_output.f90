@@ -1,0 +1,124 @@
+!> The `output` key of a case: folder, intervals and fields of the particle output.
+module mpm_case_output
+    use mpm_kinds, only: wp
+    use mpm_error, only: error_type
+    use mpm_strings, only: lower, quoted_list, same
+    use mpm_json, only: json_string
+    use mpm_case_cursor, only: cursor_type, room_folder
+    implicit none
+    private
+    public :: output_section_type, read_output, output_keys
+    public :: field_position, field_displacement, field_velocity, field_stress, field_strain
+    public :: field_material, field_mass, field_volume, field_plastic_strain, field_names
+    public :: nfields
+
+    ! Output fields
+    integer, parameter :: nfields = 9
+        !! number of particle fields
+    integer, parameter :: field_position = 1, field_displacement = 2, field_velocity = 3, &
+        field_stress = 4, field_strain = 5, field_material = 6, field_mass = 7, field_volume = 8, &
+        field_plastic_strain = 9
+        !! index of each particle field
+    character(len=*), parameter :: field_names(nfields) = [character(len=14) :: "position", &
+        "displacement", "velocity", "stress", "strain", "material", "mass", "volume", &
+        "plastic_strain"]
+        !! name of each particle field in the case file
+
+    character(len=*), parameter :: output_keys(*) = [character(len=16) :: "interval", "fields", &
+        "grid", "directory", "overwrite", "history_interval"]
+        !! keys of `output`
+
+    !> `output`: what the run writes, where and how often.
+    type :: output_section_type
+        character(len=:), allocatable :: directory
+            !! output folder (default: outputs/<name>)
+        real(wp) :: interval = 0.0_wp
+            !! time between particle outputs [s]; 0 for no intermediate output
+        logical :: fields(nfields) = .true.
+            !! which particle fields are written
+        logical :: grid = .false.
+            !! also write the grid nodes (mass, velocity)
+        logical :: overwrite = .false.
+            !! allow writing into an existing output folder
+        real(wp) :: history_interval = 0.0_wp
+            !! time between lines of the energy history [s]; 0: every output step
+    end type output_section_type
+
+contains
+
+    !> `output`: folder, intervals and fields.
+    subroutine read_output(root, name, tend, output, error)
+        type(cursor_type), intent(in) :: root
+            !! top-level object
+        character(len=*), intent(in) :: name
+            !! case name (default folder outputs/<name>)
+        real(wp), intent(in) :: tend
+            !! end time (default interval tend / 20) [s]
+        type(output_section_type), intent(inout) :: output
+            !! the output section
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(cursor_type) :: cur
+        logical :: found
+
+        output%interval = tend/20.0_wp
+        output%directory = "outputs/"//name
+        output%history_interval = output%interval/10.0_wp
+        call root%get_section("output", output_keys, cur, error, found=found)
+        if (allocated(error) .or. .not. found) return
+        call cur%get_real("interval", output%interval, error, at_least=0.0_wp, unit="s")
+        if (allocated(error)) return
+        output%history_interval = output%interval/10.0_wp
+        call read_fields(cur, output%fields, error)
+        if (allocated(error)) return
+        call cur%get_bool("grid", output%grid, error)
+        if (allocated(error)) return
+        call cur%get_path("directory", room_folder, output%directory, error)
+        if (allocated(error)) return
+        call cur%get_bool("overwrite", output%overwrite, error)
+        if (allocated(error)) return
+        call cur%get_real("history_interval", output%history_interval, error, at_least=0.0_wp, &
+            unit="s")
+    end subroutine read_output
+
+    !> `output.fields`: unique field names; the position is always written.
+    subroutine read_fields(cur, fields, error)
+        type(cursor_type), intent(in) :: cur
+            !! the output object
+        logical, intent(inout) :: fields(nfields)
+            !! which fields are written
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        character(len=*), parameter :: expect = "an array of field names"
+        type(cursor_type) :: list, item
+        logical :: found
+        integer :: i, f
+
+        call cur%get_typed("fields", "array", expect, list, found, error)
+        if (allocated(error) .or. .not. found) return
+        fields = .false.
+        do i = 1, list%size()
+            item = list%item(i)
+            call item%check_type("string", "a field name", error)
+            if (allocated(error)) return
+            do f = 1, nfields
+                if (same(lower(json_string(item%obj)), trim(field_names(f)))) exit
+            end do
+            if (f > nfields) then
+                call item%fail(error, item%path//' = "'//json_string(item%obj)//'" is not a ' &
+                    //"field: must be one of "//quoted_list(field_names))
+                return
+            end if
+            if (fields(f)) then
+                call item%fail(error, item%path//' = "'//json_string(item%obj)//'" is listed ' &
+                    //"twice; give each field once")
+                return
+            end if
+            fields(f) = .true.
+        end do
+        fields(field_position) = .true.
+    end subroutine read_fields
+
+end module mpm_case_output

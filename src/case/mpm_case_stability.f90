@@ -1,0 +1,110 @@
+!> Stability limits of the explicit time step of a case: the P-wave speed of each material,
+!> the viscous limit of a fluid, and the critical step of the case at t = 0.
+!>
+!> The one place these are computed: the case reader checks `time` with them and the solver
+!> sets its step from the same functions.
+module mpm_case_stability
+    use mpm_kinds, only: wp
+    use mpm_case_materials, only: material_spec_type
+    use mpm_case_bodies, only: body_spec_type
+    use mpm_case_material_registry, only: material_wave_speed, material_time_step_limit
+    implicit none
+    private
+    public :: p_wave_speed, viscous_time_step, critical_time_step, start_time_step
+
+contains
+
+    !> P-wave speed of a material [m/s], from its model (mpm_case_material_registry):
+    !> sqrt((K + 4G/3)/rho) for a solid, sqrt(K/rho) for a fluid.
+    pure real(wp) function p_wave_speed(mat)
+        type(material_spec_type), intent(in) :: mat
+            !! material
+
+        p_wave_speed = material_wave_speed(mat)
+    end function p_wave_speed
+
+    !> Time-step limit of a material besides the CFL condition [s], from its model: the
+    !> viscous limit rho dx^2 / (2 dim mu) of a fluid, huge for the others.
+    pure real(wp) function viscous_time_step(mat, dx, dim)
+        type(material_spec_type), intent(in) :: mat
+            !! material
+        real(wp), intent(in) :: dx
+            !! cell size [m]
+        integer, intent(in) :: dim
+            !! space dimensions
+
+        viscous_time_step = material_time_step_limit(mat, dx, dim)
+    end function viscous_time_step
+
+    !> Critical time step at t = 0 [s]: dx / max over bodies (c_p + |v0|), and the viscous
+    !> limit of the materials in use.
+    pure real(wp) function critical_time_step(dim, dx, materials, bodies)
+        integer, intent(in) :: dim
+            !! space dimensions
+        real(wp), intent(in) :: dx
+            !! cell size [m]
+        type(material_spec_type), intent(in) :: materials(:)
+            !! materials of the case
+        type(body_spec_type), intent(in) :: bodies(:)
+            !! bodies of the case
+
+        integer :: b
+        real(wp) :: speed, viscous
+
+        speed = 0.0_wp
+        viscous = huge(1.0_wp)
+        do b = 1, size(bodies)
+            associate (mat => materials(bodies(b)%material))
+                speed = max(speed, p_wave_speed(mat) + norm2(bodies(b)%velocity(1:dim)))
+                viscous = min(viscous, viscous_time_step(mat, dx, dim))
+            end associate
+        end do
+        if (speed > 0.0_wp) then
+            critical_time_step = min(dx/speed, viscous)
+        else
+            critical_time_step = viscous
+        end if
+    end function critical_time_step
+
+    !> Critical time step at t = 0: over the bodies, or over the materials when the particles
+    !> come from a state file (no bodies, velocities unknown here) [s]. Either way the viscous
+    !> limit of the newtonian materials in use applies too.
+    pure subroutine start_time_step(dim, dx, materials, bodies, dt, viscous)
+        integer, intent(in) :: dim
+            !! space dimensions
+        real(wp), intent(in) :: dx
+            !! cell size [m]
+        type(material_spec_type), intent(in) :: materials(:)
+            !! materials of the case
+        type(body_spec_type), allocatable, intent(in) :: bodies(:)
+            !! bodies of the case (unallocated or empty: the materials decide)
+        real(wp), intent(out) :: dt
+            !! critical time step [s]
+        logical, intent(out) :: viscous
+            !! whether the viscous limit sets the step
+
+        real(wp) :: speed, limit
+        integer :: m, b
+
+        limit = huge(1.0_wp)
+        if (allocated(bodies)) then
+            if (size(bodies) > 0) then
+                dt = critical_time_step(dim, dx, materials, bodies)
+                do b = 1, size(bodies)
+                    limit = min(limit, viscous_time_step(materials(bodies(b)%material), dx, dim))
+                end do
+                viscous = limit < huge(1.0_wp) .and. dt >= limit
+                return
+            end if
+        end if
+        speed = 0.0_wp
+        do m = 1, size(materials)
+            speed = max(speed, p_wave_speed(materials(m)))
+            limit = min(limit, viscous_time_step(materials(m), dx, dim))
+        end do
+        dt = limit
+        if (speed > 0.0_wp) dt = min(dx/speed, limit)
+        viscous = limit < huge(1.0_wp) .and. dt >= limit
+    end subroutine start_time_step
+
+end module mpm_case_stability

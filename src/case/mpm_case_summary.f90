@@ -1,0 +1,261 @@
+!> The summary of a resolved case that --check prints (and logs keep).
+submodule (mpm_case) mpm_case_summary
+    use mpm_kinds, only: i8
+    use mpm_strings, only: int_text, fmt_real, fmt_vector, fmt_box, int_list, text_or, yes_no
+    use mpm_case_domain, only: axis_names
+    use mpm_case_materials, only: degree
+    use mpm_case_bodies, only: domain_digits
+    use mpm_case_sites, only: body_site_count
+    use mpm_case_stability, only: p_wave_speed, start_time_step
+    implicit none
+
+contains
+
+    module procedure case_summary
+        character(len=*), parameter :: nl = new_line("a")
+        character(len=:), allocatable :: line
+        integer :: d, m, b, f, dim
+        integer(i8) :: count, total
+        logical :: viscous
+        real(wp) :: extent(3), critical
+
+        dim = case%dim
+        text = ""
+        text = text//"case        "//text_or(case%name, "?")//" ("//text_or(case%file, "?")//")"//nl
+        if (dim == 2) then
+            text = text//"dimension   2 (plane strain)"//nl
+        else
+            text = text//"dimension   3"//nl
+        end if
+        line = "grid        "//int_list(case%domain%ncells(1:dim), " x ")//" cells, " &
+            //int_list(case%domain%ncells(1:dim) + 1, " x ")//" = "//int_text(node_count(case)) &
+            //" nodes, dx = "//fmt_real(case%domain%dx)//" m"
+        text = text//line//nl
+        extent(1:dim) = case%domain%origin(1:dim) + case%domain%ncells(1:dim)*case%domain%dx
+        text = text//"domain      "//fmt_box(case%domain%origin(1:dim), extent(1:dim), domain_digits) &
+            //" m (origin "//fmt_vector(case%domain%origin(1:dim))//")"//nl
+        line = "boundaries "
+        do d = 1, dim
+            line = line//" "//face_text(case, 1, d)//", "//face_text(case, 2, d)
+            if (d < dim) line = line//","
+        end do
+        text = text//line//nl
+        line = "particles   ppc = "//int_text(case%particles%ppc)//" (" &
+            //int_text(case%particles%ppc**dim)//" per cell), " &
+            //trim(distribution_names(case%particles%distribution))
+        if (case%particles%distribution == dist_random) line = line//", seed "//int_text(case%particles%seed)
+        text = text//line//nl
+        if (allocated(case%materials)) then
+            text = text//"materials   "//int_text(size(case%materials))//nl
+            do m = 1, size(case%materials)
+                text = text//material_text(case%materials(m))
+            end do
+        end if
+        if (allocated(case%bodies)) then
+            if (size(case%bodies) == 0) then
+                text = text//"bodies      none (the particles come from load_state)"//nl
+            else
+                total = 0
+                do b = 1, size(case%bodies)
+                    total = total + body_particles(case, b)
+                end do
+                text = text//"bodies      "//int_text(size(case%bodies))//", "//int_text(total) &
+                    //" particles"//nl
+            end if
+            do b = 1, size(case%bodies)
+                associate (body => case%bodies(b))
+                    count = body_particles(case, b)
+                    line = '  "'//text_or(body%name, "?")//'"'
+                    if (allocated(case%materials)) then
+                        if (body%material >= 1 .and. body%material <= size(case%materials)) then
+                            line = line//' material "'//case%materials(body%material)%name//'"'
+                        end if
+                    end if
+                    text = text//line//": "//fmt_box(body%xmin(1:dim), body%xmax(1:dim)) &
+                        //" m, v = "//fmt_vector(body%velocity(1:dim))//" m/s, " &
+                        //int_text(count)//" particles"//nl
+                end associate
+            end do
+        end if
+        text = text//"gravity     "//fmt_vector(case%gravity(1:dim))//" m/s2"//nl
+        text = text//"solver      scheme "//trim(scheme_names(case%solver%scheme))//", shape function " &
+            //trim(shape_names(case%solver%shape))
+        if (case%solver%fbar) text = text//", F-bar locking correction"
+        if (case%solver%apic) text = text//", APIC transfer"
+        if (case%solver%flip_fraction < 1.0_wp) text = text//", velocity update " &
+            //fmt_real(case%solver%flip_fraction)//" FLIP + " &
+            //fmt_real(1.0_wp - case%solver%flip_fraction)//" PIC"
+        text = text//nl
+        line = "time        tend = "//fmt_real(case%time%tend)//" s, "
+        if (case%time%dt > 0.0_wp) then
+            line = line//"dt = "//fmt_real(case%time%dt)//" s (fixed)"
+        else
+            line = line//"dt from CFL = "//fmt_real(case%time%cfl)
+        end if
+        if (allocated(case%materials)) then
+            if (size(case%materials) > 0) then
+                call start_time_step(case%dim, case%domain%dx, case%materials, case%bodies, critical, viscous)
+                line = line//", critical time step "//fmt_real(critical, 6)//" s at t = 0"
+                if (viscous) line = line//" (viscous limit)"
+            end if
+        end if
+        if (case%time%allow_unstable) line = line//", allow_unstable (no stability check)"
+        text = text//line//nl
+        line = "damping     "//trim(damping_names(case%damping%type))
+        if (case%damping%type == damping_local) line = line//", alpha = "//fmt_real(case%damping%value)
+        text = text//line//nl
+        text = text//"contact     "//text_or(case%contact%type, "none")//nl
+        line = "output      "//text_or(case%output%directory, "?")
+        if (case%output%interval > 0.0_wp) then
+            line = line//", every "//fmt_real(case%output%interval)//" s"
+            if (case_step(case) > case%output%interval) line = line//" (below the time step "// &
+                fmt_real(case_step(case), 6)//" s at t = 0: an output every step)"
+        else
+            line = line//", initial and final state only"
+        end if
+        line = line//", grid "//yes_no(case%output%grid)//", overwrite "//yes_no(case%output%overwrite)
+        text = text//line//nl
+        line = "fields     "
+        do f = 1, nfields
+            if (case%output%fields(f)) line = line//" "//trim(field_names(f))
+        end do
+        text = text//line//nl
+        if (case%output%history_interval > 0.0_wp) then
+            text = text//"history     every "//fmt_real(case%output%history_interval)//" s"//nl
+        else
+            text = text//"history     every time step"//nl
+        end if
+        text = text//"progress    every "//fmt_real(case%progress%interval)//" s (wall clock)"//nl
+        text = text//"save_state  "//text_or(case%save_state, "(none)", .true.)//nl
+        text = text//"load_state  "//text_or(case%load_state, "(none)", .true.)//nl
+        line = "checkpoint "
+        if (case%checkpoint%every_steps > 0) line = line//" every "//int_text(case%checkpoint%every_steps)// &
+            " steps,"
+        if (case%checkpoint%every_minutes > 0.0_wp) line = line//" every "// &
+            fmt_real(case%checkpoint%every_minutes)//" min,"
+        if (case%checkpoint%on_signal) then
+            line = line//" on SIGTERM/SIGINT"
+        else
+            line = line//" not on signals"
+        end if
+        line = line//", file "//text_or(case%checkpoint%file, "<output folder>/checkpoint.h5", &
+            .true.)
+        text = text//line//nl
+        line = "guard       energy created above "//fmt_real(case%guard%energy_factor)// &
+            " x the energy scale; "
+        if (case%guard%snapshot_steps > 0) then
+            line = line//"healthy copy every "//int_text(case%guard%snapshot_steps)//" steps"
+        else
+            line = line//"no healthy copy"
+        end if
+        text = text//line
+    end procedure case_summary
+
+    !> materials).
+    pure real(wp) function case_step(case)
+        type(case_type), intent(in) :: case
+            !! resolved case
+
+        real(wp) :: critical
+        logical :: viscous
+
+        case_step = case%time%dt
+        if (case_step > 0.0_wp) return
+        case_step = 0.0_wp
+        if (.not. allocated(case%materials)) return
+        if (size(case%materials) == 0) return
+        call start_time_step(case%dim, case%domain%dx, case%materials, case%bodies, critical, viscous)
+        case_step = case%time%cfl*critical
+    end function case_step
+
+    !> Number of grid nodes of the case.
+    pure integer(i8) function node_count(case)
+        type(case_type), intent(in) :: case
+            !! resolved case
+
+        node_count = product(int(case%domain%ncells(1:case%dim), i8) + 1_i8)
+    end function node_count
+
+    !> Particles of body b: the reader's count, or counted now for a case made in code.
+    integer(i8) function body_particles(case, b)
+        type(case_type), intent(in) :: case
+            !! case
+        integer, intent(in) :: b
+            !! body index
+
+        body_particles = case%bodies(b)%particles
+        if (body_particles < 0) body_particles = body_site_count(case%dim, case%domain, &
+            case%particles, case%bodies, b)
+    end function body_particles
+
+    !> degrees.
+    pure function material_text(mat) result(text)
+        type(material_spec_type), intent(in) :: mat
+            !! resolved material
+        character(len=:), allocatable :: text
+
+        character(len=*), parameter :: nl = new_line("a")
+        character(len=:), allocatable :: head, line
+
+        head = '  "'//text_or(mat%name, "?")//'" '//text_or(mat%type, "?")//": "
+        if (mat%type == "newtonian") then
+            text = head//"rho = "//fmt_real(mat%density)//" kg/m3, viscosity = " &
+                //fmt_real(mat%viscosity)//" Pa s, bulk modulus = "//fmt_real(mat%bulk_modulus) &
+                //" Pa, c_p = "//fmt_real(p_wave_speed(mat), 6)//" m/s"//nl
+            return
+        end if
+        text = head//"E = "//fmt_real(mat%young)//" Pa, nu = "//fmt_real(mat%poisson) &
+            //", rho = "//fmt_real(mat%density)//" kg/m3, c_p = " &
+            //fmt_real(p_wave_speed(mat), 6)//" m/s"//nl
+        if (mat%type /= "mohr_coulomb" .and. mat%type /= "drucker_prager") return
+        line = "    phi = "//fmt_deg(mat%friction)//" deg, c = "//fmt_real(mat%cohesion) &
+            //" Pa, psi = "//fmt_deg(mat%dilatancy)//" deg, tension cutoff "
+        if (mat%tension_cutoff >= 0.0_wp) then
+            line = line//fmt_real(mat%tension_cutoff)//" Pa"
+        else
+            line = line//"at the apex"
+        end if
+        if (mat%type == "drucker_prager") line = line//", cone "//trim(cone_names(mat%cone))
+        if (mat%separation) line = line//", separation"
+        text = text//line//nl
+        if (mat%softening == softening_none) then
+            text = text//"    no softening"//nl
+        else
+            text = text//"    softening "//trim(softening_names(mat%softening))//" to phi = " &
+                //fmt_deg(mat%friction_residual)//" deg, c = "//fmt_real(mat%cohesion_residual) &
+                //" Pa, psi = "//fmt_deg(mat%dilatancy_residual)//" deg"
+            if (mat%softening == softening_linear) then
+                text = text//" at plastic shear strain "//fmt_real(mat%softening_strain)//nl
+            else
+                text = text//", plastic shear strain scale "//fmt_real(mat%softening_strain)//nl
+            end if
+        end if
+    end function material_text
+
+    !> "xmin fixed", "ymin frictional (mu = 0.4)"
+    pure function face_text(case, side, axis) result(text)
+        type(case_type), intent(in) :: case
+            !! resolved case
+        integer, intent(in) :: side
+            !! 1: min face, 2: max face
+        integer, intent(in) :: axis
+            !! axis of the face
+        character(len=:), allocatable :: text
+
+        text = axis_names(axis:axis)//trim(merge("min", "max", side == 1))//" " &
+            //trim(bc_names(case%domain%bc(side, axis)))
+        if (case%domain%bc(side, axis) == bc_frictional) then
+            text = text//" (mu = "//fmt_real(case%domain%bc_friction(side, axis))//")"
+        end if
+    end function face_text
+
+    !> conversion, so 30 degrees shows as "30".
+    pure function fmt_deg(angle) result(text)
+        real(wp), intent(in) :: angle
+            !! angle [rad]
+        character(len=:), allocatable :: text
+
+        text = fmt_real(angle/degree, 12)
+    end function fmt_deg
+
+end submodule mpm_case_summary
