@@ -15,7 +15,8 @@ module mpm_output
     use mpm_error, only: error_type, fatal_error, exit_other
     use mpm_case, only: case_type, nfields, field_displacement, field_velocity, field_stress, &
         field_strain, field_material, field_mass, field_volume, field_plastic_strain
-    use mpm_particles, only: particles_type
+    use mpm_particles, only: particles_type, particle_field_type, particle_field, field_index, &
+        field_units, get_field, get_field_integers
     use mpm_grid, only: grid_type, node_position
     use mpm_hdf5, only: hdf5_location_type, text_type, hdf5_initialize, hdf5_create_file, &
         hdf5_create_group, hdf5_close_after, hdf5_write_dataset, hdf5_write_attribute, &
@@ -84,6 +85,43 @@ module mpm_output
     character(len=*), parameter :: voigt_components(6) = &
         [character(len=2) :: "xx", "yy", "zz", "xy", "yz", "zx"]
         !! names of the Voigt components, in the order of the columns
+
+    ! How an output field is stored
+    integer, parameter :: layout_vector = 1
+        !! a vector per particle, written (n, 3) with z = 0 in 2D; an XDMF Vector
+    integer, parameter :: layout_voigt = 2
+        !! Voigt components per particle (n, nstress); an XDMF Matrix and one Scalar per
+        !! component (views in /xdmf)
+    integer, parameter :: layout_scalar = 3
+        !! one value per particle (n); an XDMF Scalar
+
+    !> A particle output field: what the case's output.fields name (mpm_case field_*), and
+    !> the array of the particles (the field table of mpm_particles) it shows.
+    type :: output_field_type
+        integer :: case_field = 0
+            !! index in case%output_fields
+        character(len=14) :: name = ""
+            !! dataset of /particles and attribute of the XDMF index
+        character(len=12) :: source = ""
+            !! particle field it comes from (its units are the output's)
+        integer :: row = 0
+            !! 0: every value of the source; r > 0: its row r only (a scalar)
+        integer :: layout = layout_scalar
+            !! layout_vector, layout_voigt or layout_scalar
+    end type output_field_type
+
+    !> The particle output fields besides the position (always written) and the ids (written
+    !> on several images), in the order of the files and the index. A new output field is one
+    !> entry here (and its name in mpm_case's field list).
+    type(output_field_type), parameter :: output_fields(*) = [ &
+        output_field_type(field_displacement, "displacement", "u", 0, layout_vector), &
+        output_field_type(field_velocity, "velocity", "v", 0, layout_vector), &
+        output_field_type(field_stress, "stress", "stress", 0, layout_voigt), &
+        output_field_type(field_strain, "strain", "strain", 0, layout_voigt), &
+        output_field_type(field_material, "material", "material", 0, layout_scalar), &
+        output_field_type(field_mass, "mass", "mass", 0, layout_scalar), &
+        output_field_type(field_volume, "volume", "volume", 0, layout_scalar), &
+        output_field_type(field_plastic_strain, "plastic_strain", "state", 1, layout_scalar)]
 
 contains
 
@@ -480,57 +518,18 @@ contains
         type(error_type), allocatable, intent(out) :: error
 
         type(hdf5_location_type) :: group
-        character(len=:), allocatable :: components
-        real(wp), allocatable :: plastic_strain(:)
+        integer :: i
 
-        if (writer%dim == 2) then
-            components = components_2d
-        else
-            components = components_3d
-        end if
         call hdf5_create_group(file, "particles", group, error)
         if (allocated(error)) return
         steps: block
             call write_vector(group, "position", particles%x, "m", error)
             if (allocated(error)) exit steps
-            if (writer%fields(field_displacement)) then
-                call write_vector(group, "displacement", particles%u, "m", error)
+            do i = 1, size(output_fields)
+                if (.not. writer%fields(output_fields(i)%case_field)) cycle
+                call write_field(writer, group, output_fields(i), particles, error)
                 if (allocated(error)) exit steps
-            end if
-            if (writer%fields(field_velocity)) then
-                call write_vector(group, "velocity", particles%v, "m/s", error)
-                if (allocated(error)) exit steps
-            end if
-            if (writer%fields(field_stress)) then
-                call hdf5_write_dataset(group, "stress", particles%stress, error, units="Pa", &
-                    components=components)
-                if (allocated(error)) exit steps
-            end if
-            if (writer%fields(field_strain)) then
-                call hdf5_write_dataset(group, "strain", particles%strain, error, units="-", &
-                    components=components)
-                if (allocated(error)) exit steps
-            end if
-            if (writer%fields(field_material)) then
-                call hdf5_write_dataset(group, "material", particles%material, error, units="-")
-                if (allocated(error)) exit steps
-            end if
-            if (writer%fields(field_mass)) then
-                call hdf5_write_dataset(group, "mass", particles%mass, error, &
-                    units=mass_units(writer%dim))
-                if (allocated(error)) exit steps
-            end if
-            if (writer%fields(field_volume)) then
-                call hdf5_write_dataset(group, "volume", particles%volume, error, &
-                    units=volume_units(writer%dim))
-                if (allocated(error)) exit steps
-            end if
-            if (writer%fields(field_plastic_strain) .and. particles%nstate >= 1) then
-                plastic_strain = particles%state(1, :)
-                call hdf5_write_dataset(group, "plastic_strain", plastic_strain, error, &
-                    units="-")
-                if (allocated(error)) exit steps
-            end if
+            end do
             if (allocated(particles%id)) then
                 call hdf5_write_dataset(group, "id", particles%id, error, units="-")
                 if (allocated(error)) exit steps
@@ -538,6 +537,44 @@ contains
         end block steps
         call hdf5_close_after(group, error)
     end subroutine write_particles_group
+
+    !> One output field as a dataset of /particles (nothing when its source lacks the row).
+    subroutine write_field(writer, group, output, particles, error)
+        type(output_writer_type), intent(in) :: writer
+        type(hdf5_location_type), intent(in) :: group
+        type(output_field_type), intent(in) :: output
+        type(particles_type), intent(in) :: particles
+        type(error_type), allocatable, intent(out) :: error
+
+        type(particle_field_type) :: source
+        real(wp), allocatable :: values(:, :)
+        integer, allocatable :: integers(:)
+        character(len=:), allocatable :: name, units
+        integer :: k
+
+        k = field_index(trim(output%source))
+        source = particle_field(k)
+        name = trim(output%name)
+        units = field_units(source, writer%dim)
+        if (source%whole) then
+            call get_field_integers(particles, k, integers)
+            call hdf5_write_dataset(group, name, integers, error, units=units)
+            return
+        end if
+        call get_field(particles, k, values)
+        if (output%row > 0) then
+            ! (the plastic strain of particles without material state)
+            if (output%row > size(values, 1)) return
+            call hdf5_write_dataset(group, name, values(output%row, :), error, units=units)
+        else if (output%layout == layout_vector) then
+            call write_vector(group, name, values, units, error)
+        else if (output%layout == layout_voigt) then
+            call hdf5_write_dataset(group, name, values, error, units=units, &
+                components=voigt_text(writer%dim))
+        else
+            call hdf5_write_dataset(group, name, values(1, :), error, units=units)
+        end if
+    end subroutine write_field
 
     !> The /xdmf group: what the XDMF index reads besides /particles, so that both ParaView
     !> readers (Xdmf3ReaderS and XDMFReader) load the index.
@@ -556,18 +593,20 @@ contains
         type(error_type), allocatable, intent(out) :: error
 
         type(hdf5_location_type) :: group
-        integer :: k
+        integer :: k, i
 
         call hdf5_create_group(file, "xdmf", group, error)
         if (allocated(error)) return
         steps: block
             call hdf5_write_dataset(group, "vertices", [(k, k = 0, n - 1)], error, units="-")
             if (allocated(error)) exit steps
-            if (writer%fields(field_stress)) then
-                call write_views("stress", "Pa", error)
+            do i = 1, size(output_fields)
+                if (.not. writer%fields(output_fields(i)%case_field)) cycle
+                if (output_fields(i)%layout /= layout_voigt) cycle
+                call write_views(trim(output_fields(i)%name), field_units(particle_field( &
+                    field_index(trim(output_fields(i)%source))), writer%dim), error)
                 if (allocated(error)) exit steps
-            end if
-            if (writer%fields(field_strain)) call write_views("strain", "-", error)
+            end do
         end block steps
         call hdf5_close_after(group, error)
 
@@ -804,8 +843,9 @@ contains
             integer, intent(in) :: part
                 !! image whose file is listed
 
-            character(len=:), allocatable :: n, file, source
-            integer :: c, nstress
+            character(len=:), allocatable :: n, file, source, name, number_type
+            type(particle_field_type) :: described
+            integer :: c, nstress, i
 
             n = int_text(record%counts(part))
             file = part_file_name(index, part, writer%images)
@@ -822,40 +862,25 @@ contains
             call put('        <Geometry GeometryType="XYZ">')
             call put("          "//data_item(n//" 3", "Float", source//"position"))
             call put("        </Geometry>")
-            if (writer%fields(field_displacement)) then
-                call put_attribute("displacement", "Vector", n//" 3", "Float", &
-                    source//"displacement")
-            end if
-            if (writer%fields(field_velocity)) then
-                call put_attribute("velocity", "Vector", n//" 3", "Float", source//"velocity")
-            end if
-            if (writer%fields(field_stress)) then
-                call put_attribute("stress", "Matrix", n//" "//int_text(nstress), "Float", &
-                    source//"stress")
-                do c = 1, nstress
-                    call put_component("stress", c, n, file)
-                end do
-            end if
-            if (writer%fields(field_strain)) then
-                call put_attribute("strain", "Matrix", n//" "//int_text(nstress), "Float", &
-                    source//"strain")
-                do c = 1, nstress
-                    call put_component("strain", c, n, file)
-                end do
-            end if
-            if (writer%fields(field_material)) then
-                call put_attribute("material", "Scalar", n, "Int", source//"material")
-            end if
-            if (writer%fields(field_mass)) then
-                call put_attribute("mass", "Scalar", n, "Float", source//"mass")
-            end if
-            if (writer%fields(field_volume)) then
-                call put_attribute("volume", "Scalar", n, "Float", source//"volume")
-            end if
-            if (writer%fields(field_plastic_strain)) then
-                call put_attribute("plastic_strain", "Scalar", n, "Float", &
-                    source//"plastic_strain")
-            end if
+            do i = 1, size(output_fields)
+                if (.not. writer%fields(output_fields(i)%case_field)) cycle
+                name = trim(output_fields(i)%name)
+                number_type = "Float"
+                described = particle_field(field_index(trim(output_fields(i)%source)))
+                if (described%whole) number_type = "Int"
+                select case (output_fields(i)%layout)
+                case (layout_vector)
+                    call put_attribute(name, "Vector", n//" 3", number_type, source//name)
+                case (layout_voigt)
+                    call put_attribute(name, "Matrix", n//" "//int_text(nstress), number_type, &
+                        source//name)
+                    do c = 1, nstress
+                        call put_component(name, c, n, file)
+                    end do
+                case default
+                    call put_attribute(name, "Scalar", n, number_type, source//name)
+                end select
+            end do
             if (record%id) call put_attribute("id", "Scalar", n, "Int", source//"id")
             call put("      </Grid>")
         end subroutine put_particles
@@ -958,16 +983,17 @@ contains
         end if
     end function mass_units
 
-    pure function volume_units(dim) result(units)
+    !> The "components" attribute of a Voigt field: "xx yy zz xy" in 2D.
+    pure function voigt_text(dim) result(text)
         integer, intent(in) :: dim
-        character(len=:), allocatable :: units
+        character(len=:), allocatable :: text
 
         if (dim == 2) then
-            units = "m2"
+            text = components_2d
         else
-            units = "m3"
+            text = components_3d
         end if
-    end function volume_units
+    end function voigt_text
 
     !> A real with 17 significant digits (enough to read back the same double).
     pure function real_text(value) result(text)
