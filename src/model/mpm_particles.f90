@@ -21,7 +21,7 @@ module mpm_particles
         pack_particles, rebuild_particles, particle_number
     public :: particle_field_type, particle_field_count, particle_field, field_index, &
         values_per_particle, field_units, field_held, get_field, get_field_integers, &
-        put_field, put_field_integers, hold_field, created_particle_bytes
+        put_field, put_field_integers, hold_field, created_particle_bytes, move_particles
     public :: per_particle, per_axis, per_stress, per_tensor, per_state
     public :: held_always, held_written, held_apic, held_driver, held_images
 
@@ -75,7 +75,7 @@ module mpm_particles
 
     ! What inspect_field and change_field do with a field
     integer, parameter :: job_describe = 1, job_pack = 2, job_copy = 3, job_allocate = 4, &
-        job_regrow = 5, job_unpack = 6, job_put = 7
+        job_regrow = 5, job_unpack = 6, job_put = 7, job_release = 8
 
     !> A read-only job on fields (inspect_field): describe, pack records, copy values.
     type :: inspect_job_type
@@ -100,7 +100,7 @@ module mpm_particles
             !! job_copy: the values (n) of an integer field
     end type inspect_job_type
 
-    !> A job that changes fields (change_field): allocate, regrow, unpack, put.
+    !> A job that changes fields (change_field): allocate, regrow, unpack, put, release.
     type :: change_job_type
         integer :: action = job_allocate
         logical :: found = .false.
@@ -215,11 +215,7 @@ contains
         type(inspect_job_type), intent(inout) :: job
 
         job%found = .true.
-        select case (k)
         include "mpm_particle_fields.inc"
-        case default
-            job%found = .false.
-        end select
     end subroutine inspect_field
 
     !> Field k of the table, changed as `job` asks.
@@ -229,11 +225,7 @@ contains
         type(change_job_type), intent(inout) :: job
 
         job%found = .true.
-        select case (k)
         include "mpm_particle_fields.inc"
-        case default
-            job%found = .false.
-        end select
     end subroutine change_field
 
     !> A description of the field table (only name, values and units are required).
@@ -450,6 +442,47 @@ contains
                 trim(job%field%name)//": "//trim(job%message), exit_other)
         end if
     end subroutine hold_field
+
+    !> Move every array of `from` into `to` (which loses what it held), one field at a time,
+    !> so that memory holds the particles once and one field more.
+    subroutine move_particles(from, to, error)
+        type(particles_type), intent(inout) :: from
+            !! particles to move; left without arrays (n = 0)
+        type(particles_type), intent(out) :: to
+            !! the particles of `from`
+        type(error_type), allocatable, intent(out) :: error
+            !! set when memory cannot be allocated
+
+        type(change_job_type) :: release
+        real(wp), allocatable :: values(:, :)
+        integer, allocatable :: integers(:)
+        type(particle_field_type) :: described
+        integer :: k
+
+        to%n = from%n
+        to%dim = from%dim
+        to%nstress = from%nstress
+        to%nstate = from%nstate
+        release%action = job_release
+        do k = 1, particle_field_count()
+            if (.not. field_held(from, k)) cycle
+            described = particle_field(k)
+            if (described%whole) then
+                call get_field_integers(from, k, integers)
+            else
+                call get_field(from, k, values)
+            end if
+            call change_field(from, k, release)
+            call hold_field(to, k, error)
+            if (allocated(error)) return
+            if (described%whole) then
+                call put_field_integers(to, k, integers)
+            else
+                call put_field(to, k, values)
+            end if
+        end do
+        from%n = 0
+    end subroutine move_particles
 
     !> Allocate storage for n particles, zeroed (F set to the identity): every field that is
     !> held_always or held_written.
@@ -722,17 +755,24 @@ contains
         type(particle_field_type), intent(in) :: described
 
         real(wp), allocatable :: b(:)
+        integer :: stat
+        character(len=256) :: message
 
         job%field = described
         select case (job%action)
         case (job_allocate)
             if (.not. allocating(job)) return
-            allocate (a(job%n), stat=job%stat, errmsg=job%message)
-            if (job%stat == 0) a = 0.0_wp
+            allocate (a(job%n), stat=stat, errmsg=message)
+            call note_failure(job, stat, message)
+            if (stat /= 0) return
+            a = 0.0_wp
+        case (job_release)
+            if (allocated(a)) deallocate (a)
         case (job_regrow)
             if (.not. allocated(a)) return
-            allocate (b(job%n), stat=job%stat, errmsg=job%message)
-            if (job%stat /= 0) return
+            allocate (b(job%n), stat=stat, errmsg=message)
+            call note_failure(job, stat, message)
+            if (stat /= 0) return
             call keep_reals(a, 1, size(a), b, job%n, job%kept)
             call move_alloc(b, a)
         case default
@@ -746,18 +786,25 @@ contains
         type(particle_field_type), intent(in) :: described
 
         real(wp), allocatable :: b(:, :)
+        integer :: stat
+        character(len=256) :: message
 
         job%field = described
         select case (job%action)
         case (job_allocate)
             if (.not. allocating(job)) return
             allocate (a(values_per_particle(described, job%dim, job%nstate), job%n), &
-                stat=job%stat, errmsg=job%message)
-            if (job%stat == 0) a = 0.0_wp
+                stat=stat, errmsg=message)
+            call note_failure(job, stat, message)
+            if (stat /= 0) return
+            a = 0.0_wp
+        case (job_release)
+            if (allocated(a)) deallocate (a)
         case (job_regrow)
             if (.not. allocated(a)) return
-            allocate (b(size(a, 1), job%n), stat=job%stat, errmsg=job%message)
-            if (job%stat /= 0) return
+            allocate (b(size(a, 1), job%n), stat=stat, errmsg=message)
+            call note_failure(job, stat, message)
+            if (stat /= 0) return
             call keep_reals(a, size(a, 1), size(a, 2), b, job%n, job%kept)
             call move_alloc(b, a)
         case default
@@ -771,24 +818,30 @@ contains
         type(particle_field_type), intent(in) :: described
 
         real(wp), allocatable :: b(:, :, :)
+        integer :: stat
+        character(len=256) :: message
         integer :: d
 
         job%field = described
         select case (job%action)
         case (job_allocate)
             if (.not. allocating(job)) return
-            allocate (a(job%dim, job%dim, job%n), stat=job%stat, errmsg=job%message)
-            if (job%stat /= 0) return
+            allocate (a(job%dim, job%dim, job%n), stat=stat, errmsg=message)
+            call note_failure(job, stat, message)
+            if (stat /= 0) return
             a = 0.0_wp
             if (described%identity) then
                 do d = 1, job%dim
                     a(d, d, :) = 1.0_wp
                 end do
             end if
+        case (job_release)
+            if (allocated(a)) deallocate (a)
         case (job_regrow)
             if (.not. allocated(a)) return
-            allocate (b(size(a, 1), size(a, 2), job%n), stat=job%stat, errmsg=job%message)
-            if (job%stat /= 0) return
+            allocate (b(size(a, 1), size(a, 2), job%n), stat=stat, errmsg=message)
+            call note_failure(job, stat, message)
+            if (stat /= 0) return
             call keep_reals(a, size(a, 1)*size(a, 2), size(a, 3), b, job%n, job%kept)
             call move_alloc(b, a)
         case default
@@ -802,6 +855,8 @@ contains
         type(particle_field_type), intent(in) :: described
 
         integer, allocatable :: b(:)
+        integer :: stat
+        character(len=256) :: message
         integer :: q
 
         job%field = described
@@ -809,12 +864,17 @@ contains
         select case (job%action)
         case (job_allocate)
             if (.not. allocating(job)) return
-            allocate (a(job%n), stat=job%stat, errmsg=job%message)
-            if (job%stat == 0) a = 0
+            allocate (a(job%n), stat=stat, errmsg=message)
+            call note_failure(job, stat, message)
+            if (stat /= 0) return
+            a = 0
+        case (job_release)
+            if (allocated(a)) deallocate (a)
         case (job_regrow)
             if (.not. allocated(a)) return
-            allocate (b(job%n), stat=job%stat, errmsg=job%message)
-            if (job%stat /= 0) return
+            allocate (b(job%n), stat=stat, errmsg=message)
+            call note_failure(job, stat, message)
+            if (stat /= 0) return
             b(1:size(job%kept)) = a(job%kept)
             call move_alloc(b, a)
         case (job_unpack)
@@ -840,6 +900,18 @@ contains
             allocating = job%field%held == held_always .or. job%field%held == held_written
         end if
     end function allocating
+
+    !> A failed allocation (stat /= 0): the job keeps its stat and message.
+    pure subroutine note_failure(job, stat, message)
+        type(change_job_type), intent(inout) :: job
+        integer, intent(in) :: stat
+        character(len=*), intent(in) :: message
+
+        if (stat /= 0) then
+            job%stat = stat
+            job%message = message
+        end if
+    end subroutine note_failure
 
     !> The kept particles' values at the start of the new array.
     pure subroutine keep_reals(a, m, n, b, nb, kept)
