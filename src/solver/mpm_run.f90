@@ -11,7 +11,8 @@ module mpm_run
     use mpm_particles, only: particles_type, particle_bytes, pack_particles, rebuild_particles, &
         record_length, created_particle_bytes
     use mpm_case, only: case_type
-    use mpm_solver, only: simulation_type, new_simulation, advance, stable_time_step, &
+    use mpm_setup, only: start_simulation
+    use mpm_solver, only: simulation_type, advance, stable_time_step, &
         compute_energies, has_text, nphases, phase_names, phase_other, phase_output, agree, &
         contact_loads, resume_simulation, energy_record, energy_total, energy_residual
     use mpm_parallel, only: image_id, image_count, counts_of_images, gather_on_first, &
@@ -138,12 +139,12 @@ contains
         call agree(error)
         if (allocated(error)) return
         if (resumed) then
-            call new_simulation(sim, case, error, restart)
+            call start_simulation(sim, case, error, restart)
             if (.not. allocated(error)) call resume_simulation(sim, run, error)
             if (allocated(error)) error%message = "cannot restart from '"//restart//"': "// &
                 error%message
         else
-            call new_simulation(sim, case, error)
+            call start_simulation(sim, case, error)
         end if
         call agree(error)
         if (allocated(error)) return
