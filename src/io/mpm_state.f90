@@ -1,10 +1,11 @@
 !> Save and load the particle state of a run (restart files), as HDF5.
 !>
-!> A state file holds every array of `particles_type` exactly as stored (no padding), the
-!> time and step, and what is needed to check that it fits the case it is loaded into: the
-!> grid (dimension, ncells, dx, origin) and the material names. Material indices are stored
-!> as in the saving case and remapped by name when loading, so a case may list its
-!> materials in another order or add new ones. The layout is described in docs/output.md.
+!> A state file holds every saved array of the particle field table (mpm_particles, in its
+!> order) exactly as stored (no padding), the time and step, and what is needed to check
+!> that it fits the case it is loaded into: the grid (dimension, ncells, dx, origin) and the
+!> material names. Material indices are stored as in the saving case and remapped by name
+!> when loading, so a case may list its materials in another order or add new ones. The
+!> layout is described in docs/output.md.
 !>
 !> A checkpoint is a state file with a group "run" more (run_record_type): what the time
 !> loop needs to continue exactly where it stopped (energies, the running contact loads, the
