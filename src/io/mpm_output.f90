@@ -591,7 +591,7 @@ contains
         type(error_type), allocatable, intent(out) :: error
 
         type(particle_field_type) :: source
-        real(wp), allocatable :: values(:, :)
+        real(wp), allocatable :: values(:, :), column(:)
         integer, allocatable :: integers(:)
         character(len=:), allocatable :: name, units
         integer :: k
@@ -609,14 +609,17 @@ contains
         if (output%row > 0) then
             ! (the plastic strain of particles without material state)
             if (output%row > size(values, 1)) return
-            call hdf5_write_dataset(group, name, values(output%row, :), error, units=units)
+            ! (copies, not sections: the dataset writer takes contiguous arrays)
+            column = values(output%row, :)
+            call hdf5_write_dataset(group, name, column, error, units=units)
         else if (output%layout == layout_vector) then
             call write_vector(group, name, values, units, error)
         else if (output%layout == layout_voigt) then
             call hdf5_write_dataset(group, name, values, error, units=units, &
                 components=voigt_text(writer%dim))
         else
-            call hdf5_write_dataset(group, name, values(1, :), error, units=units)
+            column = values(1, :)
+            call hdf5_write_dataset(group, name, column, error, units=units)
         end if
     end subroutine write_field
 

@@ -199,7 +199,7 @@ contains
         type(error_type), allocatable, intent(out) :: error
 
         type(particle_field_type) :: field
-        real(wp), allocatable :: values(:, :)
+        real(wp), allocatable :: values(:, :), column(:)
         integer, allocatable :: integers(:)
         character(len=:), allocatable :: name, units
         integer :: k, d
@@ -217,7 +217,9 @@ contains
             else
                 call get_field(particles, k, values)
                 if (field%values == per_particle) then
-                    call hdf5_write_dataset(group, name, values(1, :), error, units=units)
+                    ! (a copy, not a section: the dataset writer takes contiguous arrays)
+                    column = values(1, :)
+                    call hdf5_write_dataset(group, name, column, error, units=units)
                 else if (field%values == per_tensor) then
                     call hdf5_write_dataset(group, name, reshape(values, [d, d, particles%n]), &
                         error, units=units)

@@ -14,7 +14,8 @@ program test_mpm_state
     use mpm_case, only: case_type
     use mpm_particles, only: particles_type, new_particles, particle_field_type, &
         particle_field_count, particle_field, field_index, field_held, get_field, &
-        get_field_integers, put_field, put_field_integers, hold_field, values_per_particle
+        get_field_integers, put_field, put_field_integers, hold_field, values_per_particle, &
+        created_particle_bytes
     use mpm_state, only: save_state, load_state, state_particle_count
     use mpm_filesystem, only: file_exists, remove_file
     use mpm_testing, only: test_suite_type, new_suite, check, check_contains, finish, &
@@ -147,6 +148,14 @@ contains
             values_per_particle(a, 2, 0) == 4, "f has dim x dim values")
         a = particle_field(field_index("state"))
         call check(suite, values_per_particle(a, 3, 5) == 5, "state has nstate values")
+        ! memory_estimate's count before the table: x, u, v, lp0, lp; mass, volume, volume0;
+        ! stress, strain; F; the state variables (reals) and the material (an integer)
+        call check(suite, created_particle_bytes(2, 2, .false., .false.) == &
+            8*(5*2 + 3 + 2*4 + 2*2 + 2) + 4, "bytes per particle created in 2D")
+        call check(suite, created_particle_bytes(3, 2, .false., .false.) == &
+            8*(5*3 + 3 + 2*6 + 3*3 + 2) + 4, "bytes per particle created in 3D")
+        call check(suite, created_particle_bytes(3, 2, .true., .true.) == &
+            8*(5*3 + 3 + 2*6 + 2*3*3 + 2) + 2*4, "with the affine velocities and the ids")
     end subroutine test_table
 
     !> Every saved field comes back bit for bit; the unsaved ones do not come back.
