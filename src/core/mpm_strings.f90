@@ -1,5 +1,6 @@
 !> Small text helpers for messages.
 module mpm_strings
+    use, intrinsic :: iso_c_binding, only: c_char, c_double, c_ptr, c_null_ptr, c_null_char
     use mpm_kinds, only: wp, i8
     implicit none
     private
@@ -7,6 +8,7 @@ module mpm_strings
     public :: max_path_bytes, max_name_bytes
     public :: fmt_real, fmt_below, fmt_vector, fmt_box, int_list, quoted_list, plain_list
     public :: join, text_or, yes_no, same, levenshtein, base_name, any_same
+    public :: parse_real, number_invalid, number_finite, number_not_finite, number_too_large
 
     integer, parameter :: max_path_bytes = 4095
         !! longest path a system call takes [bytes] (Linux PATH_MAX 4096, with its NUL)
@@ -17,6 +19,39 @@ module mpm_strings
     interface int_text
         module procedure int_text_default, int_text_i8
     end interface int_text
+
+    ! Decimal exponents beyond this are refused before conversion (no overflow while reading).
+    integer, parameter :: max_decimal_exponent = 300
+    ! What a token is as a number (parse_real; number_slow: valid, left to strtod)
+    integer, parameter :: number_invalid = 0
+        !! parse_real: not a number
+    integer, parameter :: number_finite = 1
+        !! parse_real: a finite number, converted
+    integer, parameter :: number_slow = 2
+    integer, parameter :: number_not_finite = 3
+        !! parse_real: NaN or infinity
+    integer, parameter :: number_too_large = 4
+        !! parse_real: a decimal exponent beyond 300: out of range
+    ! 10**k, k = 0..22: exact doubles (10**k = 5**k 2**k and 5**22 < 2**53)
+    real(wp), parameter :: exact_powers(0:22) = [1.0e0_wp, 1.0e1_wp, 1.0e2_wp, 1.0e3_wp, &
+        1.0e4_wp, 1.0e5_wp, 1.0e6_wp, 1.0e7_wp, 1.0e8_wp, 1.0e9_wp, 1.0e10_wp, 1.0e11_wp, &
+        1.0e12_wp, 1.0e13_wp, 1.0e14_wp, 1.0e15_wp, 1.0e16_wp, 1.0e17_wp, 1.0e18_wp, 1.0e19_wp, &
+        1.0e20_wp, 1.0e21_wp, 1.0e22_wp]
+
+    ! allow(assumed-size): null-terminated C string passed to libc
+    interface
+        !> C's conversion of decimal text to double, correctly rounded (glibc); the "C" locale
+        !> of a Fortran program reads "." as the decimal point.
+        function c_strtod(text, end) bind(c, name="strtod") result(value)
+            import :: c_char, c_double, c_ptr
+            character(kind=c_char), intent(in) :: text(*)
+                !! the number, null-terminated
+            type(c_ptr), value :: end
+                !! where to store the end of the number (NULL: nowhere)
+            real(c_double) :: value
+                !! the number
+        end function c_strtod
+    end interface
 
 contains
 
@@ -439,5 +474,158 @@ contains
             if (same(trim(names(i)), key)) any_same = .true.
         end do
     end function any_same
+    !> A whitespace-free token as a real number ([sign] digits [. digits] [e|d [sign] digits]),
+    !> NaN or infinity, correctly rounded: scan_number, and C's strtod where its fast path
+    !> does not apply.
+    subroutine parse_real(token, kind, value)
+        character(len=*), intent(in) :: token
+            !! one whitespace-free token
+        integer, intent(out) :: kind
+            !! number_invalid, number_finite (value set), number_not_finite or number_too_large
+        real(wp), intent(out) :: value
+            !! the number when kind is number_finite, else 0 [as written]
+
+        call scan_number(token, kind, value)
+        if (kind == number_slow) then
+            ! syntax checked by scan_number; C knows no "d" exponent
+            value = real(c_strtod(trim(fortran_exponent_to_c(token))//c_null_char, c_null_ptr), wp)
+            kind = number_finite
+        end if
+    end subroutine parse_real
+
+    !> Scan a token as a decimal number ([sign] digits [. digits] [e|d [sign] digits]), NaN or
+    !> infinity. Most numbers are converted here: with at most 15 significant digits m and a
+    !> power of ten 10**k, |k| <= 22, both m and 10**|k| are exact doubles, so one product or
+    !> quotient is the correctly rounded value (Clinger's fast path); the others are left to
+    !> C's strtod (number_slow).
+    pure subroutine scan_number(token, kind, value)
+        character(len=*), intent(in) :: token
+            !! one whitespace-free token
+        integer, intent(out) :: kind
+            !! number_invalid, number_finite (value set), number_slow (valid, value not set),
+            !! number_not_finite or number_too_large
+        real(wp), intent(out) :: value
+            !! the number when kind is number_finite, else 0 [as written]
+
+        integer :: i, n, digit, digits, fraction_digits, significant, pending_zeros, exponent
+        integer :: power
+        integer :: exponent_sign, exponent_digits
+        integer(i8) :: mantissa
+        logical :: negative, seen_point, seen_nonzero, fast
+
+        kind = number_invalid
+        value = 0.0_wp
+        n = len(token)
+        if (n == 0) return
+        i = 1
+        negative = token(1:1) == "-"
+        if (token(1:1) == "+" .or. token(1:1) == "-") i = 2
+        if (i <= n) then
+            select case (lower(token(i:n)))
+            case ("nan", "inf", "infinity")
+                kind = number_not_finite
+                return
+            case default
+                continue
+            end select
+        end if
+        ! mantissa: digits up to the last non-zero one; zeros after it are held in pending_zeros
+        mantissa = 0
+        digits = 0
+        significant = 0
+        pending_zeros = 0
+        fraction_digits = 0
+        seen_point = .false.
+        seen_nonzero = .false.
+        fast = .true.
+        do while (i <= n)
+            if (is_digit(token(i:i))) then
+                digit = iachar(token(i:i)) - iachar("0")
+                digits = digits + 1
+                if (seen_point) fraction_digits = fraction_digits + 1
+                if (digit == 0) then
+                    if (seen_nonzero) pending_zeros = pending_zeros + 1
+                else
+                    seen_nonzero = .true.
+                    if (significant + pending_zeros + 1 > 15) fast = .false.
+                    if (fast) mantissa = mantissa*10_i8**(pending_zeros + 1) + digit
+                    significant = significant + pending_zeros + 1
+                    pending_zeros = 0
+                end if
+            else if (token(i:i) == "." .and. .not. seen_point) then
+                seen_point = .true.
+            else
+                exit
+            end if
+            i = i + 1
+        end do
+        if (digits == 0) return
+        exponent = 0
+        if (i <= n) then
+            if (index("eEdD", token(i:i)) == 0) return
+            i = i + 1
+            exponent_sign = 1
+            if (i <= n) then
+                if (token(i:i) == "+") then
+                    i = i + 1
+                else if (token(i:i) == "-") then
+                    exponent_sign = -1
+                    i = i + 1
+                end if
+            end if
+            exponent_digits = 0
+            do while (i <= n)
+                if (.not. is_digit(token(i:i))) return
+                exponent_digits = exponent_digits + 1
+                ! saturate: only "far beyond the range" matters
+                if (exponent < 100000) exponent = 10*exponent + (iachar(token(i:i)) - iachar("0"))
+                i = i + 1
+            end do
+            if (exponent_digits == 0) return
+            exponent = exponent_sign*exponent
+        end if
+        kind = number_finite
+        if (.not. seen_nonzero) then
+            value = 0.0_wp
+            if (negative) value = -value
+            return
+        end if
+        ! value = 0.d1d2... x 10**(significant + power), with mantissa = d1d2... (when fast)
+        power = exponent - fraction_digits + pending_zeros
+        if (significant + power > max_decimal_exponent) then
+            kind = number_too_large
+        else if (fast .and. abs(power) <= 22) then
+            if (power >= 0) then
+                value = real(mantissa, wp)*exact_powers(power)
+            else
+                value = real(mantissa, wp)/exact_powers(-power)
+            end if
+            if (negative) value = -value
+        else
+            kind = number_slow
+        end if
+    end subroutine scan_number
+
+    !> A Fortran number with its exponent letter as C reads it: "1.5d3" -> "1.5e3".
+    pure function fortran_exponent_to_c(token) result(text)
+        character(len=*), intent(in) :: token
+            !! a number checked by scan_number
+        character(len=len(token)) :: text
+            !! the same with "d" or "D" turned into "e"
+
+        integer :: i
+
+        text = token
+        i = scan(text, "dD")
+        if (i > 0) text(i:i) = "e"
+    end function fortran_exponent_to_c
+
+    !> A decimal digit.
+    elemental logical function is_digit(c)
+        character, intent(in) :: c
+            !! one character
+
+        is_digit = c >= "0" .and. c <= "9"
+    end function is_digit
 
 end module mpm_strings

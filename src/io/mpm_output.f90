@@ -8,7 +8,8 @@
 !> A run on several images (domain decomposition) writes one part per image and output,
 !> `particles_<NNNNNN>_p<KKKKK>.h5` (KKKKK = image, 5 digits), with that image's particles
 !> and grid slab; image 1 alone writes the index, in which each output time is a spatial
-!> collection of the parts. The layout of the files is described in docs/output.md.
+!> collection of the parts. The layout of the files is described in docs/output.md. The
+!> XDMF index is written by the submodule mpm_output_xdmf.
 module mpm_output
     use mpm_kinds, only: wp, i8
     use mpm_strings, only: int_text
@@ -16,7 +17,8 @@ module mpm_output
     use mpm_case, only: case_type, nfields, field_displacement, field_velocity, field_stress, &
         field_strain, field_material, field_mass, field_volume, field_plastic_strain
     use mpm_case_material_registry, only: writes_plastic_strain
-    use mpm_particles, only: particles_type
+    use mpm_particles, only: particles_type, particle_field_type, particle_field, field_index, &
+        field_units, get_field, get_field_integers
     use mpm_grid, only: grid_type, node_position
     use mpm_hdf5, only: hdf5_location_type, text_type, hdf5_initialize, hdf5_create_file, &
         hdf5_create_group, hdf5_close_after, hdf5_write_dataset, hdf5_write_attribute, &
@@ -85,6 +87,86 @@ module mpm_output
     character(len=*), parameter :: voigt_components(6) = &
         [character(len=2) :: "xx", "yy", "zz", "xy", "yz", "zx"]
         !! names of the Voigt components, in the order of the columns
+
+    ! How an output field is stored
+    integer, parameter :: layout_vector = 1
+        !! a vector per particle, written (n, 3) with z = 0 in 2D; an XDMF Vector
+    integer, parameter :: layout_voigt = 2
+        !! Voigt components per particle (n, nstress); an XDMF Matrix and one Scalar per
+        !! component (views in /xdmf)
+    integer, parameter :: layout_scalar = 3
+        !! one value per particle (n); an XDMF Scalar
+
+    !> A particle output field: what the case's output.fields name (mpm_case field_*), and
+    !> the array of the particles (the field table of mpm_particles) it shows.
+    type :: output_field_type
+        integer :: case_field = 0
+            !! index in case%output%fields
+        character(len=14) :: name = ""
+            !! dataset of /particles and attribute of the XDMF index
+        character(len=12) :: source = ""
+            !! particle field it comes from (its units are the output's)
+        integer :: row = 0
+            !! 0: every value of the source; r > 0: its row r only (a scalar)
+        integer :: layout = layout_scalar
+            !! layout_vector, layout_voigt or layout_scalar
+    end type output_field_type
+
+    !> The particle output fields besides the position (always written) and the ids (written
+    !> on several images), in the order of the files and the index. A new output field is one
+    !> entry here (and its name in mpm_case's field list).
+    type(output_field_type), parameter :: output_fields(*) = [ &
+        output_field_type(field_displacement, "displacement", "u", 0, layout_vector), &
+        output_field_type(field_velocity, "velocity", "v", 0, layout_vector), &
+        output_field_type(field_stress, "stress", "stress", 0, layout_voigt), &
+        output_field_type(field_strain, "strain", "strain", 0, layout_voigt), &
+        output_field_type(field_material, "material", "material", 0, layout_scalar), &
+        output_field_type(field_mass, "mass", "mass", 0, layout_scalar), &
+        output_field_type(field_volume, "volume", "volume", 0, layout_scalar), &
+        output_field_type(field_plastic_strain, "plastic_strain", "state", 1, layout_scalar)]
+
+    ! The submodule mpm_output_xdmf: the index, and the helpers this module calls too (file
+    ! names, XDMF data items), declared as separate module procedures: gfortran's link-time
+    ! optimisation drops a private procedure of a module that a submodule calls.
+    interface
+        !> Rewrite <dir>/<case>.xdmf listing every file written so far (submodule
+        !> mpm_output_xdmf).
+        module subroutine write_xdmf(writer, error)
+            type(output_writer_type), intent(in) :: writer
+                !! writer of image 1, with the records of every output time
+            type(error_type), allocatable, intent(out) :: error
+                !! set when the index cannot be written
+        end subroutine write_xdmf
+        !> An XDMF DataItem pointing to an HDF5 dataset.
+        module pure function data_item(dims, number_type, source) result(text)
+            character(len=*), intent(in) :: dims
+                !! dimensions, slowest first ("n 3")
+            character(len=*), intent(in) :: number_type
+                !! "Float" (8 bytes) or "Int" (default integer)
+            character(len=*), intent(in) :: source
+                !! "file.h5:/group/dataset"
+            character(len=:), allocatable :: text
+        end function data_item
+        !> Name of the particle file of output number `index` (0-based).
+        module pure function particle_file_name(index) result(name)
+            integer, intent(in) :: index
+                !! output index
+            character(len=:), allocatable :: name
+                !! "particles_NNNNNN.h5"
+        end function particle_file_name
+        !> Name of the file of one image at output number `index` (0-based): the particle file
+        !> itself for a single image, a part file for several.
+        module pure function part_file_name(index, image, images) result(name)
+            integer, intent(in) :: index
+                !! output index
+            integer, intent(in) :: image
+                !! image, 1 .. images
+            integer, intent(in) :: images
+                !! number of images
+            character(len=:), allocatable :: name
+                !! "particles_NNNNNN.h5" (one image) or "particles_NNNNNN_pKKKKK.h5"
+        end function part_file_name
+    end interface
 
 contains
 
@@ -480,57 +562,18 @@ contains
         type(error_type), allocatable, intent(out) :: error
 
         type(hdf5_location_type) :: group
-        character(len=:), allocatable :: components
-        real(wp), allocatable :: plastic_strain(:)
+        integer :: i
 
-        if (writer%dim == 2) then
-            components = components_2d
-        else
-            components = components_3d
-        end if
         call hdf5_create_group(file, "particles", group, error)
         if (allocated(error)) return
         steps: block
             call write_vector(group, "position", particles%x, "m", error)
             if (allocated(error)) exit steps
-            if (writer%fields(field_displacement)) then
-                call write_vector(group, "displacement", particles%u, "m", error)
+            do i = 1, size(output_fields)
+                if (.not. writer%fields(output_fields(i)%case_field)) cycle
+                call write_field(writer, group, output_fields(i), particles, error)
                 if (allocated(error)) exit steps
-            end if
-            if (writer%fields(field_velocity)) then
-                call write_vector(group, "velocity", particles%v, "m/s", error)
-                if (allocated(error)) exit steps
-            end if
-            if (writer%fields(field_stress)) then
-                call hdf5_write_dataset(group, "stress", particles%stress, error, units="Pa", &
-                    components=components)
-                if (allocated(error)) exit steps
-            end if
-            if (writer%fields(field_strain)) then
-                call hdf5_write_dataset(group, "strain", particles%strain, error, units="-", &
-                    components=components)
-                if (allocated(error)) exit steps
-            end if
-            if (writer%fields(field_material)) then
-                call hdf5_write_dataset(group, "material", particles%material, error, units="-")
-                if (allocated(error)) exit steps
-            end if
-            if (writer%fields(field_mass)) then
-                call hdf5_write_dataset(group, "mass", particles%mass, error, &
-                    units=mass_units(writer%dim))
-                if (allocated(error)) exit steps
-            end if
-            if (writer%fields(field_volume)) then
-                call hdf5_write_dataset(group, "volume", particles%volume, error, &
-                    units=volume_units(writer%dim))
-                if (allocated(error)) exit steps
-            end if
-            if (writer%fields(field_plastic_strain) .and. particles%nstate >= 1) then
-                plastic_strain = particles%state(1, :)
-                call hdf5_write_dataset(group, "plastic_strain", plastic_strain, error, &
-                    units="-")
-                if (allocated(error)) exit steps
-            end if
+            end do
             if (allocated(particles%id)) then
                 call hdf5_write_dataset(group, "id", particles%id, error, units="-")
                 if (allocated(error)) exit steps
@@ -538,6 +581,47 @@ contains
         end block steps
         call hdf5_close_after(group, error)
     end subroutine write_particles_group
+
+    !> One output field as a dataset of /particles (nothing when its source lacks the row).
+    subroutine write_field(writer, group, output, particles, error)
+        type(output_writer_type), intent(in) :: writer
+        type(hdf5_location_type), intent(in) :: group
+        type(output_field_type), intent(in) :: output
+        type(particles_type), intent(in) :: particles
+        type(error_type), allocatable, intent(out) :: error
+
+        type(particle_field_type) :: source
+        real(wp), allocatable :: values(:, :), column(:)
+        integer, allocatable :: integers(:)
+        character(len=:), allocatable :: name, units
+        integer :: k
+
+        k = field_index(trim(output%source))
+        source = particle_field(k)
+        name = trim(output%name)
+        units = field_units(source, writer%dim)
+        if (source%whole) then
+            call get_field_integers(particles, k, integers)
+            call hdf5_write_dataset(group, name, integers, error, units=units)
+            return
+        end if
+        call get_field(particles, k, values)
+        if (output%row > 0) then
+            ! (the plastic strain of particles without material state)
+            if (output%row > size(values, 1)) return
+            ! (copies, not sections: the dataset writer takes contiguous arrays)
+            column = values(output%row, :)
+            call hdf5_write_dataset(group, name, column, error, units=units)
+        else if (output%layout == layout_vector) then
+            call write_vector(group, name, values, units, error)
+        else if (output%layout == layout_voigt) then
+            call hdf5_write_dataset(group, name, values, error, units=units, &
+                components=voigt_text(writer%dim))
+        else
+            column = values(1, :)
+            call hdf5_write_dataset(group, name, column, error, units=units)
+        end if
+    end subroutine write_field
 
     !> The /xdmf group: what the XDMF index reads besides /particles, so that both ParaView
     !> readers (Xdmf3ReaderS and XDMFReader) load the index.
@@ -556,18 +640,20 @@ contains
         type(error_type), allocatable, intent(out) :: error
 
         type(hdf5_location_type) :: group
-        integer :: k
+        integer :: k, i
 
         call hdf5_create_group(file, "xdmf", group, error)
         if (allocated(error)) return
         steps: block
             call hdf5_write_dataset(group, "vertices", [(k, k = 0, n - 1)], error, units="-")
             if (allocated(error)) exit steps
-            if (writer%fields(field_stress)) then
-                call write_views("stress", "Pa", error)
+            do i = 1, size(output_fields)
+                if (.not. writer%fields(output_fields(i)%case_field)) cycle
+                if (output_fields(i)%layout /= layout_voigt) cycle
+                call write_views(trim(output_fields(i)%name), field_units(particle_field( &
+                    field_index(trim(output_fields(i)%source))), writer%dim), error)
                 if (allocated(error)) exit steps
-            end if
-            if (writer%fields(field_strain)) call write_views("strain", "-", error)
+            end do
         end block steps
         call hdf5_close_after(group, error)
 
@@ -714,239 +800,6 @@ contains
         call hdf5_write_dataset(group, name, padded, error, units=units)
     end subroutine write_vector
 
-    ! ----------------------------------------------------------------------------------------
-    ! XDMF
-    ! ----------------------------------------------------------------------------------------
-
-    !> Rewrite <dir>/<case>.xdmf listing every file written so far (via a .tmp and rename).
-    !>
-    !> With several images each time is a spatial collection of the parts; a part without
-    !> particles is left out (a Polyvertex of 0 elements upsets some readers), its grid is
-    !> not, and when no part has particles the first one is listed so every time has one.
-    subroutine write_xdmf(writer, error)
-        type(output_writer_type), intent(in) :: writer
-            !! writer of image 1, with the records of every output time
-        type(error_type), allocatable, intent(out) :: error
-            !! set when the index cannot be written
-
-        character(len=:), allocatable :: path
-        type(text_file_type) :: file
-        integer :: i, part
-        character(len=:), allocatable :: indent
-        type(error_type), allocatable :: ignored
-
-        path = writer%dir//"/"//writer%case_name//".xdmf"
-        ! (a Fortran write would not see a full disk: gfortran drops those errors)
-        call open_text_file(path//".tmp", file, error, shown_as=path)
-        if (allocated(error)) return
-        indent = ""
-        call put('<?xml version="1.0" ?>')
-        call put('<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>')
-        call put('<Xdmf Version="3.0" xmlns:xi="http://www.w3.org/2001/XInclude">')
-        call put("  <Domain>")
-        indent = ""
-        if (writer%grid .or. writer%images > 1) then
-            ! one spatial collection per time, of the particles and the grid (with the
-            ! Xdmf3ReaderT reader ParaView names the two blocks "particles" and "grid") of
-            ! each part: ParaView shows the parts of a time together
-            if (writer%grid) then
-                call put('    <Grid Name="particles_and_grid" GridType="Collection" '// &
-                    'CollectionType="Temporal">')
-            else
-                call put('    <Grid Name="particles" GridType="Collection" '// &
-                    'CollectionType="Temporal">')
-            end if
-            do i = 1, writer%count
-                call put('      <Grid Name="output_'//int_text(i - 1)// &
-                    '" GridType="Collection" CollectionType="Spatial">')
-                call put('        <Time Value="'//real_text(writer%records(i)%time)//'"/>')
-                indent = "  "
-                do part = 1, writer%images
-                    if (listed(writer%records(i)%counts, part)) then
-                        call put_particles(writer%records(i), i - 1, part)
-                    end if
-                    if (writer%grid) call put_grid(writer%records(i), i - 1, part)
-                end do
-                indent = ""
-                call put("      </Grid>")
-            end do
-        else
-            call put('    <Grid Name="particles" GridType="Collection" CollectionType="Temporal">')
-            do i = 1, writer%count
-                call put_particles(writer%records(i), i - 1, 1)
-            end do
-        end if
-        call put("    </Grid>")
-        call put("  </Domain>")
-        call put("</Xdmf>")
-        call close_text_file(file, error)
-        if (allocated(error)) then
-            ! the index of the outputs before stays as it was
-            call remove_file(path//".tmp", ignored)
-            return
-        end if
-        call rename_file(path//".tmp", path, error)
-
-    contains
-
-        subroutine put(line)
-            character(len=*), intent(in) :: line
-                !! line without its indentation
-
-            call put_line(file, indent//line)
-        end subroutine put
-
-        subroutine put_particles(record, index, part)
-            type(output_record_type), intent(in) :: record
-                !! output time
-            integer, intent(in) :: index
-                !! output index (0-based)
-            integer, intent(in) :: part
-                !! image whose file is listed
-
-            character(len=:), allocatable :: n, file, source
-            integer :: c, nstress
-
-            n = int_text(record%counts(part))
-            file = part_file_name(index, part, writer%images)
-            source = file//":/particles/"
-            ! Voigt order: the first 4 components in 2D, all 6 in 3D
-            nstress = merge(4, 6, writer%dim == 2)
-            call put('      <Grid Name="particles" GridType="Uniform">')
-            call put('        <Time Value="'//real_text(record%time)//'"/>')
-            ! the connectivity is explicit: Xdmf3ReaderS makes no cell without it
-            call put('        <Topology TopologyType="Polyvertex" NumberOfElements="'//n// &
-                '" NodesPerElement="1">')
-            call put("          "//data_item(n, "Int", file//":/xdmf/vertices"))
-            call put("        </Topology>")
-            call put('        <Geometry GeometryType="XYZ">')
-            call put("          "//data_item(n//" 3", "Float", source//"position"))
-            call put("        </Geometry>")
-            if (writer%fields(field_displacement)) then
-                call put_attribute("displacement", "Vector", n//" 3", "Float", &
-                    source//"displacement")
-            end if
-            if (writer%fields(field_velocity)) then
-                call put_attribute("velocity", "Vector", n//" 3", "Float", source//"velocity")
-            end if
-            if (writer%fields(field_stress)) then
-                call put_attribute("stress", "Matrix", n//" "//int_text(nstress), "Float", &
-                    source//"stress")
-                do c = 1, nstress
-                    call put_component("stress", c, n, file)
-                end do
-            end if
-            if (writer%fields(field_strain)) then
-                call put_attribute("strain", "Matrix", n//" "//int_text(nstress), "Float", &
-                    source//"strain")
-                do c = 1, nstress
-                    call put_component("strain", c, n, file)
-                end do
-            end if
-            if (writer%fields(field_material)) then
-                call put_attribute("material", "Scalar", n, "Int", source//"material")
-            end if
-            if (writer%fields(field_mass)) then
-                call put_attribute("mass", "Scalar", n, "Float", source//"mass")
-            end if
-            if (writer%fields(field_volume)) then
-                call put_attribute("volume", "Scalar", n, "Float", source//"volume")
-            end if
-            if (writer%fields(field_plastic_strain)) then
-                call put_attribute("plastic_strain", "Scalar", n, "Float", &
-                    source//"plastic_strain")
-            end if
-            if (record%id) call put_attribute("id", "Scalar", n, "Int", source//"id")
-            call put("      </Grid>")
-        end subroutine put_particles
-
-        !> The grid as a regular (co-rectilinear) mesh, so ParaView shows it as a surface.
-        subroutine put_grid(record, index, part)
-            type(output_record_type), intent(in) :: record
-                !! output time
-            integer, intent(in) :: index
-                !! output index (0-based)
-            integer, intent(in) :: part
-                !! image whose grid is listed
-
-            character(len=:), allocatable :: mesh, source
-            integer :: nn(3)
-            real(wp) :: origin(3)
-
-            nn = writer%grid_nn(:, part)
-            origin = writer%grid_origin(:, part)
-            source = part_file_name(index, part, writer%images)//":/grid/"
-            call put('      <Grid Name="grid" GridType="Uniform">')
-            call put('        <Time Value="'//real_text(record%time)//'"/>')
-            ! XDMF lists the slowest direction first: z y x
-            mesh = int_text(nn(3))//" "//int_text(nn(2))//" "//int_text(nn(1))
-            call put('        <Topology TopologyType="3DCoRectMesh" Dimensions="'//mesh//'"/>')
-            call put('        <Geometry GeometryType="ORIGIN_DXDYDZ">')
-            call put('          <DataItem Dimensions="3" NumberType="Float" Precision="8" '// &
-                'Format="XML">'//real_text(origin(3))//" "//real_text(origin(2))//" "// &
-                real_text(origin(1))//"</DataItem>")
-            call put('          <DataItem Dimensions="3" NumberType="Float" Precision="8" '// &
-                'Format="XML">'//real_text(writer%grid_dx)//" "//real_text(writer%grid_dx)// &
-                " "//real_text(writer%grid_dx)//"</DataItem>")
-            call put("        </Geometry>")
-            ! the node arrays are given the shape of the mesh (the same values in the same
-            ! order): XDMFReader fails on a vector of shape (nnodes, 3) on a structured mesh
-            call put_attribute("mass", "Scalar", mesh, "Float", source//"mass")
-            call put_attribute("velocity", "Vector", mesh//" 3", "Float", source//"velocity")
-            call put("      </Grid>")
-        end subroutine put_grid
-
-        subroutine put_attribute(name, kind, dims, number_type, source)
-            character(len=*), intent(in) :: name, kind, dims, number_type, source
-
-            call put('        <Attribute Name="'//name//'" AttributeType="'//kind// &
-                '" Center="Node">')
-            call put("          "//data_item(dims, number_type, source))
-            call put("        </Attribute>")
-        end subroutine put_attribute
-
-        !> Column c of /particles/<name> as a scalar attribute "<name>_<component>", read
-        !> from its view /xdmf/<name>_<component> (write_xdmf_group).
-        !>
-        !> The readers share no way of selecting a column: XDMFReader fails on the XDMF 3
-        !> hyperslab path "file:/dataset|start:stride:count:dims", and Xdmf3ReaderS skips a
-        !> DataItem with ItemType="HyperSlab" ("unrecognized array type").
-        subroutine put_component(name, c, n, file)
-            character(len=*), intent(in) :: name, n, file
-            integer, intent(in) :: c
-
-            character(len=:), allocatable :: component
-
-            component = name//"_"//trim(voigt_components(c))
-            call put('        <Attribute Name="'//component// &
-                '" AttributeType="Scalar" Center="Node">')
-            call put("          "//data_item(n, "Float", file//":/xdmf/"//component))
-            call put("        </Attribute>")
-        end subroutine put_component
-
-    end subroutine write_xdmf
-
-    !> An XDMF DataItem pointing to an HDF5 dataset.
-    pure function data_item(dims, number_type, source) result(text)
-        character(len=*), intent(in) :: dims
-            !! dimensions, slowest first ("n 3")
-        character(len=*), intent(in) :: number_type
-            !! "Float" (8 bytes) or "Int" (default integer)
-        character(len=*), intent(in) :: source
-            !! "file.h5:/group/dataset"
-        character(len=:), allocatable :: text
-
-        character(len=:), allocatable :: precision
-
-        if (number_type == "Int") then
-            precision = int_text(storage_size(0)/8)
-        else
-            precision = int_text(storage_size(0.0_wp)/8)
-        end if
-        text = '<DataItem Dimensions="'//dims//'" NumberType="'//number_type// &
-            '" Precision="'//precision//'" Format="HDF">'//source//"</DataItem>"
-    end function data_item
-
     pure function mass_units(dim) result(units)
         integer, intent(in) :: dim
         character(len=:), allocatable :: units
@@ -958,75 +811,17 @@ contains
         end if
     end function mass_units
 
-    pure function volume_units(dim) result(units)
+    !> The "components" attribute of a Voigt field: "xx yy zz xy" in 2D.
+    pure function voigt_text(dim) result(text)
         integer, intent(in) :: dim
-        character(len=:), allocatable :: units
-
-        if (dim == 2) then
-            units = "m2"
-        else
-            units = "m3"
-        end if
-    end function volume_units
-
-    !> A real with 17 significant digits (enough to read back the same double).
-    pure function real_text(value) result(text)
-        real(wp), intent(in) :: value
         character(len=:), allocatable :: text
 
-        character(len=32) :: buffer
-
-        write (buffer, "(es24.16e3)") value
-        text = trim(adjustl(buffer))
-    end function real_text
-
-    !> Whether the index lists the particles of a part: parts without particles are left
-    !> out, except the first one when no part has any (every time then has its particles).
-    pure logical function listed(counts, part)
-        integer(i8), intent(in) :: counts(:)
-            !! number of particles of every part at one output time
-        integer, intent(in) :: part
-            !! part (image)
-
-        listed = counts(part) > 0 .or. (part == 1 .and. all(counts == 0))
-    end function listed
-
-    !> Name of the particle file of output number `index` (0-based).
-    pure function particle_file_name(index) result(name)
-        integer, intent(in) :: index
-            !! output index
-        character(len=:), allocatable :: name
-            !! "particles_NNNNNN.h5"
-
-        character(len=6) :: index_text
-
-        write (index_text, "(i6.6)") index
-        name = "particles_"//index_text//".h5"
-    end function particle_file_name
-
-    !> Name of the file of one image at output number `index` (0-based): the particle file
-    !> itself for a single image, a part file for several.
-    pure function part_file_name(index, image, images) result(name)
-        integer, intent(in) :: index
-            !! output index
-        integer, intent(in) :: image
-            !! image, 1 .. images
-        integer, intent(in) :: images
-            !! number of images
-        character(len=:), allocatable :: name
-            !! "particles_NNNNNN.h5" (one image) or "particles_NNNNNN_pKKKKK.h5"
-
-        character(len=6) :: index_text
-        character(len=5) :: image_text
-
-        if (images == 1) then
-            name = particle_file_name(index)
-            return
+        if (dim == 2) then
+            text = components_2d
+        else
+            text = components_3d
         end if
-        write (index_text, "(i6.6)") index
-        write (image_text, "(i5.5)") image
-        name = "particles_"//index_text//"_p"//image_text//".h5"
-    end function part_file_name
+    end function voigt_text
 
     !> Delete the particle files, part files and the XDMF index an earlier run of a case left
     !> in `dir` (and the `.tmp` files of one that was killed while writing), so an

@@ -1,10 +1,11 @@
 !> Save and load the particle state of a run (restart files), as HDF5.
 !>
-!> A state file holds every array of `particles_type` exactly as stored (no padding), the
-!> time and step, and what is needed to check that it fits the case it is loaded into: the
-!> grid (dimension, ncells, dx, origin) and the material names. Material indices are stored
-!> as in the saving case and remapped by name when loading, so a case may list its
-!> materials in another order or add new ones. The layout is described in docs/output.md.
+!> A state file holds every saved array of the particle field table (mpm_particles, in its
+!> order) exactly as stored (no padding), the time and step, and what is needed to check
+!> that it fits the case it is loaded into: the grid (dimension, ncells, dx, origin) and the
+!> material names. Material indices are stored as in the saving case and remapped by name
+!> when loading, so a case may list its materials in another order or add new ones. The
+!> layout is described in docs/output.md.
 !>
 !> A checkpoint is a state file with a group "run" more (run_record_type): what the time
 !> loop needs to continue exactly where it stopped (energies, the running contact loads, the
@@ -15,7 +16,10 @@ module mpm_state
     use mpm_strings, only: int_text, real_text, reals_text
     use mpm_error, only: error_type, fatal_error, exit_other, exit_input
     use mpm_case, only: case_type
-    use mpm_particles, only: particles_type, new_particles, nstress_of
+    use mpm_particles, only: particles_type, new_particles, nstress_of, particle_field_type, &
+        particle_field_count, particle_field, values_per_particle, field_units, field_held, &
+        get_field, get_field_integers, put_field, put_field_integers, hold_field, per_particle, &
+        per_tensor, held_always
     use mpm_hdf5, only: hdf5_location_type, text_type, hdf5_initialize, hdf5_is_hdf5_file, &
         hdf5_create_file, hdf5_open_file, hdf5_create_group, hdf5_open_group, hdf5_close, &
         hdf5_close_after, hdf5_has_attribute, hdf5_has_link, hdf5_write_dataset, &
@@ -186,52 +190,48 @@ contains
         call hdf5_close_after(file, error)
     end subroutine write_state_file
 
-    !> Every array of particles_type, raw, under the component's own name.
+    !> Every saved array of the field table (mpm_particles), raw, under the component's own
+    !> name, in table order; a field with no values per particle (no material state) is left
+    !> out.
     subroutine write_particles(group, particles, error)
         type(hdf5_location_type), intent(in) :: group
         type(particles_type), intent(in) :: particles
         type(error_type), allocatable, intent(out) :: error
 
-        call hdf5_write_dataset(group, "x", particles%x, error, units="m")
-        if (allocated(error)) return
-        if (allocated(particles%u)) then
-            call hdf5_write_dataset(group, "u", particles%u, error, units="m")
+        type(particle_field_type) :: field
+        real(wp), allocatable :: values(:, :), column(:)
+        integer, allocatable :: integers(:)
+        character(len=:), allocatable :: name, units
+        integer :: k, d
+
+        d = particles%dim
+        do k = 1, particle_field_count()
+            field = particle_field(k)
+            if (.not. field%saved .or. .not. field_held(particles, k)) cycle
+            if (values_per_particle(field, d, particles%nstate) == 0) cycle
+            name = trim(field%name)
+            units = field_units(field, d)
+            if (field%whole) then
+                call get_field_integers(particles, k, integers)
+                call hdf5_write_dataset(group, name, integers, error, units=units)
+            else
+                call get_field(particles, k, values)
+                if (field%values == per_particle) then
+                    ! (a copy, not a section: the dataset writer takes contiguous arrays)
+                    column = values(1, :)
+                    call hdf5_write_dataset(group, name, column, error, units=units)
+                else if (field%values == per_tensor) then
+                    call hdf5_write_dataset(group, name, reshape(values, [d, d, particles%n]), &
+                        error, units=units)
+                else if (field%voigt) then
+                    call hdf5_write_dataset(group, name, values, error, units=units, &
+                        components=voigt_components(d))
+                else
+                    call hdf5_write_dataset(group, name, values, error, units=units)
+                end if
+            end if
             if (allocated(error)) return
-        end if
-        call hdf5_write_dataset(group, "v", particles%v, error, units="m/s")
-        if (allocated(error)) return
-        call hdf5_write_dataset(group, "mass", particles%mass, error, &
-            units=trim(merge("kg/m", "kg  ", particles%dim == 2)))
-        if (allocated(error)) return
-        call hdf5_write_dataset(group, "volume", particles%volume, error, &
-            units=merge("m2", "m3", particles%dim == 2))
-        if (allocated(error)) return
-        call hdf5_write_dataset(group, "volume0", particles%volume0, error, &
-            units=merge("m2", "m3", particles%dim == 2))
-        if (allocated(error)) return
-        call hdf5_write_dataset(group, "stress", particles%stress, error, units="Pa", &
-            components=voigt_components(particles%dim))
-        if (allocated(error)) return
-        if (allocated(particles%strain)) then
-            call hdf5_write_dataset(group, "strain", particles%strain, error, units="-", &
-                components=voigt_components(particles%dim))
-            if (allocated(error)) return
-        end if
-        call hdf5_write_dataset(group, "f", particles%f, error, units="-")
-        if (allocated(error)) return
-        call hdf5_write_dataset(group, "lp0", particles%lp0, error, units="m")
-        if (allocated(error)) return
-        call hdf5_write_dataset(group, "lp", particles%lp, error, units="m")
-        if (allocated(error)) return
-        call hdf5_write_dataset(group, "material", particles%material, error, units="-")
-        if (allocated(error)) return
-        if (particles%nstate > 0) then
-            call hdf5_write_dataset(group, "state", particles%state, error, units="-")
-            if (allocated(error)) return
-        end if
-        if (allocated(particles%affine)) then
-            call hdf5_write_dataset(group, "affine", particles%affine, error, units="1/s")
-        end if
+        end do
     end subroutine write_particles
 
     !> The run group of a checkpoint: sizes as attributes, arrays as datasets (the text of
@@ -547,7 +547,6 @@ contains
         type(text_type), allocatable :: names(:)
         integer, allocatable :: remap(:)
         integer :: dim, n, nstress, file_nstate, case_nstate
-        real(wp), allocatable :: state(:, :)
 
         time = 0.0_wp
         step = 0
@@ -585,17 +584,7 @@ contains
         if (allocated(error)) return
         call hdf5_open_group(file, "particles", group, error)
         if (allocated(error)) return
-        call read_particles(group, particles, error)
-        if (.not. allocated(error) .and. file_nstate > 0) then
-            allocate (state(file_nstate, n))
-            call hdf5_read_dataset(group, "state", state, error)
-            if (.not. allocated(error)) particles%state(1:file_nstate, :) = state
-        end if
-        if (.not. allocated(error) .and. hdf5_has_link(group, "affine")) then
-            ! APIC affine velocities of a run with solver.transfer = "apic"
-            allocate (particles%affine(dim, dim, n))
-            call hdf5_read_dataset(group, "affine", particles%affine, error)
-        end if
+        call read_particles(group, particles, file_nstate, error)
         call hdf5_close_after(group, error)
         if (allocated(error)) return
 
@@ -604,39 +593,61 @@ contains
         call check_inside(path, case, particles, error)
     end subroutine read_state_file
 
-    subroutine read_particles(group, particles, error)
+    !> The saved arrays of the field table, in table order. A field the particles do not hold
+    !> by default (APIC affine velocities) is allocated when the file has it; one held always
+    !> is required, except the material state of a file without any; the others are zero
+    !> when missing (a checkpoint of a run that keeps no displacement or strain). The
+    !> material state of the file fills the first of the case's variables (an elastic
+    !> geostatic stage may precede a plastic run).
+    subroutine read_particles(group, particles, file_nstate, error)
         type(hdf5_location_type), intent(in) :: group
         type(particles_type), intent(inout) :: particles
+        integer, intent(in) :: file_nstate
+            !! material state variables per particle in the file
         type(error_type), allocatable, intent(out) :: error
 
-        call hdf5_read_dataset(group, "x", particles%x, error)
-        if (allocated(error)) return
-        ! (a checkpoint of a run that keeps no displacement or strain has none: zero)
-        if (hdf5_has_link(group, "u")) then
-            call hdf5_read_dataset(group, "u", particles%u, error)
+        type(particle_field_type) :: field
+        real(wp), allocatable :: values1(:), values2(:, :), values3(:, :, :)
+        integer, allocatable :: integers(:)
+        character(len=:), allocatable :: name
+        integer :: k, d, n, rows
+
+        d = particles%dim
+        n = particles%n
+        do k = 1, particle_field_count()
+            field = particle_field(k)
+            if (.not. field%saved) cycle
+            name = trim(field%name)
+            rows = values_per_particle(field, d, file_nstate)
+            if (rows == 0) cycle
+            if (.not. hdf5_has_link(group, name) .and. field%held /= held_always) cycle
+            if (.not. field_held(particles, k)) then
+                call hold_field(particles, k, error)
+                if (allocated(error)) return
+            end if
+            if (field%whole) then
+                allocate (integers(n))
+                call hdf5_read_dataset(group, name, integers, error)
+                if (.not. allocated(error)) call put_field_integers(particles, k, integers)
+                deallocate (integers)
+            else if (field%values == per_particle) then
+                allocate (values1(n))
+                call hdf5_read_dataset(group, name, values1, error)
+                if (.not. allocated(error)) call put_field(particles, k, reshape(values1, [1, n]))
+                deallocate (values1)
+            else if (field%values == per_tensor) then
+                allocate (values3(d, d, n))
+                call hdf5_read_dataset(group, name, values3, error)
+                if (.not. allocated(error)) call put_field(particles, k, reshape(values3, [rows, n]))
+                deallocate (values3)
+            else
+                allocate (values2(rows, n))
+                call hdf5_read_dataset(group, name, values2, error)
+                if (.not. allocated(error)) call put_field(particles, k, values2)
+                deallocate (values2)
+            end if
             if (allocated(error)) return
-        end if
-        call hdf5_read_dataset(group, "v", particles%v, error)
-        if (allocated(error)) return
-        call hdf5_read_dataset(group, "mass", particles%mass, error)
-        if (allocated(error)) return
-        call hdf5_read_dataset(group, "volume", particles%volume, error)
-        if (allocated(error)) return
-        call hdf5_read_dataset(group, "volume0", particles%volume0, error)
-        if (allocated(error)) return
-        call hdf5_read_dataset(group, "stress", particles%stress, error)
-        if (allocated(error)) return
-        if (hdf5_has_link(group, "strain")) then
-            call hdf5_read_dataset(group, "strain", particles%strain, error)
-            if (allocated(error)) return
-        end if
-        call hdf5_read_dataset(group, "f", particles%f, error)
-        if (allocated(error)) return
-        call hdf5_read_dataset(group, "lp0", particles%lp0, error)
-        if (allocated(error)) return
-        call hdf5_read_dataset(group, "lp", particles%lp, error)
-        if (allocated(error)) return
-        call hdf5_read_dataset(group, "material", particles%material, error)
+        end do
     end subroutine read_particles
 
     !> Refuse a state whose grid (dimension, ncells, dx, origin) is not the case's.

@@ -9,9 +9,10 @@ module mpm_run
     use mpm_strings, only: int_text
     use mpm_signals, only: catch_stop_signals, release_stop_signals, stop_signal, signal_name
     use mpm_particles, only: particles_type, particle_bytes, pack_particles, rebuild_particles, &
-        record_length
+        record_length, created_particle_bytes
     use mpm_case, only: case_type
-    use mpm_solver, only: simulation_type, new_simulation, advance, stable_time_step, &
+    use mpm_setup, only: start_simulation
+    use mpm_solver, only: simulation_type, advance, stable_time_step, &
         compute_energies, has_text, nphases, phase_names, phase_other, phase_output, agree, &
         contact_loads, resume_simulation, energy_record, energy_total, energy_residual
     use mpm_parallel, only: image_id, image_count, counts_of_images, gather_on_first, &
@@ -138,12 +139,12 @@ contains
         call agree(error)
         if (allocated(error)) return
         if (resumed) then
-            call new_simulation(sim, case, error, restart)
+            call start_simulation(sim, case, error, restart)
             if (.not. allocated(error)) call resume_simulation(sim, run, error)
             if (allocated(error)) error%message = "cannot restart from '"//restart//"': "// &
                 error%message
         else
-            call new_simulation(sim, case, error)
+            call start_simulation(sim, case, error)
         end if
         call agree(error)
         if (allocated(error)) return
@@ -691,16 +692,13 @@ contains
             !! estimate [bytes]
 
         real(wp), parameter :: real_bytes = storage_size(1.0_wp)/8, int_bytes = 4
-        real(wp) :: per_particle, per_node, d, ns, nps, nodes
+        real(wp) :: per_particle, per_node, d, nps, nodes
 
         d = real(case%dim, wp)
-        ns = merge(4.0_wp, 6.0_wp, case%dim == 2)
         nps = merge(2.0_wp, 3.0_wp, case%solver%shape == shape_linear)
-        ! x, u, v, lp0, lp; mass, volume, volume0; stress, strain; F; 2 state variables;
-        ! material (+ id on several images)
-        per_particle = real_bytes*(5.0_wp*d + 3.0_wp + 2.0_wp*ns + d*d + 2.0_wp) + int_bytes
-        if (case%solver%apic) per_particle = per_particle + real_bytes*d*d
-        if (image_count() > 1) per_particle = per_particle + int_bytes
+        ! the arrays of the field table that new_particles allocates, with 2 state variables,
+        ! the APIC affine velocities and the ids of several images
+        per_particle = real(created_particle_bytes(case%dim, 2, case%solver%apic, image_count() > 1), wp)
         if (case%guard%snapshot_steps > 0) per_particle = 2.0_wp*per_particle
         ! stencils: weights and gradients, first node, order, cell
         per_particle = per_particle + real_bytes*(2.0_wp*nps - 1.0_wp)*d + int_bytes*(d + 2.0_wp)

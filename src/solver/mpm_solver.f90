@@ -10,14 +10,14 @@
 module mpm_solver
     use mpm_kinds, only: wp, i8
     use mpm_strings, only: vector_text
-    use mpm_error, only: error_type, fatal_error, exit_numerical, exit_input
+    use mpm_error, only: error_type, fatal_error, exit_numerical, exit_input, exit_other
     use mpm_case, only: case_type, scheme_usf, scheme_usl, scheme_musl, damping_kinetic, &
         field_strain, field_displacement
     use mpm_case_stability, only: p_wave_speed, viscous_time_step
     use mpm_grid, only: grid_type, new_grid, add_terrain
-    use mpm_stl, only: stl_mesh_type, read_stl
     use mpm_terrain, only: terrain_misses_domain
-    use mpm_particles, only: particles_type, pack_particles, rebuild_particles, particle_number
+    use mpm_particles, only: particles_type, pack_particles, rebuild_particles, particle_number, &
+        move_particles
     use mpm_bodies, only: create_particles, body_cell_histogram
     use mpm_decomposition, only: decomposition_type, new_decomposition, cut_axis, local_case, &
         global_cell
@@ -27,7 +27,7 @@ module mpm_solver
     use mpm_shape_factory, only: new_shape
     use mpm_material, only: material_holder_type, nwork_kinds, work_plastic, work_viscous
     use mpm_material_factory, only: new_materials
-    use mpm_state, only: load_state, run_record_type
+    use mpm_state, only: run_record_type
     use mpm_contact_loads, only: face_loads, take_face_loads, face_node_count, terrain_loads, &
         take_terrain_loads
     use mpm_stencil, only: stencils_type, compute_stencils
@@ -37,6 +37,7 @@ module mpm_solver
     implicit none
     private
     public :: simulation_type, new_simulation, advance, stable_time_step, energies_type
+    public :: start_type
     public :: compute_energies, has_text, agree, contact_loads, resume_simulation
     public :: start_energy_balance, energy_residual, energy_total, energy_scale, &
         energy_record, energies_from_record, nenergy_record
@@ -138,23 +139,43 @@ module mpm_solver
             !! "terrain_stl"): each new slab grid indexes it again
     end type simulation_type
 
+    !> What a simulation starts from besides its case: the data of the files the case names
+    !> (a state file, a checkpoint, the terrain surface), read by the set-up layer
+    !> (mpm_setup), since the solver reads no file.
+    type :: start_type
+        logical :: loaded = .false.
+            !! the particles come from a state file (load_state) or a checkpoint
+        logical :: restart = .false.
+            !! from a checkpoint: the run goes on at its time and step, displacements kept
+        type(particles_type) :: particles
+            !! the particles read (every particle of the file, on every image)
+        real(wp) :: time = 0.0_wp
+            !! simulated time of the state [s]
+        integer :: step = 0
+            !! time step number of the state
+        real(wp), allocatable :: terrain_corner(:, :, :)
+            !! (3, 3, triangles) corners of the terrain surface, contact.type = "terrain_stl" [m]
+    end type start_type
+
 contains
 
     !> Build the model of a case: grid, materials, shape function and particles (from the
-    !> bodies, or from the state file when the case has load_state).
-    subroutine new_simulation(sim, case, error, restart)
+    !> bodies, or those of `start` when the case continues a state file or a checkpoint).
+    subroutine new_simulation(sim, case, error, start)
         type(simulation_type), intent(out) :: sim
             !! the simulation
         type(case_type), intent(in) :: case
             !! resolved case
         type(error_type), allocatable, intent(out) :: error
-            !! set on allocation failure or an incompatible state file
-        character(len=*), intent(in), optional :: restart
-            !! checkpoint to continue from: its particles, time and step (the rest of the
-            !! run record is set by resume_simulation)
+            !! set on allocation failure, or when a file the case names was not read
+        type(start_type), intent(inout), optional :: start
+            !! the data of the files the case names (mpm_setup::read_start); its particles
+            !! move into the simulation (a checkpoint's with its time and step; the rest of
+            !! the run record is set by resume_simulation)
 
-        real(wp) :: state_time, lightest
-        integer :: state_step, i, stat, nstate
+        real(wp) :: lightest
+        integer :: i, stat, nstate
+        logical :: loaded, restart
         character(len=256) :: msg
 
         sim%case = case
@@ -168,21 +189,27 @@ contains
             nstate = max(nstate, sim%materials(i)%m%nstate())
         end do
         call new_shape(sim%shape, case%solver%shape)
-        if (present(restart)) then
-            call load_state(restart, case, sim%particles, state_time, state_step, error, nstate)
+        loaded = .false.
+        restart = .false.
+        if (present(start)) then
+            loaded = start%loaded
+            restart = start%restart
+        end if
+        if (.not. loaded .and. has_text(case%load_state)) then
+            call fatal_error(error, case%file//": new_simulation: the state file of "// &
+                "load_state was not read (mpm_setup::read_start reads it)", exit_other)
+            return
+        end if
+        if (restart) then
+            call move_particles(start%particles, sim%particles, error)
             if (allocated(error)) return
-            sim%time = state_time
-            sim%step = state_step
+            sim%time = start%time
+            sim%step = start%step
             call decompose_loaded(sim, error)
             if (allocated(error)) return
-        else if (has_text(case%load_state)) then
-            call load_state(case%load_state, case, sim%particles, state_time, state_step, error, &
-                nstate)
-            if (allocated(error)) then
-                ! which case and key asked for the file
-                error%message = case%file//": load_state: "//error%message
-                return
-            end if
+        else if (loaded) then
+            call move_particles(start%particles, sim%particles, error)
+            if (allocated(error)) return
             ! a new run starts from the loaded state: displacements count from here
             sim%particles%u = 0.0_wp
             ! on several images: each keeps the particles of its slab (any number of images)
@@ -203,7 +230,7 @@ contains
         call slab_grid(sim, error)
         if (allocated(error)) return
         if (case%contact%type == "terrain_stl") then
-            call terrain_contact(sim, error)
+            call terrain_contact(sim, error, start)
             if (allocated(error)) return
         end if
         ! a case stores what it writes: the accumulated strain and the displacement only when
@@ -401,23 +428,26 @@ contains
         sim%grid%contact_time = 5.0_wp*sim%case%domain%dx/max(maxval(sim%wave_speed), tiny(1.0_wp))
     end subroutine slab_grid
 
-    !> Frictional contact with the terrain surface of contact.file (read once, kept for the
-    !> grids of later cuts). Collective.
-    subroutine terrain_contact(sim, error)
+    !> Frictional contact with the terrain surface of contact.file (read by the set-up
+    !> layer, kept for the grids of later cuts). Collective.
+    subroutine terrain_contact(sim, error, start)
         type(simulation_type), intent(inout) :: sim
             !! the simulation, with its grid
         type(error_type), allocatable, intent(out) :: error
-            !! set when the file is refused or the surface misses the domain
+            !! set when the surface was not read or misses the domain
+        type(start_type), intent(inout), optional :: start
+            !! its terrain corners move into the simulation
 
-        type(stl_mesh_type) :: mesh
+        logical :: read
 
-        call read_stl(sim%case%contact%file, mesh, error, sim%case%contact%scale, &
-            sim%case%contact%offset, key="contact.file")
-        if (allocated(error)) then
-            error%message = sim%case%file//": "//error%message
+        read = .false.
+        if (present(start)) read = allocated(start%terrain_corner)
+        if (.not. read) then
+            call fatal_error(error, sim%case%file//": new_simulation: the terrain surface "// &
+                "of contact.file was not read (mpm_setup::read_start reads it)", exit_other)
             return
         end if
-        call move_alloc(mesh%vertex, sim%terrain_corner)
+        call move_alloc(start%terrain_corner, sim%terrain_corner)
         call slab_terrain(sim, error)
     end subroutine terrain_contact
 

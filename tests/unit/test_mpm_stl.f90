@@ -1,4 +1,5 @@
-!> Tests of mpm_stl (reading ASCII and binary STL, closed-surface check).
+!> Tests of mpm_stl (reading ASCII and binary STL) and of the closed-surface check and enclosed
+!> volume of mpm_surface_mesh on the meshes it reads.
 !>
 !> The meshes are small and exact: every coordinate is a binary fraction, exact in real32 and in
 !> decimal, so the ASCII and the binary form of a mesh must give bit-identical triangles, and
@@ -14,7 +15,8 @@ program test_mpm_stl
     use mpm_kinds, only: wp
     use mpm_error, only: error_type, exit_input
     use mpm_filesystem, only: remove_file, c_string
-    use mpm_stl, only: stl_mesh_type, read_stl, check_closed, enclosed_volume
+    use mpm_stl, only: stl_mesh_type, read_stl
+    use mpm_surface_mesh, only: check_closed, enclosed_volume
     use mpm_testing, only: test_suite_type, new_suite, check, check_close, check_contains, &
         finish, temporary_folder
     implicit none

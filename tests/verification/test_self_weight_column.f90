@@ -18,6 +18,7 @@ program test_self_weight_column
     use mpm_solver, only: simulation_type, new_simulation, advance, stable_time_step, &
         energy_residual
     use mpm_state, only: save_state
+    use mpm_setup, only: start_simulation
     implicit none
 
     type(test_suite_type) :: suite
@@ -145,7 +146,7 @@ contains
             print "(a)", error%message
             return
         end if
-        call new_simulation(sim, case, error)
+        call start_simulation(sim, case, error)
         call check(suite, .not. allocated(error), "load_state into a new simulation")
         if (allocated(error)) return
         call check(suite, all(sim%particles%stress == settled%particles%stress) .and. &

@@ -19,7 +19,8 @@ program test_terrain_slide
     use mpm_testing, only: test_suite_type, new_suite, check, check_close, finish, temporary_folder
     use mpm_error, only: error_type
     use mpm_case, only: case_type, read_case_string
-    use mpm_solver, only: simulation_type, new_simulation, advance, stable_time_step
+    use mpm_solver, only: simulation_type, advance, stable_time_step
+    use mpm_setup, only: start_simulation
     implicit none
 
     type(test_suite_type) :: suite
@@ -69,7 +70,7 @@ contains
             print "(a)", error%message
             return
         end if
-        call new_simulation(sim, case, error)
+        call start_simulation(sim, case, error)
         call check(suite, .not. allocated(error), label//": the floor is read")
         if (allocated(error)) then
             print "(a)", error%message
@@ -222,7 +223,7 @@ contains
             print "(a)", error%message
             return
         end if
-        call new_simulation(sim, case, error)
+        call start_simulation(sim, case, error)
         call check(suite, .not. allocated(error), label//": the slope is read")
         if (allocated(error)) then
             print "(a)", error%message
