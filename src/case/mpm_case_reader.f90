@@ -6,7 +6,7 @@
 !> bodies on the domain and the materials, the time step on the bodies). The first error
 !> found is returned (code exit_input); every message starts with the case file name.
 submodule (mpm_case) mpm_case_reader
-    use mpm_strings, only: max_name_bytes, int_text, base_name, join, any_same
+    use mpm_strings, only: max_name_bytes, int_text, base_name, join
     use mpm_json, only: json_document_type, json_value_type, json_parse_file, &
         json_parse_string, json_free, json_root, json_is_object
     use mpm_case_cursor, only: cursor_type, new_cursor, input_error, describe

@@ -5,7 +5,7 @@ submodule (mpm_case) mpm_case_summary
     use mpm_case_domain, only: axis_names
     use mpm_case_bodies, only: domain_digits
     use mpm_case_sites, only: body_site_count
-    use mpm_case_stability, only: p_wave_speed, start_time_step
+    use mpm_case_stability, only: start_time_step
     implicit none
 
 contains
