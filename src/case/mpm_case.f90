@@ -5,7 +5,8 @@
 !> per key of the case file (`case%domain%dx`, `case%time%tend`), each declared, read and
 !> checked in its own module `mpm_case_<section>` through a `cursor_type` (mpm_case_cursor).
 !> The reader of the whole file lives in the submodule `mpm_case_reader`, the --check text in
-!> `mpm_case_summary`. The case layer uses no model, solver or output module.
+!> `mpm_case_summary`. The case layer uses no model, solver or output module; a material is
+!> read and checked by its constitutive law (src/material/, mpm_material_registry).
 module mpm_case
     use mpm_kinds, only: wp
     use mpm_error, only: error_type
@@ -13,9 +14,7 @@ module mpm_case
         bc_frictional, bc_names
     use mpm_case_particles, only: particles_section_type, dist_regular, dist_random, &
         distribution_names
-    use mpm_case_materials, only: material_spec_type, cone_plane_strain, cone_compression, &
-        cone_extension, cone_names, softening_none, softening_linear, softening_exponential, &
-        softening_names
+    use mpm_case_materials, only: material_spec_type
     use mpm_case_bodies, only: body_spec_type
     use mpm_case_solver, only: solver_section_type, scheme_usf, scheme_usl, scheme_musl, &
         scheme_names, shape_linear, shape_cpgimp, shape_names
@@ -38,8 +37,6 @@ module mpm_case
     public :: contact_section_type, output_section_type, progress_section_type
     public :: checkpoint_section_type, guard_section_type
     public :: bc_free, bc_sliding, bc_fixed, bc_frictional, bc_names
-    public :: cone_plane_strain, cone_compression, cone_extension, cone_names
-    public :: softening_none, softening_linear, softening_exponential, softening_names
     public :: scheme_usf, scheme_usl, scheme_musl, scheme_names
     public :: shape_linear, shape_cpgimp, shape_names
     public :: damping_none, damping_local, damping_kinetic, damping_names

@@ -1,26 +1,41 @@
-!> The `materials` key of a case: an array of materials, each read and checked by its model
-!> (mpm_case_material_registry: one module per `type`).
+!> The `materials` key of a case: an array of materials, each read and checked by its own
+!> law (src/material/: one module per `type`, listed by mpm_material_registry).
+!>
+!> The case keeps of a material what its other sections and the model need without knowing
+!> the law (its name, type name and density) and the law itself, a constitutive law and not
+!> model data (grid, particles, bodies), which the solver runs.
 module mpm_case_materials
+    use mpm_kinds, only: wp
     use mpm_error, only: error_type
     use mpm_strings, only: int_text, same
     use mpm_case_cursor, only: cursor_type
-    use mpm_case_material_model, only: material_spec_type, key_width, cone_plane_strain, &
-        cone_compression, cone_extension, cone_names, softening_none, softening_linear, &
-        softening_exponential, softening_names, degree
-    use mpm_case_material_registry, only: material_model_entry_type, material_models, &
-        material_choices, material_choice_codes, all_material_keys, names_of, keys_of
+    use mpm_material, only: material_type, material_holder_type, material_key_width
+    use mpm_material_registry, only: material_models, material_choices, material_choice_codes, &
+        all_material_keys, names_of, keys_of
     implicit none
     private
     public :: material_spec_type, read_materials, material_index, material_list
-    public :: cone_plane_strain, cone_compression, cone_extension, cone_names
-    public :: softening_none, softening_linear, softening_exponential, softening_names
-    public :: degree
+    public :: writes_plastic_strain, material_laws
+
+    !> One material of the case.
+    type :: material_spec_type
+        character(len=:), allocatable :: name
+            !! name used by bodies to refer to this material
+        character(len=:), allocatable :: type
+            !! its type name as stored: "linear_elastic", "mohr_coulomb", ... (the first
+            !! name of its law)
+        real(wp) :: density = 0.0_wp
+            !! mass density rho [kg/m3] (the law's)
+        class(material_type), allocatable :: law
+            !! the constitutive law with its parameters, as read and checked by it
+            !! (unallocated for a material made in code without a type)
+    end type material_spec_type
 
 contains
 
     !> `materials`: a non-empty array of uniquely named materials. The keys allowed in a
     !> material depend on its type, so the type is read before the keys are checked; then its
-    !> model reads the rest.
+    !> law reads the rest.
     subroutine read_materials(root, materials, error)
         type(cursor_type), intent(in) :: root
             !! top-level object
@@ -29,8 +44,9 @@ contains
         type(error_type), allocatable, intent(out) :: error
             !! first error found
 
-        type(material_model_entry_type), allocatable :: models(:)
-        character(len=key_width), allocatable :: names(:)
+        type(material_holder_type), allocatable :: models(:)
+        character(len=material_key_width), allocatable :: names(:)
+        class(material_type), allocatable :: law
         type(cursor_type) :: list, item
         integer :: i, j, model
 
@@ -45,7 +61,7 @@ contains
             call read_material_type(item, models, model, error)
             if (allocated(error)) return
             associate (mat => materials(i))
-                names = names_of(models(model)%model)
+                names = names_of(models(model)%m)
                 mat%type = trim(names(1))
                 call item%get_string("name", mat%name, error, required=.true.)
                 if (allocated(error)) return
@@ -57,8 +73,12 @@ contains
                         return
                     end if
                 end do
-                call models(model)%model%read(item, mat, error)
+                allocate (law, source=models(model)%m)
+                call law%read(item, error)
                 if (allocated(error)) return
+                law%name = mat%name
+                mat%density = law%density
+                call move_alloc(law, mat%law)
             end associate
         end do
     end subroutine read_materials
@@ -67,14 +87,14 @@ contains
     subroutine read_material_type(item, models, model, error)
         type(cursor_type), intent(in) :: item
             !! the material object
-        type(material_model_entry_type), intent(in) :: models(:)
+        type(material_holder_type), intent(in) :: models(:)
             !! the registry
         integer, intent(out) :: model
-            !! index of the model in the registry
+            !! index of the material's law in the registry
         type(error_type), allocatable, intent(out) :: error
             !! first error found
 
-        character(len=key_width), allocatable :: names(:)
+        character(len=material_key_width), allocatable :: names(:)
         character(len=:), allocatable :: owner
 
         model = 0
@@ -86,10 +106,36 @@ contains
         call item%get_choice("type", material_choices(), material_choice_codes(), model, &
             error, required=.true.)
         if (allocated(error)) return
-        names = names_of(models(model)%model)
+        names = names_of(models(model)%m)
         owner = "a "//trim(names(1))//" material"
-        call item%check_keys(keys_of(models(model)%model), error, owner, all_material_keys())
+        call item%check_keys(keys_of(models(model)%m), error, owner, all_material_keys())
     end subroutine read_material_type
+
+    !> Whether a material writes the plastic strain (its law's state; no for a material
+    !> without a law).
+    pure logical function writes_plastic_strain(mat)
+        type(material_spec_type), intent(in) :: mat
+            !! the material
+
+        writes_plastic_strain = .false.
+        if (allocated(mat%law)) writes_plastic_strain = mat%law%writes_plastic_strain()
+    end function writes_plastic_strain
+
+    !> The constitutive laws of the materials, in case order: what the solver runs (a copy,
+    !> so the case stays as read).
+    pure subroutine material_laws(materials, laws)
+        type(material_spec_type), intent(in) :: materials(:)
+            !! materials of the case, each with its law
+        type(material_holder_type), allocatable, intent(out) :: laws(:)
+            !! their laws
+
+        integer :: i
+
+        allocate (laws(size(materials)))
+        do i = 1, size(materials)
+            allocate (laws(i)%m, source=materials(i)%law)
+        end do
+    end subroutine material_laws
 
     !> Index of the material called `name`, 0 when there is none.
     pure integer function material_index(materials, name)

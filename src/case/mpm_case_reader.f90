@@ -6,17 +6,16 @@
 !> bodies on the domain and the materials, the time step on the bodies). The first error
 !> found is returned (code exit_input); every message starts with the case file name.
 submodule (mpm_case) mpm_case_reader
-    use mpm_strings, only: max_name_bytes, int_text, base_name, join, any_same
+    use mpm_strings, only: max_name_bytes, int_text, base_name, join
     use mpm_json, only: json_document_type, json_value_type, json_parse_file, &
         json_parse_string, json_free, json_root, json_is_object
     use mpm_case_cursor, only: cursor_type, new_cursor, input_error, describe
     use mpm_case_domain, only: read_domain, domain_keys, face_keys, face_object_keys
     use mpm_case_particles, only: read_particles, particle_keys
     use mpm_case_materials, only: read_materials
-    use mpm_case_material_model, only: key_width
-    use mpm_case_material_registry, only: material_model_entry_type, material_models, &
-        material_choices, material_choice_codes, keys_of
-    use mpm_case_material_strength, only: softening_keys
+    use mpm_material, only: material_holder_type, material_key_width, key_path_width
+    use mpm_material_registry, only: material_models, material_choices, material_choice_codes, &
+        keys_of
     use mpm_case_bodies, only: read_bodies, body_keys
     use mpm_case_sites, only: body_site_count
     use mpm_case_states, only: read_states
@@ -34,7 +33,7 @@ submodule (mpm_case) mpm_case_reader
         "domain", "particles", "materials", "bodies", "gravity", "solver", "time", "damping", &
         "contact", "output", "progress", "save_state", "load_state", "checkpoint", "guard"]
         !! keys of the top level
-    integer, parameter :: key_path_width = 80
+    integer, parameter :: case_path_width = 80
         !! longest key path case_key_paths can list ("materials[type=...].softening.strain")
     integer, parameter :: max_case_name = max_name_bytes - len(".xdmf.tmp")
         !! longest case name [bytes]: <name>.xdmf.tmp is a file name of the output folder
@@ -74,9 +73,10 @@ contains
     end procedure read_case_string
 
     module procedure case_key_paths
-        character(len=key_path_width), allocatable :: list(:)
-        character(len=key_width), allocatable :: keys(:), choices(:)
-        type(material_model_entry_type), allocatable :: models(:)
+        character(len=case_path_width), allocatable :: list(:)
+        character(len=material_key_width), allocatable :: choices(:)
+        character(len=key_path_width), allocatable :: sections(:)
+        type(material_holder_type), allocatable :: models(:)
         integer, allocatable :: codes(:)
         character(len=:), allocatable :: material
         integer :: i, longest
@@ -96,11 +96,9 @@ contains
         codes = material_choice_codes()
         do i = 1, size(choices)
             material = "materials[type="//trim(choices(i))//"]"
-            keys = keys_of(models(codes(i))%model)
-            call add_key_paths(list, material, keys)
-            if (any_same(keys, "softening")) then
-                call add_key_paths(list, material//".softening", softening_keys)
-            end if
+            call add_key_paths(list, material, keys_of(models(codes(i))%m))
+            call models(codes(i))%m%section_keys(sections)
+            call add_key_paths(list, material, sections)
         end do
         call add_key_paths(list, "bodies[]", body_keys)
         call add_key_paths(list, "solver", solver_keys)
@@ -123,7 +121,7 @@ contains
 
     !> Append "path.key" for every key of an object to a list of key paths.
     pure subroutine add_key_paths(list, path, keys)
-        character(len=key_path_width), allocatable, intent(inout) :: list(:)
+        character(len=case_path_width), allocatable, intent(inout) :: list(:)
             !! key paths so far
         character(len=*), intent(in) :: path
             !! path of the object ("" at the top level)
@@ -133,7 +131,7 @@ contains
         integer :: k
 
         do k = 1, size(keys)
-            list = [character(len=key_path_width) :: list, join(path, trim(keys(k)))]
+            list = [character(len=case_path_width) :: list, join(path, trim(keys(k)))]
         end do
     end subroutine add_key_paths
 

@@ -7,23 +7,23 @@ module mpm_case_stability
     use mpm_kinds, only: wp
     use mpm_case_materials, only: material_spec_type
     use mpm_case_bodies, only: body_spec_type
-    use mpm_case_material_registry, only: material_wave_speed, material_time_step_limit
     implicit none
     private
     public :: p_wave_speed, viscous_time_step, critical_time_step, start_time_step
 
 contains
 
-    !> P-wave speed of a material [m/s], from its model (mpm_case_material_registry):
-    !> sqrt((K + 4G/3)/rho) for a solid, sqrt(K/rho) for a fluid.
+    !> P-wave speed of a material [m/s], from its law: sqrt((K + 4G/3)/rho) for a solid,
+    !> sqrt(K/rho) for a fluid; 0 for a material without a law (made in code).
     pure real(wp) function p_wave_speed(mat)
         type(material_spec_type), intent(in) :: mat
             !! material
 
-        p_wave_speed = material_wave_speed(mat)
+        p_wave_speed = 0.0_wp
+        if (allocated(mat%law)) p_wave_speed = mat%law%wave_speed()
     end function p_wave_speed
 
-    !> Time-step limit of a material besides the CFL condition [s], from its model: the
+    !> Time-step limit of a material besides the CFL condition [s], from its law: the
     !> viscous limit rho dx^2 / (2 dim mu) of a fluid, huge for the others.
     pure real(wp) function viscous_time_step(mat, dx, dim)
         type(material_spec_type), intent(in) :: mat
@@ -33,7 +33,8 @@ contains
         integer, intent(in) :: dim
             !! space dimensions
 
-        viscous_time_step = material_time_step_limit(mat, dx, dim)
+        viscous_time_step = huge(1.0_wp)
+        if (allocated(mat%law)) viscous_time_step = mat%law%time_step_limit(dx, dim)
     end function viscous_time_step
 
     !> Critical time step at t = 0 [s]: dx / max over bodies (c_p + |v0|), and the viscous

@@ -3,10 +3,9 @@ submodule (mpm_case) mpm_case_summary
     use mpm_kinds, only: i8
     use mpm_strings, only: int_text, fmt_real, fmt_vector, fmt_box, int_list, text_or, yes_no
     use mpm_case_domain, only: axis_names
-    use mpm_case_materials, only: degree
     use mpm_case_bodies, only: domain_digits
     use mpm_case_sites, only: body_site_count
-    use mpm_case_stability, only: p_wave_speed, start_time_step
+    use mpm_case_stability, only: start_time_step
     implicit none
 
 contains
@@ -188,47 +187,20 @@ contains
             case%particles, case%bodies, b)
     end function body_particles
 
-    !> degrees.
+    !> The lines of a material: its name and type, then its law's lines.
     pure function material_text(mat) result(text)
         type(material_spec_type), intent(in) :: mat
             !! resolved material
         character(len=:), allocatable :: text
 
-        character(len=*), parameter :: nl = new_line("a")
-        character(len=:), allocatable :: head, line
+        character(len=:), allocatable :: lines
 
-        head = '  "'//text_or(mat%name, "?")//'" '//text_or(mat%type, "?")//": "
-        if (mat%type == "newtonian") then
-            text = head//"rho = "//fmt_real(mat%density)//" kg/m3, viscosity = " &
-                //fmt_real(mat%viscosity)//" Pa s, bulk modulus = "//fmt_real(mat%bulk_modulus) &
-                //" Pa, c_p = "//fmt_real(p_wave_speed(mat), 6)//" m/s"//nl
-            return
-        end if
-        text = head//"E = "//fmt_real(mat%young)//" Pa, nu = "//fmt_real(mat%poisson) &
-            //", rho = "//fmt_real(mat%density)//" kg/m3, c_p = " &
-            //fmt_real(p_wave_speed(mat), 6)//" m/s"//nl
-        if (mat%type /= "mohr_coulomb" .and. mat%type /= "drucker_prager") return
-        line = "    phi = "//fmt_deg(mat%friction)//" deg, c = "//fmt_real(mat%cohesion) &
-            //" Pa, psi = "//fmt_deg(mat%dilatancy)//" deg, tension cutoff "
-        if (mat%tension_cutoff >= 0.0_wp) then
-            line = line//fmt_real(mat%tension_cutoff)//" Pa"
+        text = '  "'//text_or(mat%name, "?")//'" '//text_or(mat%type, "?")//": "
+        if (allocated(mat%law)) then
+            call mat%law%summary(lines)
+            text = text//lines
         else
-            line = line//"at the apex"
-        end if
-        if (mat%type == "drucker_prager") line = line//", cone "//trim(cone_names(mat%cone))
-        if (mat%separation) line = line//", separation"
-        text = text//line//nl
-        if (mat%softening == softening_none) then
-            text = text//"    no softening"//nl
-        else
-            text = text//"    softening "//trim(softening_names(mat%softening))//" to phi = " &
-                //fmt_deg(mat%friction_residual)//" deg, c = "//fmt_real(mat%cohesion_residual) &
-                //" Pa, psi = "//fmt_deg(mat%dilatancy_residual)//" deg"
-            if (mat%softening == softening_linear) then
-                text = text//" at plastic shear strain "//fmt_real(mat%softening_strain)//nl
-            else
-                text = text//", plastic shear strain scale "//fmt_real(mat%softening_strain)//nl
-            end if
+            text = text//new_line("a")
         end if
     end function material_text
 
@@ -248,14 +220,5 @@ contains
             text = text//" (mu = "//fmt_real(case%domain%bc_friction(side, axis))//")"
         end if
     end function face_text
-
-    !> conversion, so 30 degrees shows as "30".
-    pure function fmt_deg(angle) result(text)
-        real(wp), intent(in) :: angle
-            !! angle [rad]
-        character(len=:), allocatable :: text
-
-        text = fmt_real(angle/degree, 12)
-    end function fmt_deg
 
 end submodule mpm_case_summary

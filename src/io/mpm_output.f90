@@ -16,7 +16,7 @@ module mpm_output
     use mpm_error, only: error_type, fatal_error, exit_other
     use mpm_case, only: case_type, nfields, field_displacement, field_velocity, field_stress, &
         field_strain, field_material, field_mass, field_volume, field_plastic_strain
-    use mpm_case_material_registry, only: writes_plastic_strain
+    use mpm_case_materials, only: writes_plastic_strain
     use mpm_particles, only: particles_type, particle_field_type, particle_field, field_index, &
         field_units, get_field, get_field_integers
     use mpm_grid, only: grid_type, node_position

@@ -1,15 +1,24 @@
-!> The abstract material: a constitutive model that updates the stress of one particle.
+!> The abstract material: a constitutive law, everything about it in one extension.
 !>
-!> A new material is a new module with an extension of `material_type`; the solver calls
-!> only its bindings. Stress conventions are those of `mpm_stress`. The time step limits of a
-!> material (wave speed, viscosity) are computed from its specification in `mpm_case`, the one
-!> place the case reader and the solver both use.
+!> A material is one module with an extension of `material_type` (and one line in
+!> `mpm_material_registry`): its names for `materials[i].type`, its keys, how it reads and
+!> checks them through the case cursor, its wave speed and time-step limit, the state it
+!> needs and writes, its lines of the --check summary and its stress update. The case reads
+!> it (mpm_case_materials), the solver calls only its bindings. Stress conventions are those
+!> of `mpm_stress`.
 module mpm_material
     use mpm_kinds, only: wp
+    use mpm_error, only: error_type
+    use mpm_case_cursor, only: cursor_type
     implicit none
     private
-    public :: material_type, material_holder_type
+    public :: material_type, material_holder_type, material_key_width, key_path_width
     public :: work_stored, work_plastic, work_viscous, nwork_kinds
+
+    integer, parameter :: material_key_width = 14
+        !! longest key or type name of a material ("tension_cutoff", "linear_elastic")
+    integer, parameter :: key_path_width = 32
+        !! longest key path inside a material ("softening.phi_residual")
 
     integer, parameter :: work_stored = 1, work_plastic = 2, work_viscous = 3
         !! where the work of the stresses goes, beyond the elastic energy the stress stores:
@@ -18,13 +27,29 @@ module mpm_material
     integer, parameter :: nwork_kinds = 3
         !! number of work kinds
 
-    !> A constitutive model with its parameters.
+    !> A constitutive law with its parameters, and how the case file gives them.
     type, abstract :: material_type
         character(len=:), allocatable :: name
             !! name given in the case file
         real(wp) :: density = 0.0_wp
             !! initial mass density [kg/m3]
     contains
+        !> Names accepted for `materials[i].type`; the first is the one the case stores.
+        procedure(list_interface), deferred, nopass :: names
+        !> Keys a material of this type may hold ("name" and "type" included).
+        procedure(list_interface), deferred, nopass :: keys
+        !> Key paths inside the objects of a material ("softening.type"; default none).
+        procedure, nopass :: section_keys => material_section_keys
+        !> Read and check the parameters (every key but `name` and `type`), then set up.
+        procedure(read_interface), deferred :: read
+        !> P-wave speed [m/s].
+        procedure(speed_interface), deferred :: wave_speed
+        !> Stable time step besides the CFL condition [s] (default huge: none).
+        procedure :: time_step_limit => material_time_step_limit
+        !> Whether the material writes the plastic strain (default no).
+        procedure :: writes_plastic_strain => material_writes_plastic_strain
+        !> Its lines of the --check summary, after the name and the type.
+        procedure(summary_interface), deferred :: summary
         procedure(update_stress_interface), deferred :: update_stress
             !! stress update of one particle over one step
         procedure :: nstate => material_nstate
@@ -47,6 +72,40 @@ module mpm_material
     end type material_holder_type
 
     abstract interface
+        !> A list of names (type names or keys).
+        pure subroutine list_interface(list)
+            import :: material_key_width
+            character(len=material_key_width), allocatable, intent(out) :: list(:)
+                !! the names
+        end subroutine list_interface
+
+        !> Read and check the parameters of a material from its object of the case file.
+        subroutine read_interface(self, item, error)
+            import :: material_type, cursor_type, error_type
+            class(material_type), intent(inout) :: self
+                !! the material, its defaults set
+            type(cursor_type), intent(in) :: item
+                !! the material object ("materials[i]"), its keys checked
+            type(error_type), allocatable, intent(out) :: error
+                !! first error found
+        end subroutine read_interface
+
+        !> P-wave speed of the material [m/s].
+        pure real(wp) function speed_interface(self)
+            import :: material_type, wp
+            class(material_type), intent(in) :: self
+                !! the material
+        end function speed_interface
+
+        !> Lines of the --check summary: the parameters, each line ending in new_line("a").
+        pure subroutine summary_interface(self, text)
+            import :: material_type
+            class(material_type), intent(in) :: self
+                !! the material
+            character(len=:), allocatable, intent(out) :: text
+                !! the lines
+        end subroutine summary_interface
+
         !> Update the stress of one particle for a strain and a spin increment (objective).
         pure subroutine update_stress_interface(self, stress, dstrain, omega, dt, state)
             import :: material_type, wp
@@ -67,6 +126,34 @@ module mpm_material
     end interface
 
 contains
+
+    !> Default: no objects inside a material.
+    pure subroutine material_section_keys(list)
+        character(len=key_path_width), allocatable, intent(out) :: list(:)
+            !! key paths, "section.key"
+
+        allocate (list(0))
+    end subroutine material_section_keys
+
+    !> Default: no time-step limit besides the CFL condition, huge [s].
+    pure real(wp) function material_time_step_limit(self, dx, dim)
+        class(material_type), intent(in) :: self
+            !! the material
+        real(wp), intent(in) :: dx
+            !! cell size [m]
+        integer, intent(in) :: dim
+            !! space dimensions
+
+        material_time_step_limit = huge(1.0_wp)
+    end function material_time_step_limit
+
+    !> Default: no plastic strain.
+    pure logical function material_writes_plastic_strain(self)
+        class(material_type), intent(in) :: self
+            !! the material
+
+        material_writes_plastic_strain = .false.
+    end function material_writes_plastic_strain
 
     !> Stress update of n particles of this material over one step: update_stress of each.
     pure subroutine material_update_stress_block(self, n, stress, dstrain, omega, dt, state)

@@ -20,69 +20,121 @@
 !> eps_q = sum sqrt(2/3 de_p : de_p) (de_p the deviatoric plastic strain increment) [-],
 !> state(2) = accumulated plastic volumetric strain, tension positive (dilation > 0) [-];
 !> with `separation` (see `mpm_separation`), state(3) = opening strain [-].
+!>
+!> `materials[i].type = "drucker_prager"`: keys `E`, `nu`, `rho` (`mpm_elastic_solid`), the
+!> strength (`mpm_strength`) and `cone`.
 module mpm_material_drucker_prager
     use mpm_kinds, only: wp
+    use mpm_error, only: error_type
+    use mpm_case_cursor, only: cursor_type
     use mpm_softening, only: softened_strength
     use mpm_separation, only: close_opening
-    use mpm_material, only: material_type, work_plastic
-    use mpm_stress, only: add_jaumann_rotation, double_contraction, isotropic_elastic_energy
-    use mpm_case, only: material_spec_type, cone_plane_strain, cone_compression, &
-        cone_extension, softening_none
+    use mpm_material, only: material_key_width, work_plastic
+    use mpm_elastic_solid, only: elastic_solid_type, elastic_keys
+    use mpm_strength, only: strength_type, read_strength, strength_keys, strength_section_keys, &
+        strength_summary
+    use mpm_stress, only: add_jaumann_rotation, double_contraction
     implicit none
     private
     public :: drucker_prager_material_type, new_drucker_prager_material, drucker_prager_cone
+    public :: cone_plane_strain, cone_compression, cone_extension, cone_names
 
     real(wp), parameter :: sqrt3 = sqrt(3.0_wp)
 
-    !> Drucker-Prager cone with tension cut-off, matched to Mohr-Coulomb parameters.
-    type, extends(material_type) :: drucker_prager_material_type
-        real(wp) :: young = 0.0_wp
-            !! Young's modulus E [Pa]
-        real(wp) :: poisson = 0.0_wp
-            !! Poisson's ratio nu [-]
+    ! Drucker-Prager cone matched to Mohr-Coulomb
+    integer, parameter :: cone_plane_strain = 1  !! same collapse load in plane strain
+    integer, parameter :: cone_compression = 2   !! outer cone: through the compression corners
+    integer, parameter :: cone_extension = 3     !! inner cone: through the extension corners
+    character(len=*), parameter :: cone_names(3) = [character(len=12) :: "plane_strain", &
+        "compression", "extension"]
+        !! names of the cones in the case file (`materials[i].cone`)
+
+    !> Drucker-Prager cone with tension cut-off, matched to Mohr-Coulomb parameters; E, nu,
+    !> rho, G and lambda come from `elastic_solid_type` (lambda = K - 2G/3 here).
+    type, extends(elastic_solid_type) :: drucker_prager_material_type
         real(wp) :: bulk = 0.0_wp
             !! bulk modulus K [Pa]
-        real(wp) :: shear = 0.0_wp
-            !! shear modulus G [Pa]
-        real(wp) :: lame = 0.0_wp
-            !! first Lame parameter lambda [Pa]
-        real(wp) :: friction = 0.0_wp
-            !! peak friction angle phi [rad]
-        real(wp) :: cohesion = 0.0_wp
-            !! peak cohesion c [Pa]
-        real(wp) :: dilatancy = 0.0_wp
-            !! peak dilatancy angle psi [rad]
-        real(wp) :: friction_residual = 0.0_wp
-            !! residual friction angle [rad] (softening only)
-        real(wp) :: cohesion_residual = 0.0_wp
-            !! residual cohesion [Pa] (softening only)
-        real(wp) :: dilatancy_residual = 0.0_wp
-            !! residual dilatancy angle [rad] (softening only)
-        integer :: softening = softening_none
-            !! softening law (`softening_*` of `mpm_case`)
-        real(wp) :: softening_strain = 0.0_wp
-            !! linear: eps_q at which the residual values are reached; exponential: strain
-            !! scale eta_0 [-]
-        real(wp) :: tension_cutoff = -1.0_wp
-            !! largest mean stress allowed [Pa]; negative: the apex of the cone
+        type(strength_type) :: strength
+            !! friction, cohesion, dilatancy, tension cut-off (largest mean stress allowed;
+            !! negative: the apex of the cone), softening and separation
         integer :: cone = cone_plane_strain
-            !! cone matched to Mohr-Coulomb (`cone_*` of `mpm_case`)
-        logical :: separation = .false.
-            !! cohesionless separation (state(3) = opening strain)
+            !! cone matched to Mohr-Coulomb (`cone_*`)
     contains
+        procedure, nopass :: names => drucker_prager_names
+        procedure, nopass :: keys => drucker_prager_keys
+        procedure, nopass :: section_keys => strength_section_keys
+        procedure :: read => drucker_prager_read
+        procedure :: writes_plastic_strain => drucker_prager_writes_plastic_strain
+        procedure :: summary => drucker_prager_summary
         procedure :: update_stress => drucker_prager_update_stress
             !! exact return mapping of one particle over one step
         procedure :: nstate => drucker_prager_nstate
             !! two state values: eps_q and the plastic volumetric strain
-        procedure :: strength => drucker_prager_strength
+        procedure :: strength_after => drucker_prager_strength
             !! phi, c and psi after a given plastic shear strain
         procedure :: work_kind => drucker_prager_work_kind
             !! plastic: the work beyond the stored elastic energy is dissipated
-        procedure :: elastic_energy_block => drucker_prager_elastic_energy_block
-            !! 1/2 sigma : C^-1 : sigma
     end type drucker_prager_material_type
 
 contains
+
+    !> Names accepted for `type`.
+    pure subroutine drucker_prager_names(list)
+        character(len=material_key_width), allocatable, intent(out) :: list(:)
+            !! the names
+
+        list = [character(len=material_key_width) :: "drucker_prager"]
+    end subroutine drucker_prager_names
+
+    !> Keys of a Drucker-Prager material.
+    pure subroutine drucker_prager_keys(list)
+        character(len=material_key_width), allocatable, intent(out) :: list(:)
+            !! the keys
+
+        list = [character(len=material_key_width) :: elastic_keys, strength_keys, "cone"]
+    end subroutine drucker_prager_keys
+
+    !> Elasticity (`E`, `nu`, `rho`), strength (mpm_strength), then `cone`.
+    subroutine drucker_prager_read(self, item, error)
+        class(drucker_prager_material_type), intent(inout) :: self
+            !! the material
+        type(cursor_type), intent(in) :: item
+            !! the material object ("materials[i]")
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(strength_type) :: strength
+        integer :: cone
+
+        call self%read_elasticity(item, error)
+        if (allocated(error)) return
+        call read_strength(item, "Drucker-Prager", strength, error)
+        if (allocated(error)) return
+        cone = self%cone
+        call item%get_choice("cone", cone_names, [cone_plane_strain, cone_compression, &
+            cone_extension], cone, error)
+        if (allocated(error)) return
+        call set_up(self, strength, cone)
+    end subroutine drucker_prager_read
+
+    !> The plastic shear strain is the state this material writes.
+    pure logical function drucker_prager_writes_plastic_strain(self)
+        class(drucker_prager_material_type), intent(in) :: self
+            !! the material
+
+        drucker_prager_writes_plastic_strain = .true.
+    end function drucker_prager_writes_plastic_strain
+
+    !> The elastic line, then the strength with the cone.
+    pure subroutine drucker_prager_summary(self, text)
+        class(drucker_prager_material_type), intent(in) :: self
+            !! the material
+        character(len=:), allocatable, intent(out) :: text
+            !! the lines
+
+        call self%elasticity_summary(text)
+        text = text//strength_summary(self%strength, ", cone "//trim(cone_names(self%cone)))
+    end subroutine drucker_prager_summary
 
     !> Where the work of the stresses goes: plastic dissipation beyond the stored part.
     pure integer function drucker_prager_work_kind(self)
@@ -91,60 +143,46 @@ contains
         drucker_prager_work_kind = work_plastic
     end function drucker_prager_work_kind
 
-    !> Stored elastic energy per unit volume, 1/2 sigma : C^-1 : sigma (isotropic elasticity
-    !> of E and nu: the stress is elastic, the plastic strain holds no energy).
-    pure subroutine drucker_prager_elastic_energy_block(self, n, stress, state, density)
-        class(drucker_prager_material_type), intent(in) :: self
-            !! the material
-        integer, intent(in) :: n
-            !! particles in the block
-        real(wp), intent(in) :: stress(:, :)
-            !! Cauchy stresses [Pa]
-        real(wp), intent(in) :: state(:, :)
-            !! material states (unused)
-        real(wp), intent(out) :: density(:)
-            !! stored elastic energy per unit volume [J/m3]
-
-        integer :: j
-
-        do j = 1, n
-            density(j) = isotropic_elastic_energy(stress(:, j), self%young, self%poisson)
-        end do
-    end subroutine drucker_prager_elastic_energy_block
-
-    !> Construct a Drucker-Prager material from its case specification.
-    pure subroutine new_drucker_prager_material(mat, spec)
+    !> Construct a Drucker-Prager material from E, nu, rho, its strength and its cone.
+    pure subroutine new_drucker_prager_material(mat, young, poisson, density, strength, cone)
         type(drucker_prager_material_type), intent(out) :: mat
             !! the material
-        type(material_spec_type), intent(in) :: spec
-            !! case specification (E, nu, rho, phi, c, psi, cut-off, softening, cone)
+        real(wp), intent(in) :: young
+            !! Young's modulus [Pa]
+        real(wp), intent(in) :: poisson
+            !! Poisson's ratio [-]
+        real(wp), intent(in) :: density
+            !! mass density [kg/m3]
+        type(strength_type), intent(in) :: strength
+            !! friction, cohesion, dilatancy, cut-off, softening, separation
+        integer, intent(in) :: cone
+            !! `cone_plane_strain`, `cone_compression` or `cone_extension`
 
-        mat%name = spec%name
-        mat%density = spec%density
-        mat%young = spec%young
-        mat%poisson = spec%poisson
-        mat%bulk = spec%young/(3.0_wp*(1.0_wp - 2.0_wp*spec%poisson))
-        mat%shear = spec%young/(2.0_wp*(1.0_wp + spec%poisson))
-        mat%lame = mat%bulk - 2.0_wp*mat%shear/3.0_wp
-        mat%friction = spec%friction
-        mat%cohesion = spec%cohesion
-        mat%dilatancy = spec%dilatancy
-        mat%friction_residual = spec%friction_residual
-        mat%cohesion_residual = spec%cohesion_residual
-        mat%dilatancy_residual = spec%dilatancy_residual
-        mat%softening = spec%softening
-        mat%softening_strain = spec%softening_strain
-        mat%tension_cutoff = spec%tension_cutoff
-        mat%cone = spec%cone
-        mat%separation = spec%separation
+        call mat%set_elasticity(young, poisson, density)
+        call set_up(mat, strength, cone)
     end subroutine new_drucker_prager_material
+
+    !> Strength and cone of a material whose elasticity is set; K and lambda = K - 2G/3.
+    pure subroutine set_up(mat, strength, cone)
+        class(drucker_prager_material_type), intent(inout) :: mat
+            !! the material
+        type(strength_type), intent(in) :: strength
+            !! its strength
+        integer, intent(in) :: cone
+            !! its cone
+
+        mat%bulk = mat%young/(3.0_wp*(1.0_wp - 2.0_wp*mat%poisson))
+        mat%lame = mat%bulk - 2.0_wp*mat%shear/3.0_wp
+        mat%strength = strength
+        mat%cone = cone
+    end subroutine set_up
 
     !> Two state values per particle, eps_q and the plastic volumetric strain, and with
     !> separation a third, the opening strain.
     pure integer function drucker_prager_nstate(self)
         class(drucker_prager_material_type), intent(in) :: self
             !! the material
-        drucker_prager_nstate = merge(3, 2, self%separation)
+        drucker_prager_nstate = merge(3, 2, self%strength%separation)
     end function drucker_prager_nstate
 
     !> Friction, cohesion and dilatancy after the plastic shear strain eps_q.
@@ -163,10 +201,12 @@ contains
         real(wp), intent(out) :: dilatancy
             !! dilatancy angle psi [rad]
 
-        call softened_strength(self%softening, self%softening_strain, eps_q, &
-            [self%friction, self%cohesion, self%dilatancy], &
-            [self%friction_residual, self%cohesion_residual, self%dilatancy_residual], &
-            friction, cohesion, dilatancy)
+        associate (s => self%strength)
+            call softened_strength(s%softening, s%softening_strain, eps_q, &
+                [s%friction, s%cohesion, s%dilatancy], &
+                [s%friction_residual, s%cohesion_residual, s%dilatancy_residual], &
+                friction, cohesion, dilatancy)
+        end associate
     end subroutine drucker_prager_strength
 
     !> Drucker-Prager constants of f = sqrt(J2) + alpha m - k (m tension positive) and of the
@@ -194,7 +234,7 @@ contains
     !>   would give a plane-strain strength below Mohr-Coulomb's).
     pure subroutine drucker_prager_cone(cone, friction, cohesion, dilatancy, alpha, k, alpha_psi)
         integer, intent(in) :: cone
-            !! `cone_plane_strain`, `cone_compression` or `cone_extension` of `mpm_case`
+            !! `cone_plane_strain`, `cone_compression` or `cone_extension`
         real(wp), intent(in) :: friction
             !! friction angle phi [rad]
         real(wp), intent(in) :: cohesion
@@ -261,12 +301,12 @@ contains
         integer :: n
         logical :: cutoff, open
 
-        call self%strength(state(1), friction, cohesion, dilatancy)
+        call self%strength_after(state(1), friction, cohesion, dilatancy)
         call drucker_prager_cone(self%cone, friction, cohesion, dilatancy, alpha, k, alpha_psi)
 
         n = size(dstrain)
         de(1:n) = dstrain
-        if (self%separation) then
+        if (self%strength%separation) then
             call close_opening(de(1:n), state(3), state(1), open)
             if (open) then
                 stress = 0.0_wp
@@ -279,13 +319,13 @@ contains
         stress(1:3) = stress(1:3) + self%lame*(de(1) + de(2) + de(3))
 
         ! tension limit on the mean stress (none for a cylinder without a given cut-off)
-        cutoff = alpha > 0.0_wp .or. self%tension_cutoff >= 0.0_wp
+        cutoff = alpha > 0.0_wp .or. self%strength%tension_cutoff >= 0.0_wp
         sigma_t = 0.0_wp
         if (alpha > 0.0_wp) then
             sigma_t = k/alpha
-            if (self%tension_cutoff >= 0.0_wp) sigma_t = min(sigma_t, self%tension_cutoff)
+            if (self%strength%tension_cutoff >= 0.0_wp) sigma_t = min(sigma_t, self%strength%tension_cutoff)
         else if (cutoff) then
-            sigma_t = self%tension_cutoff
+            sigma_t = self%strength%tension_cutoff
         end if
 
         m_tr = (stress(1) + stress(2) + stress(3))/3.0_wp
@@ -332,7 +372,7 @@ contains
         state(1) = state(1) + dl1/sqrt3
         state(2) = state(2) + alpha_psi*dl1 + dl2
         ! separation: a return to the stress-free apex opens the material by its dilation
-        if (self%separation .and. rho <= 0.0_wp .and. m == 0.0_wp) then
+        if (self%strength%separation .and. rho <= 0.0_wp .and. m == 0.0_wp) then
             state(3) = state(3) + alpha_psi*dl1 + dl2
             stress = 0.0_wp
         end if

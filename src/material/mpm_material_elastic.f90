@@ -1,30 +1,41 @@
-!> Linear elastic material with the Jaumann (objective) stress rate.
+!> Linear elastic material with the Jaumann (objective) stress rate:
+!> `materials[i].type = "linear_elastic"` (or "elastic"), keys `E`, `nu`, `rho`.
 module mpm_material_elastic
     use mpm_kinds, only: wp
-    use mpm_material, only: material_type, work_stored
-    use mpm_stress, only: add_jaumann_rotation, isotropic_elastic_energy
+    use mpm_material, only: material_key_width
+    use mpm_elastic_solid, only: elastic_solid_type, elastic_keys
+    use mpm_stress, only: add_jaumann_rotation
     implicit none
     private
     public :: elastic_material_type, new_elastic_material
 
-    !> Isotropic linear elasticity (Hooke) in rate form.
-    type, extends(material_type) :: elastic_material_type
-        real(wp) :: young = 0.0_wp
-            !! Young's modulus E [Pa]
-        real(wp) :: poisson = 0.0_wp
-            !! Poisson's ratio nu [-]
-        real(wp) :: lame = 0.0_wp
-            !! first Lame parameter lambda [Pa]
-        real(wp) :: shear = 0.0_wp
-            !! shear modulus G [Pa]
+    !> Isotropic linear elasticity (Hooke) in rate form; E, nu, rho and the rest of what an
+    !> elastic solid knows come from `elastic_solid_type`.
+    type, extends(elastic_solid_type) :: elastic_material_type
     contains
+        procedure, nopass :: names => elastic_names
+        procedure, nopass :: keys => elastic_material_keys
         procedure :: update_stress => elastic_update_stress
         procedure :: update_stress_block => elastic_update_stress_block
-        procedure :: work_kind => elastic_work_kind
-        procedure :: elastic_energy_block => elastic_elastic_energy_block
     end type elastic_material_type
 
 contains
+
+    !> Names accepted for `type`, the stored one first.
+    pure subroutine elastic_names(list)
+        character(len=material_key_width), allocatable, intent(out) :: list(:)
+            !! the names
+
+        list = [character(len=material_key_width) :: "linear_elastic", "elastic"]
+    end subroutine elastic_names
+
+    !> Keys of a linear elastic material.
+    pure subroutine elastic_material_keys(list)
+        character(len=material_key_width), allocatable, intent(out) :: list(:)
+            !! the keys
+
+        list = elastic_keys
+    end subroutine elastic_material_keys
 
     !> Construct a linear elastic material from E, nu and rho.
     pure subroutine new_elastic_material(mat, name, young, poisson, density)
@@ -40,11 +51,7 @@ contains
             !! mass density [kg/m3]
 
         mat%name = name
-        mat%young = young
-        mat%poisson = poisson
-        mat%density = density
-        mat%shear = young/(2.0_wp*(1.0_wp + poisson))
-        mat%lame = young*poisson/((1.0_wp + poisson)*(1.0_wp - 2.0_wp*poisson))
+        call mat%set_elasticity(young, poisson, density)
     end subroutine new_elastic_material
 
     !> sigma_{n+1} = sigma_n + (Omega sigma_n - sigma_n Omega) + lambda tr(de) I + 2 G de.
@@ -100,33 +107,5 @@ contains
             end do
         end if
     end subroutine elastic_update_stress_block
-
-    !> Where the work of the stresses goes: stored.
-    pure integer function elastic_work_kind(self)
-        class(elastic_material_type), intent(in) :: self
-            !! the material
-        elastic_work_kind = work_stored
-    end function elastic_work_kind
-
-    !> Stored elastic energy per unit volume, 1/2 sigma : C^-1 : sigma (isotropic elasticity
-    !> of E and nu).
-    pure subroutine elastic_elastic_energy_block(self, n, stress, state, density)
-        class(elastic_material_type), intent(in) :: self
-            !! the material
-        integer, intent(in) :: n
-            !! particles in the block
-        real(wp), intent(in) :: stress(:, :)
-            !! Cauchy stresses [Pa]
-        real(wp), intent(in) :: state(:, :)
-            !! material states (unused)
-        real(wp), intent(out) :: density(:)
-            !! stored elastic energy per unit volume [J/m3]
-
-        integer :: j
-
-        do j = 1, n
-            density(j) = isotropic_elastic_energy(stress(:, j), self%young, self%poisson)
-        end do
-    end subroutine elastic_elastic_energy_block
 
 end module mpm_material_elastic

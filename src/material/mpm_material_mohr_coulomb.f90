@@ -71,13 +71,20 @@
 !> state(2) = accumulated plastic volumetric strain, tension positive (dilation > 0) [-].
 !>
 !> With `separation` (see `mpm_separation`), state(3) = opening strain [-].
+!>
+!> `materials[i].type = "mohr_coulomb"`: keys `E`, `nu`, `rho` (`mpm_elastic_solid`) and the
+!> strength (`mpm_strength`).
 module mpm_material_mohr_coulomb
     use mpm_kinds, only: wp
-    use mpm_softening, only: softened_strength
+    use mpm_error, only: error_type
+    use mpm_case_cursor, only: cursor_type
+    use mpm_softening, only: softened_strength, softening_none
     use mpm_separation, only: close_opening
-    use mpm_material, only: material_type, work_plastic
-    use mpm_stress, only: add_jaumann_rotation, voigt_matrix, isotropic_elastic_energy
-    use mpm_case, only: material_spec_type, softening_none
+    use mpm_material, only: material_key_width, work_plastic
+    use mpm_elastic_solid, only: elastic_solid_type, elastic_keys
+    use mpm_strength, only: strength_type, read_strength, strength_keys, strength_section_keys, &
+        strength_summary
+    use mpm_stress, only: add_jaumann_rotation, voigt_matrix
     implicit none
     private
     public :: mohr_coulomb_material_type, new_mohr_coulomb_material
@@ -149,37 +156,12 @@ module mpm_material_mohr_coulomb
             !! row exchanged with row j at step j of each factorisation
     end type return_planes_type
 
-    !> Mohr-Coulomb with tension cut-off, non-associated flow and softening.
-    type, extends(material_type) :: mohr_coulomb_material_type
-        real(wp) :: young = 0.0_wp
-            !! Young's modulus E [Pa]
-        real(wp) :: poisson = 0.0_wp
-            !! Poisson's ratio nu [-]
-        real(wp) :: shear = 0.0_wp
-            !! shear modulus G [Pa]
-        real(wp) :: lame = 0.0_wp
-            !! first Lame parameter lambda [Pa]
-        real(wp) :: friction = 0.0_wp
-            !! peak friction angle phi [rad]
-        real(wp) :: cohesion = 0.0_wp
-            !! peak cohesion c [Pa]
-        real(wp) :: dilatancy = 0.0_wp
-            !! peak dilatancy angle psi [rad]
-        real(wp) :: friction_residual = 0.0_wp
-            !! residual friction angle [rad] (softening only)
-        real(wp) :: cohesion_residual = 0.0_wp
-            !! residual cohesion [Pa] (softening only)
-        real(wp) :: dilatancy_residual = 0.0_wp
-            !! residual dilatancy angle [rad] (softening only)
-        integer :: softening = 0
-            !! softening law (`softening_*` of `mpm_case`)
-        real(wp) :: softening_strain = 0.0_wp
-            !! linear: eps_q at which the residual values are reached; exponential: strain
-            !! scale eta_0 [-]
-        real(wp) :: tension_cutoff = -1.0_wp
-            !! largest principal stress allowed [Pa]; negative: not given (the apex limits it)
-        logical :: separation = .false.
-            !! cohesionless separation (state(3) = opening strain)
+    !> Mohr-Coulomb with tension cut-off, non-associated flow and softening; E, nu, rho, G and
+    !> lambda come from `elastic_solid_type`.
+    type, extends(elastic_solid_type) :: mohr_coulomb_material_type
+        type(strength_type) :: strength
+            !! friction, cohesion, dilatancy, tension cut-off (largest principal stress
+            !! allowed; negative: not given, the apex limits it), softening and separation
         type(mohr_coulomb_surface_type) :: peak
             !! the planes of the peak strength, set by the constructor (all of the surface
             !! without softening)
@@ -190,16 +172,20 @@ module mpm_material_mohr_coulomb
         logical :: jacobi_only = .false.
             !! 3D: always the Jacobi eigen-decomposition (the reference of the tests; slower)
     contains
+        procedure, nopass :: names => mohr_coulomb_names
+        procedure, nopass :: keys => mohr_coulomb_keys
+        procedure, nopass :: section_keys => strength_section_keys
+        procedure :: read => mohr_coulomb_read
+        procedure :: writes_plastic_strain => mohr_coulomb_writes_plastic_strain
+        procedure :: summary => mohr_coulomb_summary
         procedure :: update_stress => mohr_coulomb_update_stress
             !! exact return mapping of one particle over one step
         procedure :: nstate => mohr_coulomb_nstate
             !! two state values: eps_q and the plastic volumetric strain
-        procedure :: strength => mohr_coulomb_strength
+        procedure :: strength_after => mohr_coulomb_strength
             !! phi, c, psi and the tensile strength after a given plastic shear strain
         procedure :: work_kind => mohr_coulomb_work_kind
             !! plastic: the work beyond the stored elastic energy is dissipated
-        procedure :: elastic_energy_block => mohr_coulomb_elastic_energy_block
-            !! 1/2 sigma : C^-1 : sigma
     end type mohr_coulomb_material_type
 
 contains
@@ -211,61 +197,95 @@ contains
         mohr_coulomb_work_kind = work_plastic
     end function mohr_coulomb_work_kind
 
-    !> Stored elastic energy per unit volume, 1/2 sigma : C^-1 : sigma (isotropic elasticity
-    !> of E and nu: the stress is elastic, the plastic strain holds no energy).
-    pure subroutine mohr_coulomb_elastic_energy_block(self, n, stress, state, density)
+    !> Names accepted for `type`.
+    pure subroutine mohr_coulomb_names(list)
+        character(len=material_key_width), allocatable, intent(out) :: list(:)
+            !! the names
+
+        list = [character(len=material_key_width) :: "mohr_coulomb"]
+    end subroutine mohr_coulomb_names
+
+    !> Keys of a Mohr-Coulomb material.
+    pure subroutine mohr_coulomb_keys(list)
+        character(len=material_key_width), allocatable, intent(out) :: list(:)
+            !! the keys
+
+        list = [character(len=material_key_width) :: elastic_keys, strength_keys]
+    end subroutine mohr_coulomb_keys
+
+    !> Elasticity (`E`, `nu`, `rho`), then strength (mpm_strength).
+    subroutine mohr_coulomb_read(self, item, error)
+        class(mohr_coulomb_material_type), intent(inout) :: self
+            !! the material
+        type(cursor_type), intent(in) :: item
+            !! the material object ("materials[i]")
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(strength_type) :: strength
+
+        call self%read_elasticity(item, error)
+        if (allocated(error)) return
+        call read_strength(item, "Mohr-Coulomb", strength, error)
+        if (allocated(error)) return
+        call set_up(self, strength)
+    end subroutine mohr_coulomb_read
+
+    !> The plastic shear strain is the state this material writes.
+    pure logical function mohr_coulomb_writes_plastic_strain(self)
         class(mohr_coulomb_material_type), intent(in) :: self
             !! the material
-        integer, intent(in) :: n
-            !! particles in the block
-        real(wp), intent(in) :: stress(:, :)
-            !! Cauchy stresses [Pa]
-        real(wp), intent(in) :: state(:, :)
-            !! material states (unused)
-        real(wp), intent(out) :: density(:)
-            !! stored elastic energy per unit volume [J/m3]
 
-        integer :: j
+        mohr_coulomb_writes_plastic_strain = .true.
+    end function mohr_coulomb_writes_plastic_strain
 
-        do j = 1, n
-            density(j) = isotropic_elastic_energy(stress(:, j), self%young, self%poisson)
-        end do
-    end subroutine mohr_coulomb_elastic_energy_block
+    !> The elastic line, then the strength.
+    pure subroutine mohr_coulomb_summary(self, text)
+        class(mohr_coulomb_material_type), intent(in) :: self
+            !! the material
+        character(len=:), allocatable, intent(out) :: text
+            !! the lines
 
-    !> Construct a Mohr-Coulomb material from its case specification.
-    pure subroutine new_mohr_coulomb_material(mat, spec)
+        call self%elasticity_summary(text)
+        text = text//strength_summary(self%strength, "")
+    end subroutine mohr_coulomb_summary
+
+    !> Construct a Mohr-Coulomb material from E, nu, rho and its strength.
+    pure subroutine new_mohr_coulomb_material(mat, young, poisson, density, strength)
         type(mohr_coulomb_material_type), intent(out) :: mat
             !! the material
-        type(material_spec_type), intent(in) :: spec
-            !! case specification (E, nu, rho, phi, c, psi, cut-off, softening)
+        real(wp), intent(in) :: young
+            !! Young's modulus [Pa]
+        real(wp), intent(in) :: poisson
+            !! Poisson's ratio [-]
+        real(wp), intent(in) :: density
+            !! mass density [kg/m3]
+        type(strength_type), intent(in) :: strength
+            !! friction, cohesion, dilatancy, cut-off, softening, separation
 
-        if (allocated(spec%name)) mat%name = spec%name
-        mat%density = spec%density
-        mat%young = spec%young
-        mat%poisson = spec%poisson
-        mat%shear = spec%young/(2.0_wp*(1.0_wp + spec%poisson))
-        mat%lame = spec%young*spec%poisson/((1.0_wp + spec%poisson)*(1.0_wp - 2.0_wp*spec%poisson))
-        mat%friction = spec%friction
-        mat%cohesion = spec%cohesion
-        mat%dilatancy = spec%dilatancy
-        mat%friction_residual = spec%friction_residual
-        mat%cohesion_residual = spec%cohesion_residual
-        mat%dilatancy_residual = spec%dilatancy_residual
-        mat%softening = spec%softening
-        mat%softening_strain = spec%softening_strain
-        mat%tension_cutoff = spec%tension_cutoff
-        mat%separation = spec%separation
-        mat%peak = mohr_coulomb_surface(mat%friction, mat%cohesion, mat%dilatancy, &
-            mat%tension_cutoff)
-        call new_return_planes(mat%peak_planes, mat%peak, mat%shear, mat%lame, .true.)
+        call mat%set_elasticity(young, poisson, density)
+        call set_up(mat, strength)
     end subroutine new_mohr_coulomb_material
+
+    !> Strength of a material whose elasticity is set, and the planes of its peak strength.
+    pure subroutine set_up(mat, strength)
+        class(mohr_coulomb_material_type), intent(inout) :: mat
+            !! the material
+        type(strength_type), intent(in) :: strength
+            !! its strength
+
+        mat%strength = strength
+        mat%peak = mohr_coulomb_surface(strength%friction, strength%cohesion, &
+            strength%dilatancy, strength%tension_cutoff)
+        call new_return_planes(mat%peak_planes, mat%peak, mat%shear, mat%lame, .true.)
+    end subroutine set_up
 
     !> Two state values per particle, eps_q and the plastic volumetric strain, and with
     !> separation a third, the opening strain.
     pure integer function mohr_coulomb_nstate(self)
         class(mohr_coulomb_material_type), intent(in) :: self
             !! the material
-        mohr_coulomb_nstate = merge(3, 2, self%separation)
+        mohr_coulomb_nstate = merge(3, 2, self%strength%separation)
     end function mohr_coulomb_nstate
 
     !> Friction, cohesion, dilatancy and tensile strength after the plastic shear strain eps_q.
@@ -315,11 +335,13 @@ contains
         real(wp), intent(out) :: dilatancy
             !! dilatancy angle psi [rad]
 
-        call softened_strength(self%softening, self%softening_strain, eps_q, &
-            [self%friction, self%cohesion, self%dilatancy], &
-            [self%friction_residual, self%cohesion_residual, self%dilatancy_residual], &
-            friction, cohesion, dilatancy)
-        surface = mohr_coulomb_surface(friction, cohesion, dilatancy, self%tension_cutoff)
+        associate (s => self%strength)
+            call softened_strength(s%softening, s%softening_strain, eps_q, &
+                [s%friction, s%cohesion, s%dilatancy], &
+                [s%friction_residual, s%cohesion_residual, s%dilatancy_residual], &
+                friction, cohesion, dilatancy)
+            surface = mohr_coulomb_surface(friction, cohesion, dilatancy, s%tension_cutoff)
+        end associate
     end subroutine softened_surface
 
     !> The planes of a strength: sin(phi), cos(phi), sin(psi), k = 2 c cos(phi) and the tensile
@@ -393,7 +415,7 @@ contains
         integer :: order(3)
         logical :: plastic, open
 
-        if (self%softening == softening_none) then
+        if (self%strength%softening == softening_none) then
             surface = self%peak
         else
             call softened_surface(self, state(1), surface, friction, cohesion, dilatancy)
@@ -401,7 +423,7 @@ contains
 
         n = size(dstrain)
         de(1:n) = dstrain
-        if (self%separation) then
+        if (self%strength%separation) then
             call close_opening(de(1:n), state(3), state(1), open)
             if (open) then
                 stress = 0.0_wp
@@ -496,7 +518,7 @@ contains
         state(1) = state(1) + sqrt(2.0_wp/3.0_wp*sum(dev**2))
         dplastic = sum(dp)/(3.0_wp*self%lame + 2.0_wp*self%shear)
         state(2) = state(2) + dplastic
-        if (self%separation .and. dplastic > 0.0_wp .and. &
+        if (self%strength%separation .and. dplastic > 0.0_wp .and. &
             all(abs(ps) <= tol_candidate*maxval(abs(p)))) then
             state(3) = state(3) + dplastic
             stress = 0.0_wp
@@ -541,7 +563,7 @@ contains
         logical, intent(out) :: plastic
             !! whether the stress was returned
 
-        if (self%softening == softening_none) then
+        if (self%strength%softening == softening_none) then
             call principal_return(s, surface, self%shear, self%lame, plastic, self%peak_planes)
         else
             call principal_return(s, surface, self%shear, self%lame, plastic)

@@ -7,40 +7,60 @@
 !> Being hyperelastic, the stress depends only on F: it is objective without a stress rate,
 !> and an elastic cycle returns all the work put in. With nu = 0 a uniaxial stretch gives
 !> sigma = E/2 (F - 1/F), the law of the manufactured solution of REFERENCES.md section 3.
+!>
+!> `materials[i].type = "neo_hookean"`, keys `E`, `nu`, `rho` (as a linear elastic solid).
 module mpm_material_neo_hookean
     use mpm_kinds, only: wp
-    use mpm_material, only: material_type, work_stored
-    use mpm_case, only: material_spec_type
+    use mpm_material, only: material_key_width
+    use mpm_elastic_solid, only: elastic_solid_type, elastic_keys
     implicit none
     private
     public :: neo_hookean_material_type, new_neo_hookean_material
 
-    !> Compressible neo-Hookean solid.
-    type, extends(material_type) :: neo_hookean_material_type
-        real(wp) :: lame = 0.0_wp
-            !! first Lame parameter lambda [Pa]
-        real(wp) :: shear = 0.0_wp
-            !! shear modulus mu [Pa]
+    !> Compressible neo-Hookean solid; E, nu, rho, the Lame parameters, the wave speed and the
+    !> summary line come from `elastic_solid_type`.
+    type, extends(elastic_solid_type) :: neo_hookean_material_type
     contains
+        procedure, nopass :: names => neo_hookean_names
+        procedure, nopass :: keys => neo_hookean_keys
         procedure :: update_stress => neo_hookean_update_stress
         procedure :: nstate => neo_hookean_nstate
-        procedure :: work_kind => neo_hookean_work_kind
         procedure :: elastic_energy_block => neo_hookean_elastic_energy_block
     end type neo_hookean_material_type
 
 contains
 
-    !> Construct from the specification (E, nu, rho).
-    pure subroutine new_neo_hookean_material(mat, spec)
+    !> Names accepted for `type`.
+    pure subroutine neo_hookean_names(list)
+        character(len=material_key_width), allocatable, intent(out) :: list(:)
+            !! the names
+
+        list = [character(len=material_key_width) :: "neo_hookean"]
+    end subroutine neo_hookean_names
+
+    !> Keys of a neo-Hookean material.
+    pure subroutine neo_hookean_keys(list)
+        character(len=material_key_width), allocatable, intent(out) :: list(:)
+            !! the keys
+
+        list = elastic_keys
+    end subroutine neo_hookean_keys
+
+    !> Construct from E, nu and rho.
+    pure subroutine new_neo_hookean_material(mat, name, young, poisson, density)
         type(neo_hookean_material_type), intent(out) :: mat
             !! the material
-        type(material_spec_type), intent(in) :: spec
-            !! its specification
+        character(len=*), intent(in) :: name
+            !! material name
+        real(wp), intent(in) :: young
+            !! Young's modulus [Pa]
+        real(wp), intent(in) :: poisson
+            !! Poisson's ratio [-]
+        real(wp), intent(in) :: density
+            !! mass density [kg/m3]
 
-        mat%name = spec%name
-        mat%density = spec%density
-        mat%shear = spec%young/(2.0_wp*(1.0_wp + spec%poisson))
-        mat%lame = spec%young*spec%poisson/((1.0_wp + spec%poisson)*(1.0_wp - 2.0_wp*spec%poisson))
+        mat%name = name
+        call mat%set_elasticity(young, poisson, density)
     end subroutine new_neo_hookean_material
 
     !> State: the deformation gradient minus the identity, 3 x 3 column by column.
@@ -48,12 +68,6 @@ contains
         class(neo_hookean_material_type), intent(in) :: self
         neo_hookean_nstate = 9
     end function neo_hookean_nstate
-
-    !> Hyperelastic: all the work of the stresses is stored.
-    pure integer function neo_hookean_work_kind(self)
-        class(neo_hookean_material_type), intent(in) :: self
-        neo_hookean_work_kind = work_stored
-    end function neo_hookean_work_kind
 
     !> Stored energy per unit current volume, W / J with the energy per reference volume
     !> W = mu/2 (tr(F F^T) - 3) - mu ln J + lambda/2 (ln J)^2 (whose derivative is the stress

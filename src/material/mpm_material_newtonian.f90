@@ -9,10 +9,14 @@
 !> rotation leaves it unchanged (Omega (p I) - (p I) Omega = 0), and the trace of the stress,
 !> from which p_n is read, is invariant under rotation. The viscous part of the previous step
 !> is dropped because it is deviatoric and p_n is read from the trace only.
+!>
+!> `materials[i].type = "newtonian"`, keys `rho`, `viscosity`, `bulk_modulus`.
 module mpm_material_newtonian
     use mpm_kinds, only: wp
-    use mpm_material, only: material_type, work_viscous
-    use mpm_case, only: material_spec_type
+    use mpm_error, only: error_type
+    use mpm_strings, only: fmt_real
+    use mpm_case_cursor, only: cursor_type
+    use mpm_material, only: material_type, material_key_width, work_viscous
     implicit none
     private
     public :: newtonian_material_type, new_newtonian_material
@@ -24,6 +28,14 @@ module mpm_material_newtonian
         real(wp) :: bulk_modulus = 0.0_wp
             !! bulk modulus K [Pa]
     contains
+        procedure, nopass :: names => newtonian_names
+        procedure, nopass :: keys => newtonian_keys
+        procedure :: read => newtonian_read
+        procedure :: wave_speed => newtonian_wave_speed
+            !! sqrt(K/rho)
+        procedure :: time_step_limit => newtonian_time_step_limit
+            !! the stable step of explicit viscous diffusion
+        procedure :: summary => newtonian_summary
         procedure :: update_stress => newtonian_update_stress
             !! pressure in rate form plus the viscous stress of the step's strain rate
         procedure :: work_kind => newtonian_work_kind
@@ -34,17 +46,97 @@ module mpm_material_newtonian
 
 contains
 
-    !> Construct a Newtonian fluid from its case specification (mu, K, rho).
-    pure subroutine new_newtonian_material(mat, spec)
+    !> Names accepted for `type`.
+    pure subroutine newtonian_names(list)
+        character(len=material_key_width), allocatable, intent(out) :: list(:)
+            !! the names
+
+        list = [character(len=material_key_width) :: "newtonian"]
+    end subroutine newtonian_names
+
+    !> Keys of a Newtonian fluid.
+    pure subroutine newtonian_keys(list)
+        character(len=material_key_width), allocatable, intent(out) :: list(:)
+            !! the keys
+
+        list = [character(len=material_key_width) :: "name", "type", "rho", "viscosity", &
+            "bulk_modulus"]
+    end subroutine newtonian_keys
+
+    !> A Newtonian fluid: `rho`, `viscosity`, `bulk_modulus`.
+    subroutine newtonian_read(self, item, error)
+        class(newtonian_material_type), intent(inout) :: self
+            !! the material
+        type(cursor_type), intent(in) :: item
+            !! the material object ("materials[i]")
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        call item%get_real("rho", self%density, error, required=.true., above=0.0_wp, &
+            unit="kg/m3")
+        if (allocated(error)) return
+        call item%get_real("viscosity", self%viscosity, error, required=.true., &
+            at_least=0.0_wp, unit="Pa s")
+        if (allocated(error)) return
+        call item%get_real("bulk_modulus", self%bulk_modulus, error, required=.true., &
+            above=0.0_wp, unit="Pa")
+    end subroutine newtonian_read
+
+    !> Construct a Newtonian fluid from mu, K and rho.
+    pure subroutine new_newtonian_material(mat, name, viscosity, bulk_modulus, density)
         type(newtonian_material_type), intent(out) :: mat
             !! the material
-        type(material_spec_type), intent(in) :: spec
-            !! case specification
-        mat%name = spec%name
-        mat%density = spec%density
-        mat%viscosity = spec%viscosity
-        mat%bulk_modulus = spec%bulk_modulus
+        character(len=*), intent(in) :: name
+            !! material name
+        real(wp), intent(in) :: viscosity
+            !! dynamic viscosity [Pa s]
+        real(wp), intent(in) :: bulk_modulus
+            !! bulk modulus [Pa]
+        real(wp), intent(in) :: density
+            !! mass density [kg/m3]
+
+        mat%name = name
+        mat%density = density
+        mat%viscosity = viscosity
+        mat%bulk_modulus = bulk_modulus
     end subroutine new_newtonian_material
+
+    !> P-wave speed of the fluid, sqrt(K/rho) [m/s].
+    pure real(wp) function newtonian_wave_speed(self)
+        class(newtonian_material_type), intent(in) :: self
+            !! the material
+
+        newtonian_wave_speed = sqrt(self%bulk_modulus/self%density)
+    end function newtonian_wave_speed
+
+    !> Stable time step of explicit viscous diffusion, rho dx^2 / (2 dim mu) [s]; huge
+    !> without viscosity.
+    pure real(wp) function newtonian_time_step_limit(self, dx, dim)
+        class(newtonian_material_type), intent(in) :: self
+            !! the material
+        real(wp), intent(in) :: dx
+            !! cell size [m]
+        integer, intent(in) :: dim
+            !! space dimensions
+
+        if (self%viscosity > 0.0_wp) then
+            newtonian_time_step_limit = self%density*dx*dx/(2.0_wp*real(dim, wp)*self%viscosity)
+        else
+            newtonian_time_step_limit = huge(1.0_wp)
+        end if
+    end function newtonian_time_step_limit
+
+    !> "rho = ... kg/m3, viscosity = ... Pa s, bulk modulus = ... Pa, c_p = ... m/s".
+    pure subroutine newtonian_summary(self, text)
+        class(newtonian_material_type), intent(in) :: self
+            !! the material
+        character(len=:), allocatable, intent(out) :: text
+            !! the line
+
+        text = "rho = "//fmt_real(self%density)//" kg/m3, viscosity = " &
+            //fmt_real(self%viscosity)//" Pa s, bulk modulus = "//fmt_real(self%bulk_modulus) &
+            //" Pa, c_p = "//fmt_real(self%wave_speed(), 6)//" m/s"//new_line("a")
+    end subroutine newtonian_summary
 
     !> The work of the viscous stresses is dissipated.
     pure integer function newtonian_work_kind(self)

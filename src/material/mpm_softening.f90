@@ -2,10 +2,17 @@
 !> elasto-plastic materials.
 module mpm_softening
     use mpm_kinds, only: wp
-    use mpm_case, only: softening_linear, softening_exponential
     implicit none
     private
     public :: softening_weight, softened_strength
+    public :: softening_none, softening_linear, softening_exponential, softening_names
+
+    integer, parameter :: softening_none = 0         !! constant strength
+    integer, parameter :: softening_linear = 1       !! linear from peak to residual
+    integer, parameter :: softening_exponential = 2  !! exponential decay to residual
+    character(len=*), parameter :: softening_names(0:2) = [character(len=11) :: "none", &
+        "linear", "exponential"]
+        !! names of the laws in the case file (`materials[i].softening.type`)
 
 contains
 
@@ -16,7 +23,7 @@ contains
     !> strain.
     pure real(wp) function softening_weight(law, softening_strain, eps_q) result(w)
         integer, intent(in) :: law
-            !! softening_none, softening_linear or softening_exponential (mpm_case)
+            !! softening_none, softening_linear or softening_exponential
         real(wp), intent(in) :: softening_strain
             !! eps_s: strain at the residual (linear) or decay scale (exponential) [-]
         real(wp), intent(in) :: eps_q
@@ -46,7 +53,7 @@ contains
     pure subroutine softened_strength(law, softening_strain, eps_q, peak, residual, friction, &
             cohesion, dilatancy)
         integer, intent(in) :: law
-            !! softening_none, softening_linear or softening_exponential (mpm_case)
+            !! softening_none, softening_linear or softening_exponential
         real(wp), intent(in) :: softening_strain
             !! eps_s [-]
         real(wp), intent(in) :: eps_q

@@ -7,7 +7,7 @@ module mpm_setup
     use mpm_stl, only: stl_mesh_type, read_stl
     use mpm_state, only: load_state
     use mpm_material, only: material_holder_type
-    use mpm_material_factory, only: new_materials
+    use mpm_case_materials, only: material_laws
     use mpm_solver, only: simulation_type, new_simulation, start_type, has_text
     implicit none
     private
@@ -34,8 +34,7 @@ contains
 
         if (present(restart) .or. has_text(case%load_state)) then
             ! the state variables the case's materials need per particle
-            call new_materials(materials, case, error)
-            if (allocated(error)) return
+            call material_laws(case%materials, materials)
             nstate = 0
             do i = 1, size(materials)
                 nstate = max(nstate, materials(i)%m%nstate())

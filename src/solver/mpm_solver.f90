@@ -26,7 +26,7 @@ module mpm_solver
     use mpm_shape, only: shape_type
     use mpm_shape_factory, only: new_shape
     use mpm_material, only: material_holder_type, nwork_kinds, work_plastic, work_viscous
-    use mpm_material_factory, only: new_materials
+    use mpm_case_materials, only: material_laws
     use mpm_state, only: run_record_type
     use mpm_contact_loads, only: face_loads, take_face_loads, face_node_count, terrain_loads, &
         take_terrain_loads
@@ -179,8 +179,7 @@ contains
         character(len=256) :: msg
 
         sim%case = case
-        call new_materials(sim%materials, case, error)
-        if (allocated(error)) return
+        call material_laws(case%materials, sim%materials)
         allocate (sim%wave_speed(size(sim%materials)), sim%time_step_limit(size(sim%materials)))
         nstate = 0
         do i = 1, size(sim%materials)

@@ -8,9 +8,15 @@ program test_mpm_case
         bc_free, bc_sliding, bc_fixed, bc_frictional, &
         scheme_musl, scheme_usl, shape_cpgimp, shape_linear, damping_none, damping_local, &
         dist_regular, dist_random, field_position, field_velocity, field_stress, &
-        softening_none, softening_linear, softening_exponential, cone_plane_strain, &
-        cone_compression
+        material_spec_type
     use mpm_case_stability, only: critical_time_step, p_wave_speed
+    use mpm_softening, only: softening_none, softening_linear, softening_exponential
+    use mpm_strength, only: strength_type
+    use mpm_elastic_solid, only: elastic_solid_type
+    use mpm_material_mohr_coulomb, only: mohr_coulomb_material_type
+    use mpm_material_drucker_prager, only: drucker_prager_material_type, cone_plane_strain, &
+        cone_compression
+    use mpm_material_newtonian, only: newtonian_material_type
     use mpm_testing, only: test_suite_type, new_suite, check, check_close, check_contains, finish
     implicit none
 
@@ -177,7 +183,7 @@ contains
             "2D: particles default to ppc 2, regular")
         call check(suite, case%materials(1)%name == "soil" .and. &
             case%materials(1)%type == "linear_elastic", "2D: material name and type")
-        call check_close(suite, case%materials(1)%young, 1.0e6_wp, tol*1.0e6_wp, "2D: E")
+        call check_close(suite, young_of(case%materials(1)), 1.0e6_wp, tol*1.0e6_wp, "2D: E")
         call check_close(suite, case%materials(1)%density, 1000.0_wp, tol*1000, "2D: rho")
         call check(suite, case%bodies(1)%name == "body1", "2D: default body name")
         call check(suite, case%bodies(1)%material == 1, "2D: body material index")
@@ -232,7 +238,7 @@ contains
             case%particles%seed == 7, "3D: random particles with seed")
         call check(suite, case%materials(2)%type == "linear_elastic", &
             "3D: 'elastic' resolves to linear_elastic")
-        call check_close(suite, case%materials(2)%poisson, 0.25_wp, tol, "3D: nu")
+        call check_close(suite, poisson_of(case%materials(2)), 0.25_wp, tol, "3D: nu")
         call check(suite, case%bodies(1)%material == 2, "3D: body uses material 2")
         call check(suite, case%solver%scheme == scheme_usl .and. case%solver%shape == shape_linear, &
             "3D: scheme and shape")
@@ -717,38 +723,41 @@ contains
     !> Each material type resolves with its values; angles are stored in radians.
     subroutine test_material_types()
         type(case_type) :: case
+        type(strength_type) :: str
 
         call read_valid(soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30, ' &
             //'"c": 1000, "psi": 5, "tension_cutoff": 500, "softening": {"type": "linear", ' &
             //'"phi_residual": 25, "c_residual": 100, "strain": 0.1}'), case, "Mohr-Coulomb")
         if (allocated(case%materials)) then
+            str = strength_of(case%materials(1))
             associate (mat => case%materials(1))
                 call check(suite, mat%type == "mohr_coulomb", "MC: type")
-                call check_close(suite, mat%young, 1.0e7_wp, tol*1.0e7_wp, "MC: E")
-                call check_close(suite, mat%friction, 30*degree, tol, "MC: phi 30 deg in rad")
-                call check_close(suite, mat%cohesion, 1000.0_wp, tol*1000, "MC: c")
-                call check_close(suite, mat%dilatancy, 5*degree, tol, "MC: psi 5 deg in rad")
-                call check_close(suite, mat%tension_cutoff, 500.0_wp, tol*500, "MC: cutoff")
-                call check(suite, mat%softening == softening_linear, "MC: linear softening")
-                call check_close(suite, mat%friction_residual, 25*degree, tol, &
+                call check_close(suite, young_of(mat), 1.0e7_wp, tol*1.0e7_wp, "MC: E")
+                call check_close(suite, str%friction, 30*degree, tol, "MC: phi 30 deg in rad")
+                call check_close(suite, str%cohesion, 1000.0_wp, tol*1000, "MC: c")
+                call check_close(suite, str%dilatancy, 5*degree, tol, "MC: psi 5 deg in rad")
+                call check_close(suite, str%tension_cutoff, 500.0_wp, tol*500, "MC: cutoff")
+                call check(suite, str%softening == softening_linear, "MC: linear softening")
+                call check_close(suite, str%friction_residual, 25*degree, tol, &
                     "MC: residual phi in rad")
-                call check_close(suite, mat%cohesion_residual, 100.0_wp, tol*100, "MC: c_r")
-                call check(suite, mat%dilatancy_residual == 0.0_wp, &
+                call check_close(suite, str%cohesion_residual, 100.0_wp, tol*100, "MC: c_r")
+                call check(suite, str%dilatancy_residual == 0.0_wp, &
                     "MC: psi_residual defaults to 0")
-                call check_close(suite, mat%softening_strain, 0.1_wp, tol, "MC: strain")
+                call check_close(suite, str%softening_strain, 0.1_wp, tol, "MC: strain")
             end associate
         end if
         call read_valid(soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30'), &
             case, "Mohr-Coulomb defaults")
         if (allocated(case%materials)) then
+            str = strength_of(case%materials(1))
             associate (mat => case%materials(1))
-                call check(suite, mat%cohesion == 0.0_wp .and. mat%dilatancy == 0.0_wp, &
+                call check(suite, str%cohesion == 0.0_wp .and. str%dilatancy == 0.0_wp, &
                     "MC: c and psi default to 0")
-                call check(suite, mat%tension_cutoff < 0.0_wp, "MC: no tension cutoff given")
-                call check(suite, mat%softening == softening_none, "MC: no softening")
-                call check(suite, mat%friction_residual == mat%friction .and. &
-                    mat%cohesion_residual == mat%cohesion .and. &
-                    mat%dilatancy_residual == mat%dilatancy, &
+                call check(suite, str%tension_cutoff < 0.0_wp, "MC: no tension cutoff given")
+                call check(suite, str%softening == softening_none, "MC: no softening")
+                call check(suite, str%friction_residual == str%friction .and. &
+                    str%cohesion_residual == str%cohesion .and. &
+                    str%dilatancy_residual == str%dilatancy, &
                     "MC: residual = peak without softening")
             end associate
         end if
@@ -758,14 +767,16 @@ contains
         call read_valid(soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30, ' &
             //'"c": 0, "tension_cutoff": 0, "softening": {"type": "none"}'), case, &
             "cohesionless soil with zero tension cutoff at the apex")
-        call check(suite, .not. case%materials(1)%separation, "MC: no separation by default")
+        str = strength_of(case%materials(1))
+        call check(suite, .not. str%separation, "MC: no separation by default")
         call read_valid(soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30, ' &
             //'"c": 2000, "tension_cutoff": 0, "separation": true'), case, &
             "separation with c > 0 and a zero tension cutoff")
         call read_valid(soil_case('"type": "drucker_prager", '//elastic_part//', "phi": 30, ' &
             //'"separation": true'), case, "cohesionless Drucker-Prager with separation")
         if (allocated(case%materials)) then
-            call check(suite, case%materials(1)%separation, "DP: separation read")
+            str = strength_of(case%materials(1))
+            call check(suite, str%separation, "DP: separation read")
             call check_contains(suite, case_summary(case), "cone plane_strain, separation", &
                 "summary: separation")
         end if
@@ -774,23 +785,24 @@ contains
             //'"exponential", "c_residual": 500, "psi_residual": 10, "strain": 0.05}'), case, &
             "Drucker-Prager")
         if (allocated(case%materials)) then
+            str = strength_of(case%materials(1))
             associate (mat => case%materials(1))
                 call check(suite, mat%type == "drucker_prager", "DP: type (any case)")
-                call check(suite, mat%cone == cone_compression, "DP: compression cone")
-                call check_close(suite, mat%friction, 20*degree, tol, "DP: phi in rad")
-                call check_close(suite, mat%dilatancy, 20*degree, tol, "DP: psi = phi allowed")
-                call check(suite, mat%softening == softening_exponential, "DP: exponential")
-                call check(suite, mat%friction_residual == mat%friction, &
+                call check(suite, cone_of(mat) == cone_compression, "DP: compression cone")
+                call check_close(suite, str%friction, 20*degree, tol, "DP: phi in rad")
+                call check_close(suite, str%dilatancy, 20*degree, tol, "DP: psi = phi allowed")
+                call check(suite, str%softening == softening_exponential, "DP: exponential")
+                call check(suite, str%friction_residual == str%friction, &
                     "DP: phi_residual defaults to the peak phi")
-                call check_close(suite, mat%cohesion_residual, 500.0_wp, tol*500, "DP: c_r")
-                call check_close(suite, mat%dilatancy_residual, 10*degree, tol, "DP: psi_r")
-                call check_close(suite, mat%softening_strain, 0.05_wp, tol, "DP: strain scale")
+                call check_close(suite, str%cohesion_residual, 500.0_wp, tol*500, "DP: c_r")
+                call check_close(suite, str%dilatancy_residual, 10*degree, tol, "DP: psi_r")
+                call check_close(suite, str%softening_strain, 0.05_wp, tol, "DP: strain scale")
             end associate
         end if
         call read_valid(soil_case('"type": "drucker_prager", '//elastic_part//', "phi": 20'), &
             case, "Drucker-Prager defaults")
         if (allocated(case%materials)) then
-            call check(suite, case%materials(1)%cone == cone_plane_strain, &
+            call check(suite, cone_of(case%materials(1)) == cone_plane_strain, &
                 "DP: plane strain cone by default")
         end if
         call read_valid(soil_case('"type": "newtonian", "rho": 1000, "viscosity": 1e-3, ' &
@@ -798,9 +810,9 @@ contains
         if (allocated(case%materials)) then
             associate (mat => case%materials(1))
                 call check(suite, mat%type == "newtonian", "fluid: type")
-                call check_close(suite, mat%viscosity, 1.0e-3_wp, tol*1.0e-3_wp, "fluid: mu")
-                call check_close(suite, mat%bulk_modulus, 2.2e9_wp, tol*2.2e9_wp, "fluid: K")
-                call check(suite, mat%young == 0.0_wp, "fluid: no E")
+                call check_close(suite, fluid_of(mat, 1), 1.0e-3_wp, tol*1.0e-3_wp, "fluid: mu")
+                call check_close(suite, fluid_of(mat, 2), 2.2e9_wp, tol*2.2e9_wp, "fluid: K")
+                call check(suite, young_of(mat) == 0.0_wp, "fluid: no E")
                 ! c_p = sqrt(K/rho) = sqrt(2.2e6) m/s
                 call check_close(suite, p_wave_speed(mat), sqrt(2.2e6_wp), &
                     tol*sqrt(2.2e6_wp), "fluid: c_p = sqrt(K/rho)")
@@ -1098,7 +1110,7 @@ contains
             "neo_hookean material")
         if (allocated(case%materials)) then
             call check(suite, case%materials(1)%type == "neo_hookean", "neo_hookean type kept")
-            call check_close(suite, case%materials(1)%young, 1.0e7_wp, tol*1.0e7_wp, &
+            call check_close(suite, young_of(case%materials(1)), 1.0e7_wp, tol*1.0e7_wp, &
                 "neo_hookean E")
         end if
         call expect_error(soil_case('"type": "neo_hookean", '//elastic_part//', "phi": 30'), &
@@ -1117,5 +1129,64 @@ contains
         call expect_error(case_text(time='"time": {"tend": 0.1, "allow_unstable": 1}'), &
             [character(len=60) :: "time.allow_unstable"], "allow_unstable must be a boolean")
     end subroutine check_neo_hookean_and_unstable
+
+    !> Young's modulus of a material's law, 0 when it is not an elastic solid [Pa].
+    real(wp) function young_of(mat)
+        type(material_spec_type), intent(in) :: mat
+        select type (law => mat%law)
+        class is (elastic_solid_type)
+            young_of = law%young
+        class default
+            young_of = 0.0_wp
+        end select
+    end function young_of
+
+    !> Poisson's ratio of a material's law, -1 when it is not an elastic solid [-].
+    real(wp) function poisson_of(mat)
+        type(material_spec_type), intent(in) :: mat
+        select type (law => mat%law)
+        class is (elastic_solid_type)
+            poisson_of = law%poisson
+        class default
+            poisson_of = -1.0_wp
+        end select
+    end function poisson_of
+
+    !> Strength of a Mohr-Coulomb or Drucker-Prager material (defaults for any other).
+    type(strength_type) function strength_of(mat)
+        type(material_spec_type), intent(in) :: mat
+        select type (law => mat%law)
+        type is (mohr_coulomb_material_type)
+            strength_of = law%strength
+        type is (drucker_prager_material_type)
+            strength_of = law%strength
+        class default
+            strength_of = strength_type()
+        end select
+    end function strength_of
+
+    !> Cone of a Drucker-Prager material, 0 for any other.
+    integer function cone_of(mat)
+        type(material_spec_type), intent(in) :: mat
+        select type (law => mat%law)
+        type is (drucker_prager_material_type)
+            cone_of = law%cone
+        class default
+            cone_of = 0
+        end select
+    end function cone_of
+
+    !> Viscosity (which = 1) [Pa s] or bulk modulus (2) [Pa] of a Newtonian fluid, -1 for
+    !> any other material.
+    real(wp) function fluid_of(mat, which)
+        type(material_spec_type), intent(in) :: mat
+        integer, intent(in) :: which
+        select type (law => mat%law)
+        type is (newtonian_material_type)
+            fluid_of = merge(law%viscosity, law%bulk_modulus, which == 1)
+        class default
+            fluid_of = -1.0_wp
+        end select
+    end function fluid_of
 
 end program test_mpm_case

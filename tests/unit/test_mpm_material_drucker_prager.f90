@@ -10,11 +10,20 @@ program test_mpm_material_drucker_prager
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     use mpm_kinds, only: wp
     use mpm_testing, only: test_suite_type, new_suite, check, check_close, finish
-    use mpm_case, only: material_spec_type, cone_plane_strain, cone_compression, &
-        cone_extension, softening_none, softening_linear, softening_exponential
+    use mpm_softening, only: softening_none, softening_linear, softening_exponential
+    use mpm_strength, only: strength_type
     use mpm_material_drucker_prager, only: drucker_prager_material_type, &
-        new_drucker_prager_material, drucker_prager_cone
+        new_drucker_prager_material, drucker_prager_cone, cone_plane_strain, cone_compression, &
+        cone_extension
     implicit none
+
+    !> The strength and cone of a test material (E, nu of this test, rho = 2000 kg/m3).
+    type :: material_spec_type
+        type(strength_type) :: strength
+            !! friction, cohesion, dilatancy, cut-off, softening
+        integer :: cone = cone_plane_strain
+            !! the cone
+    end type material_spec_type
 
     type(test_suite_type) :: suite
     real(wp), parameter :: pi = acos(-1.0_wp), deg = pi/180.0_wp
@@ -96,7 +105,7 @@ contains
         character(len=40) :: tag
 
         write (tag, "(a,f4.1,a)") "plane strain psi=", psi_deg, ":"
-        call new_drucker_prager_material(mat, make_spec(phi, coh, psi_deg*deg, &
+        call new_material(mat, make_spec(phi, coh, psi_deg*deg, &
             cone_plane_strain))
         s = [-p0, -p0, -p0, 0.0_wp]
         st = 0.0_wp
@@ -139,7 +148,7 @@ contains
         logical :: ok
         integer :: i
 
-        call new_drucker_prager_material(mat, make_spec(phi, coh, psi, cone_compression))
+        call new_material(mat, make_spec(phi, coh, psi, cone_compression))
         s = [-p0, -p0, -p0, 0.0_wp, 0.0_wp, 0.0_wp]
         st = 0.0_wp
         x = 0.0_wp
@@ -182,7 +191,7 @@ contains
         logical :: ok
         integer :: i
 
-        call new_drucker_prager_material(mat, make_spec(phi, coh, 0.0_wp, cone_extension))
+        call new_material(mat, make_spec(phi, coh, 0.0_wp, cone_extension))
         s = [-p0, -p0, -p0, 0.0_wp, 0.0_wp, 0.0_wp]
         st = 0.0_wp
         x = 0.0_wp
@@ -212,7 +221,7 @@ contains
         real(wp) :: alpha, k, apsi, s(6), s0(6), st(2), tr(6), de(6), tol, rho_c, sdev(6)
         real(wp) :: tdev(6)
 
-        call new_drucker_prager_material(mat, make_spec(phi, coh, psi, cone_plane_strain, &
+        call new_material(mat, make_spec(phi, coh, psi, cone_plane_strain, &
             tension_cutoff=tcut))
         call drucker_prager_cone(cone_plane_strain, phi, coh, psi, alpha, k, apsi)
         call check(suite, tcut < k/alpha, "returns: cut-off below the apex")
@@ -267,7 +276,7 @@ contains
         call check_close(suite, radius(s), rho_c, tol, "corner return: rho = k - alpha sigma_t")
 
         ! apex (no cut-off given): tension and shear return to m = k/alpha, s = 0
-        call new_drucker_prager_material(apex_mat, make_spec(phi, coh, psi, cone_plane_strain))
+        call new_material(apex_mat, make_spec(phi, coh, psi, cone_plane_strain))
         s = 0.0_wp
         tr = elastic_trial(s, de)
         tol = 100*eps*maxval(abs(tr))
@@ -299,7 +308,7 @@ contains
         logical :: seen_tension, seen_corner, seen_cone, on_plane, on_cone
         real(wp) :: alpha, k, apsi
 
-        call new_drucker_prager_material(mat, make_spec(30.0_wp*deg, coh, 10.0_wp*deg, &
+        call new_material(mat, make_spec(30.0_wp*deg, coh, 10.0_wp*deg, &
             cone_plane_strain, tension_cutoff=5.0e3_wp))
         call drucker_prager_cone(cone_plane_strain, 30.0_wp*deg, coh, 10.0_wp*deg, alpha, k, apsi)
         dtrial = [2*mat%shear*1.0e-6_wp, 3*mat%bulk*2.0e-6_wp]
@@ -342,7 +351,7 @@ contains
         real(wp) :: s(6), st(2)
         integer :: i
 
-        call new_drucker_prager_material(mat, make_spec(30.0_wp*deg, 0.0_wp, 0.0_wp, &
+        call new_material(mat, make_spec(30.0_wp*deg, 0.0_wp, 0.0_wp, &
             cone_compression))
         s = 0.0_wp
         st = 0.0_wp
@@ -363,7 +372,7 @@ contains
         real(wp) :: r(3, 3), s0(6), de(6), a(6), b(6), sta(2), stb(2), scale
         integer :: icase
 
-        call new_drucker_prager_material(mat, make_spec(30.0_wp*deg, coh, 10.0_wp*deg, &
+        call new_material(mat, make_spec(30.0_wp*deg, coh, 10.0_wp*deg, &
             cone_compression, tension_cutoff=5.0e3_wp))
         r = rotation_matrix([1.0_wp, 2.0_wp, -0.5_wp], 0.7_wp)
         do icase = 1, 2
@@ -400,7 +409,7 @@ contains
         real(wp) :: s(4), st(2), alpha, k, apsi, rho, sx, sy, theta, om, c, sn, tol_rot
         integer :: i
 
-        call new_drucker_prager_material(mat, make_spec(30.0_wp*deg, coh, 0.0_wp, &
+        call new_material(mat, make_spec(30.0_wp*deg, coh, 0.0_wp, &
             cone_plane_strain))
         call drucker_prager_cone(cone_plane_strain, 30.0_wp*deg, coh, 0.0_wp, alpha, k, apsi)
         rho = k + alpha*p0
@@ -433,7 +442,7 @@ contains
         real(wp) :: s(6), s0(6), st(2), axis(3), theta, w(3), tol_rot
         integer :: i
 
-        call new_drucker_prager_material(mat, make_spec(30.0_wp*deg, coh, 0.0_wp, &
+        call new_material(mat, make_spec(30.0_wp*deg, coh, 0.0_wp, &
             cone_compression))
         s0 = [-1.2e5_wp, -0.8e5_wp, -1.0e5_wp, 1.0e4_wp, -2.0e4_wp, 5.0e3_wp]
         s = s0
@@ -463,7 +472,7 @@ contains
         logical :: finite
 
         ! phi = 0: pure shear reaches tau = c (MC: tau_max = c), no volume change
-        call new_drucker_prager_material(mat, make_spec(0.0_wp, coh, 0.0_wp, cone_plane_strain))
+        call new_material(mat, make_spec(0.0_wp, coh, 0.0_wp, cone_plane_strain))
         s4 = 0.0_wp
         st = 0.0_wp
         do i = 1, 100
@@ -479,7 +488,7 @@ contains
             "phi = 0: tension without cut-off is elastic, finite")
 
         ! c = 0, phi > 0: the apex is the origin
-        call new_drucker_prager_material(mat, make_spec(30.0_wp*deg, 0.0_wp, 10.0_wp*deg, &
+        call new_material(mat, make_spec(30.0_wp*deg, 0.0_wp, 10.0_wp*deg, &
             cone_plane_strain))
         s = 0.0_wp
         st = 0.0_wp
@@ -498,7 +507,7 @@ contains
             "c = 0: shear from zero stress is finite, not tensile")
 
         ! phi = 0 and c = 0: no strength at all
-        call new_drucker_prager_material(mat, make_spec(0.0_wp, 0.0_wp, 0.0_wp, &
+        call new_material(mat, make_spec(0.0_wp, 0.0_wp, 0.0_wp, &
             cone_compression))
         s = [-p0, -p0, -p0, 0.0_wp, 0.0_wp, 0.0_wp]
         st = 0.0_wp
@@ -509,7 +518,7 @@ contains
             "phi = 0, c = 0: deviator vanishes, finite")
 
         ! at the apex, zero increment: unchanged, finite
-        call new_drucker_prager_material(mat, make_spec(30.0_wp*deg, coh, 0.0_wp, &
+        call new_material(mat, make_spec(30.0_wp*deg, coh, 0.0_wp, &
             cone_compression))
         call drucker_prager_cone(cone_compression, 30.0_wp*deg, coh, 0.0_wp, alpha, k, apsi)
         s = [k/alpha, k/alpha, k/alpha, 0.0_wp, 0.0_wp, 0.0_wp]
@@ -548,12 +557,12 @@ contains
 
         tag = merge("linear softening:     ", "exponential softening:", law == softening_linear)
         spec = make_spec(35.0_wp*deg, 2.0e4_wp, 5.0_wp*deg, cone_compression)
-        spec%softening = law
-        spec%friction_residual = 25.0_wp*deg
-        spec%cohesion_residual = 0.0_wp
-        spec%dilatancy_residual = 0.0_wp
-        spec%softening_strain = merge(0.05_wp, 0.02_wp, law == softening_linear)
-        call new_drucker_prager_material(mat, spec)
+        spec%strength%softening = law
+        spec%strength%friction_residual = 25.0_wp*deg
+        spec%strength%cohesion_residual = 0.0_wp
+        spec%strength%dilatancy_residual = 0.0_wp
+        spec%strength%softening_strain = merge(0.05_wp, 0.02_wp, law == softening_linear)
+        call new_material(mat, spec)
         call check(suite, mat%nstate() == 2, tag//" nstate = 2")
         s = [-p0, -p0, -p0, 0.0_wp, 0.0_wp, 0.0_wp]
         st = 0.0_wp
@@ -569,25 +578,25 @@ contains
             q = s(1) - s(2)
             qmax = max(qmax, q)
             if (st(1) > eprev) then
-                phi = soft(law, spec%friction, spec%friction_residual, eprev, &
-                    spec%softening_strain)
-                c = soft(law, spec%cohesion, spec%cohesion_residual, eprev, &
-                    spec%softening_strain)
+                phi = soft(law, spec%strength%friction, spec%strength%friction_residual, eprev, &
+                    spec%strength%softening_strain)
+                c = soft(law, spec%strength%cohesion, spec%strength%cohesion_residual, eprev, &
+                    spec%strength%softening_strain)
                 gap = max(gap, abs(q - q_compression(phi, c)))
             end if
         end do
         call check(suite, ok, tag//" mixed control converged")
-        call check_close(suite, qmax, q_compression(spec%friction, spec%cohesion), 40*tol_mixed, &
+        call check_close(suite, qmax, q_compression(spec%strength%friction, spec%strength%cohesion), 40*tol_mixed, &
             tag//" peak q = MC peak strength")
         call check_close(suite, gap, 0.0_wp, 40*tol_mixed, &
             tag//" every plastic step: q = MC strength of the start-of-step eps_q")
         ! linear: residual from eps_s on; exponential: the distance to the residual strength,
         ! (q_peak - q_res) exp(-eps_q/eta) < 2e5 exp(-30) ~ 2e-8 Pa once eps_q > 30 eta, is
         ! far below the mixed-control tolerance
-        call check(suite, st(1) > merge(1, 30, law == softening_linear)*spec%softening_strain, &
+        call check(suite, st(1) > merge(1, 30, law == softening_linear)*spec%strength%softening_strain, &
             tag//" softening strain passed")
-        call check_close(suite, q, q_compression(spec%friction_residual, &
-            spec%cohesion_residual), 40*tol_mixed, tag//" residual strength")
+        call check_close(suite, q, q_compression(spec%strength%friction_residual, &
+            spec%strength%cohesion_residual), 40*tol_mixed, tag//" residual strength")
         call check(suite, .not. (ieee_is_nan(q) .or. any(ieee_is_nan(st))), tag//" finite")
     end subroutine check_softening
 
@@ -675,6 +684,13 @@ contains
         r = sc(1) - target
     end function mixed_residual
 
+    !> A Drucker-Prager material of E, nu of this test, rho = 2000 kg/m3 and `spec`.
+    subroutine new_material(mat, spec)
+        type(drucker_prager_material_type), intent(out) :: mat
+        type(material_spec_type), intent(in) :: spec
+        call new_drucker_prager_material(mat, young, poisson, 2000.0_wp, spec%strength, spec%cone)
+    end subroutine new_material
+
     !> Material specification with E, nu of this test.
     function make_spec(phi, c, psi, cone, tension_cutoff) result(spec)
         real(wp), intent(in) :: phi, c, psi
@@ -682,17 +698,12 @@ contains
         real(wp), intent(in), optional :: tension_cutoff
         type(material_spec_type) :: spec
 
-        spec%name = "soil"
-        spec%type = "drucker_prager"
-        spec%young = young
-        spec%poisson = poisson
-        spec%density = 2000.0_wp
-        spec%friction = phi
-        spec%cohesion = c
-        spec%dilatancy = psi
+        spec%strength%friction = phi
+        spec%strength%cohesion = c
+        spec%strength%dilatancy = psi
         spec%cone = cone
-        spec%softening = softening_none
-        if (present(tension_cutoff)) spec%tension_cutoff = tension_cutoff
+        spec%strength%softening = softening_none
+        if (present(tension_cutoff)) spec%strength%tension_cutoff = tension_cutoff
     end function make_spec
 
     !> Elastic trial stress (no rotation), computed here independently of the module.

@@ -14,8 +14,8 @@ program test_mpm_material_mohr_coulomb
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     use mpm_kinds, only: wp, i8
     use mpm_testing, only: test_suite_type, new_suite, check, check_close, finish
-    use mpm_case, only: material_spec_type, softening_none, softening_linear, &
-        softening_exponential
+    use mpm_softening, only: softening_none, softening_linear, softening_exponential
+    use mpm_strength, only: strength_type
     use mpm_material_mohr_coulomb, only: mohr_coulomb_material_type, new_mohr_coulomb_material
     use mpm_stress, only: double_contraction
     implicit none
@@ -60,13 +60,8 @@ contains
         real(wp), intent(in) :: phi, coh, psi, tcut
         integer, intent(in), optional :: softening
         real(wp), intent(in), optional :: phi_r, coh_r, psi_r, strain
-        type(material_spec_type) :: spec
+        type(strength_type) :: spec
 
-        spec%name = "soil"
-        spec%type = "mohr_coulomb"
-        spec%young = young
-        spec%poisson = poisson
-        spec%density = 2000.0_wp
         spec%friction = phi*deg
         spec%cohesion = coh
         spec%dilatancy = psi*deg
@@ -79,7 +74,7 @@ contains
             spec%dilatancy_residual = psi_r*deg
             spec%softening_strain = strain
         end if
-        call new_mohr_coulomb_material(mat, spec)
+        call new_mohr_coulomb_material(mat, young, poisson, 2000.0_wp, spec)
     end subroutine make_material
 
     !> Mohr-Coulomb f of principal stresses in any order [Pa] (phi in radians).

@@ -4,7 +4,6 @@
 program test_mpm_material_neo_hookean
     use mpm_kinds, only: wp
     use mpm_testing, only: test_suite_type, new_suite, check, check_close, finish
-    use mpm_case, only: material_spec_type
     use mpm_material_neo_hookean, only: neo_hookean_material_type, new_neo_hookean_material
     implicit none
 
@@ -21,12 +20,7 @@ contains
     function material(poisson) result(mat)
         real(wp), intent(in) :: poisson
         type(neo_hookean_material_type) :: mat
-        type(material_spec_type) :: spec
-        spec%name = "rubber"
-        spec%young = 1.0e6_wp
-        spec%poisson = poisson
-        spec%density = 1000.0_wp
-        call new_neo_hookean_material(mat, spec)
+        call new_neo_hookean_material(mat, "rubber", 1.0e6_wp, poisson, 1000.0_wp)
     end function material
 
     !> Stretch F = diag(s, 1, 1) to s = 1.5 and compress to 0.6 in increments chosen so the

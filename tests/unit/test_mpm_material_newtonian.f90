@@ -5,7 +5,6 @@ program test_mpm_material_newtonian
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     use mpm_kinds, only: wp
     use mpm_testing, only: test_suite_type, new_suite, check, check_close, finish
-    use mpm_case, only: material_spec_type
     use mpm_material_newtonian, only: newtonian_material_type, new_newtonian_material
     implicit none
 
@@ -21,10 +20,10 @@ program test_mpm_material_newtonian
     real(wp) :: nostate(0)
 
     call new_suite(suite, "mpm_material_newtonian")
-    call new_newtonian_material(fluid, make_spec(mu))
-    call new_newtonian_material(inviscid, make_spec(0.0_wp))
+    call new_newtonian_material(fluid, "water", mu, bulk, 1000.0_wp)
+    call new_newtonian_material(inviscid, "water", 0.0_wp, bulk, 1000.0_wp)
     call check(suite, fluid%nstate() == 0, "no state variables")
-    call check_close(suite, fluid%density, 1000.0_wp, 0.0_wp, "density from the spec")
+    call check_close(suite, fluid%density, 1000.0_wp, 0.0_wp, "density as given")
     call check_shear()
     call check_isotropic_compression()
     call check_uniaxial()
@@ -157,15 +156,5 @@ contains
         call check_close(suite, s4(1), -bulk*1.0e-4_wp, 10*eps*bulk*1.0e-4_wp, &
             "dt = 0: pressure still updated")
     end subroutine check_zero_dt
-
-    function make_spec(viscosity) result(spec)
-        real(wp), intent(in) :: viscosity
-        type(material_spec_type) :: spec
-        spec%name = "water"
-        spec%type = "newtonian"
-        spec%density = 1000.0_wp
-        spec%viscosity = viscosity
-        spec%bulk_modulus = bulk
-    end function make_spec
 
 end program test_mpm_material_newtonian

@@ -6,11 +6,12 @@
 program test_mpm_separation
     use mpm_kinds, only: wp
     use mpm_testing, only: test_suite_type, new_suite, check, check_close, finish
-    use mpm_case, only: material_spec_type, softening_none, cone_plane_strain
+    use mpm_softening, only: softening_none
+    use mpm_strength, only: strength_type
     use mpm_material, only: material_type
     use mpm_material_mohr_coulomb, only: mohr_coulomb_material_type, new_mohr_coulomb_material
     use mpm_material_drucker_prager, only: drucker_prager_material_type, &
-        new_drucker_prager_material
+        new_drucker_prager_material, cone_plane_strain
     implicit none
 
     type(test_suite_type) :: suite
@@ -24,39 +25,34 @@ program test_mpm_separation
 
     call new_suite(suite, "mpm_separation")
     do ns = 4, 6, 2
-        call new_mohr_coulomb_material(mc, spec("mohr_coulomb", .true.))
+        call new_mohr_coulomb_material(mc, young, poisson, 1800.0_wp, sand(.true.))
         call check_cycle(mc, "mohr_coulomb", ns)
-        call new_drucker_prager_material(dp, spec("drucker_prager", .true.))
+        call new_drucker_prager_material(dp, young, poisson, 1800.0_wp, sand(.true.), &
+            cone_plane_strain)
         call check_cycle(dp, "drucker_prager", ns)
-        call new_mohr_coulomb_material(mc, spec("mohr_coulomb", .false.))
+        call new_mohr_coulomb_material(mc, young, poisson, 1800.0_wp, sand(.false.))
         call check_without(mc, "mohr_coulomb", ns)
-        call new_drucker_prager_material(dp, spec("drucker_prager", .false.))
+        call new_drucker_prager_material(dp, young, poisson, 1800.0_wp, sand(.false.), &
+            cone_plane_strain)
         call check_without(dp, "drucker_prager", ns)
     end do
-    call new_mohr_coulomb_material(mc, spec("mohr_coulomb", .true.))
+    call new_mohr_coulomb_material(mc, young, poisson, 1800.0_wp, sand(.true.))
     call check(suite, mc%nstate() == 3, "mohr_coulomb: three state values with separation")
-    call new_mohr_coulomb_material(mc, spec("mohr_coulomb", .false.))
+    call new_mohr_coulomb_material(mc, young, poisson, 1800.0_wp, sand(.false.))
     call check(suite, mc%nstate() == 2, "mohr_coulomb: two state values without")
     call finish(suite)
 
 contains
 
-    !> phi = 30 deg, c = 0, psi = 0, E = 1 MPa, nu = 0.3.
-    type(material_spec_type) function spec(kind, separation)
-        character(len=*), intent(in) :: kind
+    !> phi = 30 deg, c = 0, psi = 0 (with E = 1 MPa, nu = 0.3).
+    type(strength_type) function sand(separation)
         logical, intent(in) :: separation
-        spec%name = "sand"
-        spec%type = kind
-        spec%young = young
-        spec%poisson = poisson
-        spec%density = 1800.0_wp
-        spec%friction = 30.0_wp*acos(-1.0_wp)/180.0_wp
-        spec%cohesion = 0.0_wp
-        spec%dilatancy = 0.0_wp
-        spec%softening = softening_none
-        spec%cone = cone_plane_strain
-        spec%separation = separation
-    end function spec
+        sand%friction = 30.0_wp*acos(-1.0_wp)/180.0_wp
+        sand%cohesion = 0.0_wp
+        sand%dilatancy = 0.0_wp
+        sand%softening = softening_none
+        sand%separation = separation
+    end function sand
 
     !> Isotropic strain increment of trace 3 e (normal components e, shear 0).
     function isotropic(e, n) result(de)

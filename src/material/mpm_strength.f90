@@ -1,24 +1,119 @@
-!> The strength keys Mohr-Coulomb and Drucker-Prager materials share: friction, cohesion,
-!> dilatancy, tension cutoff, separation and softening.
-module mpm_case_material_strength
+!> The strength Mohr-Coulomb and Drucker-Prager materials share: friction, cohesion,
+!> dilatancy, tension cutoff, separation and softening (`strength_type`), its keys, how they
+!> are read and checked, and its lines of the --check summary.
+module mpm_strength
     use mpm_kinds, only: wp
     use mpm_error, only: error_type
     use mpm_strings, only: fmt_real, fmt_below
     use mpm_case_cursor, only: cursor_type
-    use mpm_case_material_model, only: material_spec_type, key_width, degree, softening_none, &
-        softening_linear, softening_exponential, softening_names
+    use mpm_material, only: material_key_width, key_path_width
+    use mpm_softening, only: softening_none, softening_linear, softening_exponential, &
+        softening_names
     implicit none
     private
-    public :: read_strength, strength_keys, softening_keys
+    public :: strength_type, read_strength, strength_keys, softening_keys, strength_section_keys
+    public :: strength_summary, degree
 
-    character(len=*), parameter :: strength_keys(*) = [character(len=key_width) :: "phi", "c", &
-        "psi", "tension_cutoff", "softening", "separation"]
+    character(len=*), parameter :: strength_keys(*) = [character(len=material_key_width) :: &
+        "phi", "c", "psi", "tension_cutoff", "softening", "separation"]
         !! keys of the strength of a material
     character(len=*), parameter :: softening_keys(*) = [character(len=12) :: "type", &
         "phi_residual", "c_residual", "psi_residual", "strain"]
         !! keys of `materials[i].softening`
+    real(wp), parameter :: degree = acos(-1.0_wp)/180.0_wp
+        !! one degree [rad]: angles are given in degrees and stored in radians
+
+    !> Strength of a frictional material: peak and residual values and the softening law.
+    type :: strength_type
+        real(wp) :: friction = 0.0_wp
+            !! peak friction angle phi [rad] (input in degrees)
+        real(wp) :: cohesion = 0.0_wp
+            !! peak cohesion c [Pa]
+        real(wp) :: dilatancy = 0.0_wp
+            !! peak dilatancy angle psi [rad] (input in degrees), 0 <= psi <= phi
+        real(wp) :: tension_cutoff = -1.0_wp
+            !! tensile strength: largest mean (DP) or principal (MC) stress allowed [Pa];
+            !! negative when not given (then the apex of the cone, c / tan(phi), limits it)
+        logical :: separation = .false.
+            !! cohesionless separation: dilation at the stress-free apex opens the material,
+            !! and compression closes it again before any stress builds (c = 0 or
+            !! tension_cutoff = 0; state(3) = opening strain, see `mpm_separation`)
+        integer :: softening = softening_none
+            !! softening law of phi, c and psi with the plastic shear strain (`mpm_softening`)
+        real(wp) :: friction_residual = 0.0_wp
+            !! residual friction angle [rad] (softening only)
+        real(wp) :: cohesion_residual = 0.0_wp
+            !! residual cohesion [Pa] (softening only)
+        real(wp) :: dilatancy_residual = 0.0_wp
+            !! residual dilatancy angle [rad] (softening only)
+        real(wp) :: softening_strain = 0.0_wp
+            !! linear: plastic shear strain at which the residual values are reached;
+            !! exponential: strain scale eta_0 in x = x_r + (x_p - x_r) exp(-eps_p / eta_0) [-]
+    end type strength_type
 
 contains
+
+    !> Key paths of `materials[i].softening`, "softening.key".
+    pure subroutine strength_section_keys(list)
+        character(len=key_path_width), allocatable, intent(out) :: list(:)
+            !! key paths
+
+        integer :: k
+
+        allocate (list(size(softening_keys)))
+        do k = 1, size(softening_keys)
+            list(k) = "softening."//trim(softening_keys(k))
+        end do
+    end subroutine strength_section_keys
+
+    !> Summary lines of a strength: "phi = ..., c = ..., psi = ..., tension cutoff ...", with
+    !> `extra` before the separation flag, then the softening.
+    pure function strength_summary(strength, extra) result(text)
+        type(strength_type), intent(in) :: strength
+            !! the strength
+        character(len=*), intent(in) :: extra
+            !! text of the material on the first line (", cone compression"), or ""
+        character(len=:), allocatable :: text
+            !! the lines, each ending in new_line("a")
+
+        character(len=*), parameter :: nl = new_line("a")
+        character(len=:), allocatable :: line
+
+        associate (mat => strength)
+            line = "    phi = "//fmt_deg(mat%friction)//" deg, c = "//fmt_real(mat%cohesion) &
+                //" Pa, psi = "//fmt_deg(mat%dilatancy)//" deg, tension cutoff "
+            if (mat%tension_cutoff >= 0.0_wp) then
+                line = line//fmt_real(mat%tension_cutoff)//" Pa"
+            else
+                line = line//"at the apex"
+            end if
+            line = line//extra
+            if (mat%separation) line = line//", separation"
+            text = line//nl
+            if (mat%softening == softening_none) then
+                text = text//"    no softening"//nl
+            else
+                text = text//"    softening "//trim(softening_names(mat%softening))//" to phi = " &
+                    //fmt_deg(mat%friction_residual)//" deg, c = "//fmt_real(mat%cohesion_residual) &
+                    //" Pa, psi = "//fmt_deg(mat%dilatancy_residual)//" deg"
+                if (mat%softening == softening_linear) then
+                    text = text//" at plastic shear strain "//fmt_real(mat%softening_strain)//nl
+                else
+                    text = text//", plastic shear strain scale "//fmt_real(mat%softening_strain)//nl
+                end if
+            end if
+        end associate
+    end function strength_summary
+
+    !> An angle in degrees, at 12 digits to hide the round-off of the degree-radian
+    !> conversion, so 30 degrees shows as "30".
+    pure function fmt_deg(angle) result(text)
+        real(wp), intent(in) :: angle
+            !! angle [rad]
+        character(len=:), allocatable :: text
+
+        text = fmt_real(angle/degree, 12)
+    end function fmt_deg
 
     !> Strength of a Mohr-Coulomb or Drucker-Prager material: `phi`, `c`, `psi`,
     !> `tension_cutoff`, `separation` and `softening`. Angles are read in degrees and stored in
@@ -28,8 +123,8 @@ contains
             !! the material object
         character(len=*), intent(in) :: family
             !! "Mohr-Coulomb" or "Drucker-Prager", for messages
-        type(material_spec_type), intent(inout) :: mat
-            !! material being resolved
+        type(strength_type), intent(inout) :: mat
+            !! strength being resolved
         type(error_type), allocatable, intent(out) :: error
             !! first error found
 
@@ -102,8 +197,8 @@ contains
             !! peak cohesion [Pa]
         real(wp), intent(in) :: psi
             !! peak dilatancy angle [deg]
-        type(material_spec_type), intent(inout) :: mat
-            !! material being resolved (peak values set)
+        type(strength_type), intent(inout) :: mat
+            !! strength being resolved (peak values set)
         type(error_type), allocatable, intent(out) :: error
             !! first error found
 
@@ -199,4 +294,4 @@ contains
         end if
     end subroutine check_residual
 
-end module mpm_case_material_strength
+end module mpm_strength
