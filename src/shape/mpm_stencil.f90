@@ -26,7 +26,12 @@ module mpm_stencil
     use mpm_shape, only: shape_type
     implicit none
     private
-    public :: stencils_type, compute_stencils, particle_nodes, stencil_bytes, axis_derivatives
+    public :: stencils_type, compute_stencils, particle_nodes, stencil_bytes, axis_derivatives, &
+        axis_derivatives_any, fixed_width
+
+    integer, parameter :: fixed_width = 3
+        !! widest stencil the kernels with scratch of fixed size serve (constant-width loops
+        !! of widths 2 and 3, narrow grids): axis_derivatives
 
     integer, parameter :: particles_per_chunk = 2048
         !! particles per chunk of a scatter pass (at least; fewer chunks for small runs)
@@ -422,10 +427,37 @@ contains
         end if
     end subroutine particle_nodes
 
-    !> The 1D weight derivatives of particle p along axis a, nodes 1 .. n (n = nper(a)): the
-    !> derivative of the last node is minus the sum of the others (zero when its weight is
-    !> zero).
+    !> The 1D weight derivatives of particle p along axis a, nodes 1 .. n (n = nper(a) <=
+    !> fixed_width): the derivative of the last node is minus the sum of the others (zero
+    !> when its weight is zero). For the kernels of widths up to fixed_width: scratch of that
+    !> fixed size, which the optimiser compiles as main did (with an extent of n, the
+    !> narrow-grid kernels fused their operations otherwise and changed in the last bits);
+    !> axis_derivatives_any for any width.
     pure subroutine axis_derivatives(stc, a, p, n, dw)
+        type(stencils_type), intent(in) :: stc
+            !! stencils of the step
+        integer, intent(in) :: a
+            !! axis
+        integer, intent(in) :: p
+            !! particle
+        integer, intent(in) :: n
+            !! nodes along the axis, stc%nper(a), at most fixed_width
+        real(wp), intent(out) :: dw(fixed_width)
+            !! derivatives (first n) [1/m]
+
+        integer :: k
+        real(wp) :: total
+
+        total = 0.0_wp
+        do k = 1, n - 1
+            dw(k) = stc%dw(k, a, p)
+            total = total + dw(k)
+        end do
+        dw(n) = merge(-total, 0.0_wp, stc%w(n, a, p) > 0.0_wp)
+    end subroutine axis_derivatives
+
+    !> axis_derivatives for any width (scratch of n nodes).
+    pure subroutine axis_derivatives_any(stc, a, p, n, dw)
         type(stencils_type), intent(in) :: stc
             !! stencils of the step
         integer, intent(in) :: a
@@ -446,7 +478,7 @@ contains
             total = total + dw(k)
         end do
         dw(n) = merge(-total, 0.0_wp, stc%w(n, a, p) > 0.0_wp)
-    end subroutine axis_derivatives
+    end subroutine axis_derivatives_any
 
     !> The 1D weights and derivatives of particle p along axis a, nodes 1 .. n (n = nper(a)),
     !> the derivatives from axis_derivatives.
@@ -465,7 +497,7 @@ contains
             !! derivatives (first n) [1/m]
 
         w(1:n) = stc%w(1:n, a, p)
-        call axis_derivatives(stc, a, p, n, dw(1:n))
+        call axis_derivatives_any(stc, a, p, n, dw(1:n))
     end subroutine axis_factors
 
     !> Bytes per particle of the stencils, the order and the cell scratch.

@@ -4,8 +4,8 @@
 !> Particle-to-grid (P2G) scatters mass, momentum and forces to the nodes (mpm_kernel_scatter);
 !> grid-to-particle (G2P) gathers accelerations and velocities back (mpm_kernel_gather); the
 !> stress update uses the nodal velocities chosen by the scheme (its kernel for a block of
-!> particles, stress_block, stays in this module: moved to a module of its own, it was inlined
-!> otherwise and the neo-Hookean cases changed in their last bits). The
+!> particles, stress_block, stays in this module: in a module of its own the optimiser
+!> inlined it otherwise, see docs/performance.md). The
 !> nodal update is mpm_kernel_nodal. Each pass is one procedure; the step (mpm_solver::advance)
 !> orders them by the scheme (USF/USL/MUSL) and completes the nodes shared with other images
 !> after each scatter (mpm_halo): the passes see no coarrays. USL without F-bar updates the

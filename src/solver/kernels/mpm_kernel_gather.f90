@@ -7,7 +7,7 @@
 !> `stencils_type%width`.
 module mpm_kernel_gather
     use mpm_kinds, only: wp
-    use mpm_stencil, only: stencils_type, axis_derivatives
+    use mpm_stencil, only: stencils_type, axis_derivatives, fixed_width
     use mpm_kernel_scatter, only: narrow_width
     implicit none
     private
@@ -53,28 +53,28 @@ contains
     !> gather_particle for full stencils of width 3 in 3D.
     pure subroutine gather_w3_3d(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
         integer, parameter :: n1 = 3, n2 = 3, n3 = 3
-        integer, parameter :: m1 = n1, m2 = n2, m3 = n3
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
         include "mpm_kernel_gather.inc"
     end subroutine gather_w3_3d
 
     !> gather_particle for full stencils of width 3 in 2D.
     pure subroutine gather_w3_2d(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
         integer, parameter :: n1 = 3, n2 = 3, n3 = 1
-        integer, parameter :: m1 = n1, m2 = n2, m3 = n3
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
         include "mpm_kernel_gather.inc"
     end subroutine gather_w3_2d
 
     !> gather_particle for full stencils of width 2 in 3D.
     pure subroutine gather_w2_3d(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
         integer, parameter :: n1 = 2, n2 = 2, n3 = 2
-        integer, parameter :: m1 = n1, m2 = n2, m3 = n3
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
         include "mpm_kernel_gather.inc"
     end subroutine gather_w2_3d
 
     !> gather_particle for full stencils of width 2 in 2D.
     pure subroutine gather_w2_2d(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
         integer, parameter :: n1 = 2, n2 = 2, n3 = 1
-        integer, parameter :: m1 = n1, m2 = n2, m3 = n3
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
         include "mpm_kernel_gather.inc"
     end subroutine gather_w2_2d
 
@@ -83,7 +83,7 @@ contains
     pure subroutine gather_narrow(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient, &
             n1, n2, n3)
         integer, intent(in) :: n1, n2, n3
-        integer, parameter :: m1 = narrow_width, m2 = narrow_width, m3 = narrow_width
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
         include "mpm_kernel_gather.inc"
     end subroutine gather_narrow
 
@@ -91,6 +91,7 @@ contains
     !> loops of its width here; scratch of the stencil's width, m = n).
     pure subroutine gather_any(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient, &
             n1, n2, n3, m1, m2, m3)
+        use mpm_stencil, only: axis_derivatives => axis_derivatives_any
         integer, intent(in) :: n1, n2, n3, m1, m2, m3
         include "mpm_kernel_gather.inc"
     end subroutine gather_any

@@ -11,12 +11,12 @@
 module mpm_kernel_scatter
     use mpm_kinds, only: wp
     use mpm_grid, only: grid_type
-    use mpm_stencil, only: stencils_type, axis_derivatives
+    use mpm_stencil, only: stencils_type, axis_derivatives, fixed_width
     implicit none
     private
     public :: scatter_particle, narrow_width
 
-    integer, parameter :: narrow_width = 3
+    integer, parameter :: narrow_width = fixed_width
         !! widest shape function whose stencils on a grid with a narrow axis (fewer nodes than
         !! the width) take the variant with scratch of this fixed width (the vibrating bar,
         !! the columns: one cell across); wider ones take the variant of any width
@@ -94,7 +94,7 @@ contains
     pure subroutine scatter_w3_3d(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
             vs, fint_row, bf, body_row, buf)
         integer, parameter :: n1 = 3, n2 = 3, n3 = 3
-        integer, parameter :: m1 = n1, m2 = n2, m3 = n3
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
         include "mpm_kernel_scatter.inc"
     end subroutine scatter_w3_3d
 
@@ -102,7 +102,7 @@ contains
     pure subroutine scatter_w3_2d(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
             vs, fint_row, bf, body_row, buf)
         integer, parameter :: n1 = 3, n2 = 3, n3 = 1
-        integer, parameter :: m1 = n1, m2 = n2, m3 = n3
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
         include "mpm_kernel_scatter.inc"
     end subroutine scatter_w3_2d
 
@@ -110,7 +110,7 @@ contains
     pure subroutine scatter_w2_3d(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
             vs, fint_row, bf, body_row, buf)
         integer, parameter :: n1 = 2, n2 = 2, n3 = 2
-        integer, parameter :: m1 = n1, m2 = n2, m3 = n3
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
         include "mpm_kernel_scatter.inc"
     end subroutine scatter_w2_3d
 
@@ -118,7 +118,7 @@ contains
     pure subroutine scatter_w2_2d(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
             vs, fint_row, bf, body_row, buf)
         integer, parameter :: n1 = 2, n2 = 2, n3 = 1
-        integer, parameter :: m1 = n1, m2 = n2, m3 = n3
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
         include "mpm_kernel_scatter.inc"
     end subroutine scatter_w2_2d
 
@@ -127,7 +127,7 @@ contains
     pure subroutine scatter_narrow(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, &
             momentum_row, vs, fint_row, bf, body_row, buf, n1, n2, n3)
         integer, intent(in) :: n1, n2, n3
-        integer, parameter :: m1 = narrow_width, m2 = narrow_width, m3 = narrow_width
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
         include "mpm_kernel_scatter.inc"
     end subroutine scatter_narrow
 
@@ -135,6 +135,7 @@ contains
     !> loops of its width here; scratch of the stencil's width, m = n).
     pure subroutine scatter_any(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
             vs, fint_row, bf, body_row, buf, n1, n2, n3, m1, m2, m3)
+        use mpm_stencil, only: axis_derivatives => axis_derivatives_any
         integer, intent(in) :: n1, n2, n3, m1, m2, m3
         include "mpm_kernel_scatter.inc"
     end subroutine scatter_any
