@@ -1,29 +1,40 @@
-!> Shape functions: the abstract interface and the per-particle stencil of nodes.
+!> Shape functions: the abstract interface every shape function extends, and the stencil of
+!> one particle.
 !>
-!> A shape function evaluates, for one particle, the nodes it touches with their weights
-!> N_i(x_p) and gradients grad N_i(x_p). Concrete shape functions are extensions of
-!> `shape_type` in their own modules (linear, cpGIMP); the solver sees only this interface.
-!> Evaluations are `pure` so they can run inside threaded particle loops.
+!> A shape function is a tensor product of 1D weights. Each concrete shape function is an
+!> extension of `shape_type` in its own module (linear, cpGIMP) and states:
+!>
+!> - its support width, `nodes_per_axis`: how many consecutive nodes per axis a particle
+!>   can touch. The per-step stencils (mpm_stencil) and the transfer kernels are sized from
+!>   it, and the kernels pick a variant with loops of constant length by this width;
+!> - its halo width, `halo_width`: how many node layers two images must share at a cut of
+!>   the grid (mpm_halo sums them after each scatter);
+!> - its 1D weights and derivatives, `weights_1d`, which must sum to one (the stencils keep
+!>   all derivatives but the last, which is minus the sum of the others).
+!>
+!> `weights_all` evaluates `weights_1d` for every particle and axis once per step; a shape
+!> function may override it with a loop that calls its own 1D weights directly (no dynamic
+!> dispatch per particle, as linear and cpGIMP do). Evaluations are `pure` so they can run
+!> inside threaded particle loops. mpm_shape_factory makes a shape function from its case
+!> key.
 module mpm_shape
     use mpm_kinds, only: wp
     use mpm_grid, only: grid_type
     implicit none
     private
-    public :: shape_type, stencil_type, max_stencil, tensor_product
+    public :: shape_type, stencil_type, tensor_product
 
-    integer, parameter :: max_stencil = 27
-        !! largest number of nodes one particle touches (3 per direction in 3D)
-
-    !> Nodes, weights and weight gradients of one particle.
+    !> Nodes, weights and weight gradients of one particle (tests and diagnostics; the passes
+    !> of a step use the 1D factors of mpm_stencil).
     type :: stencil_type
         integer :: count = 0
             !! number of nodes used
-        integer :: node(max_stencil) = 0
-            !! linear node indices
-        real(wp) :: w(max_stencil) = 0.0_wp
+        integer, allocatable :: node(:)
+            !! linear node indices (nodes_per_axis**dim entries, first count used)
+        real(wp), allocatable :: w(:)
             !! weights N_i(x_p) [-]
-        real(wp) :: dw(3, max_stencil) = 0.0_wp
-            !! weight gradients dN_i/dx (first dim components used) [1/m]
+        real(wp), allocatable :: dw(:, :)
+            !! weight gradients dN_i/dx (3, nodes; first dim components used) [1/m]
     end type stencil_type
 
     !> A shape function: a tensor product of 1D weights.
@@ -31,9 +42,11 @@ module mpm_shape
     contains
         procedure(weights_1d_interface), deferred :: weights_1d
             !! 1D weights and derivatives of the nodes around a coordinate
-        procedure(nodes_per_axis_interface), deferred :: nodes_per_axis
-            !! nodes per axis a particle can touch (2 linear, 3 cpGIMP)
-        procedure(weights_all_interface), deferred :: weights_all
+        procedure(width_interface), deferred :: nodes_per_axis
+            !! support width: nodes per axis a particle can touch (2 linear, 3 cpGIMP)
+        procedure(width_interface), deferred :: halo_width
+            !! node layers two images share at a cut of the grid
+        procedure :: weights_all
             !! weights_1d for every particle and axis (one call per step, threaded)
         procedure :: evaluate
             !! nodes, weights and gradients of one particle
@@ -42,7 +55,9 @@ module mpm_shape
     abstract interface
         !> 1D weights of the nodes first .. first + nodes_per_axis - 1 (0-based) around the
         !> coordinate xi (in cell units from the grid origin) of a particle of half-size lp.
-        !> Nodes outside the grid may be named; their weights are zero.
+        !> Nodes outside the grid may be named; their weights are zero. The weights sum to
+        !> one. The arrays are contiguous, so an implementation passes them on to a routine
+        !> of fixed width without a copy.
         pure subroutine weights_1d_interface(self, xi, lp, dx, ncells, first, w, dw)
             import :: shape_type, wp
             class(shape_type), intent(in) :: self
@@ -57,42 +72,58 @@ module mpm_shape
                 !! cells along this axis
             integer, intent(out) :: first
                 !! first node (0-based)
-            real(wp), intent(out) :: w(3)
-                !! weights [-] (unused entries zero)
-            real(wp), intent(out) :: dw(3)
-                !! derivatives [1/m] (unused entries zero)
+            real(wp), intent(out), contiguous :: w(:)
+                !! weights of the nodes_per_axis nodes [-]
+            real(wp), intent(out), contiguous :: dw(:)
+                !! their derivatives with respect to the particle coordinate [1/m]
         end subroutine weights_1d_interface
 
-        !> weights_1d of every particle along every axis of the grid.
-        subroutine weights_all_interface(self, grid, x, lp, first, w, dw)
-            import :: shape_type, grid_type, wp
-            class(shape_type), intent(in) :: self
-                !! the shape function
-            type(grid_type), intent(in) :: grid
-                !! grid geometry
-            real(wp), intent(in) :: x(:, :)
-                !! particle positions (dim, n) [m]
-            real(wp), intent(in) :: lp(:, :)
-                !! particle half-sizes (dim, n) [m]
-            integer, intent(out) :: first(:, :)
-                !! first node per axis, 0-based (dim, n)
-            real(wp), intent(out) :: w(:, :, :)
-                !! weights (nodes_per_axis, dim, n) [-]
-            real(wp), intent(out) :: dw(:, :, :)
-                !! derivatives of the first nodes_per_axis - 1 nodes (nodes_per_axis - 1, dim,
-                !! n) [1/m]; the last one is minus their sum (the weights sum to one), so it
-                !! is not stored
-        end subroutine weights_all_interface
-
-        !> Nodes per axis that a particle can touch.
-        pure integer function nodes_per_axis_interface(self)
+        !> A width of the shape function, in nodes (nodes_per_axis, halo_width).
+        pure integer function width_interface(self)
             import :: shape_type
             class(shape_type), intent(in) :: self
                 !! the shape function
-        end function nodes_per_axis_interface
+        end function width_interface
     end interface
 
 contains
+
+    !> weights_1d of every particle along every axis of the grid: the generic loop (one
+    !> dynamic call per particle and axis); a shape function may override it.
+    subroutine weights_all(self, grid, x, lp, first, w, dw)
+        class(shape_type), intent(in) :: self
+            !! the shape function
+        type(grid_type), intent(in) :: grid
+            !! grid geometry
+        real(wp), intent(in) :: x(:, :)
+            !! particle positions (dim, n) [m]
+        real(wp), intent(in) :: lp(:, :)
+            !! particle half-sizes (dim, n) [m]
+        integer, intent(out) :: first(:, :)
+            !! first node per axis, 0-based (dim, n)
+        real(wp), intent(out) :: w(:, :, :)
+            !! weights (nodes_per_axis, dim, n) [-]
+        real(wp), intent(out) :: dw(:, :, :)
+            !! derivatives of the first nodes_per_axis - 1 nodes (nodes_per_axis - 1, dim,
+            !! n) [1/m]; the last one is minus their sum (the weights sum to one), so it
+            !! is not stored
+
+        integer :: p, a, nps
+        real(wp) :: xi, w1(size(w, 1)), dw1(size(w, 1))
+
+        nps = size(w, 1)
+        !$omp parallel do default(none) schedule(static) &
+        !$omp shared(self, grid, x, lp, first, w, dw, nps) private(p, a, xi, w1, dw1)
+        do p = 1, size(x, 2)
+            do a = 1, grid%dim
+                xi = (x(a, p) - grid%origin(a))/grid%dx
+                call self%weights_1d(xi, lp(a, p), grid%dx, grid%ncells(a), first(a, p), w1, dw1)
+                w(:, a, p) = w1
+                dw(:, a, p) = dw1(1:nps - 1)
+            end do
+        end do
+        !$omp end parallel do
+    end subroutine weights_all
 
     !> Stencil of a particle at `xp` with GIMP half-sizes `lp`: the tensor product of the
     !> 1D weights, nodes outside the grid and zero weights skipped.
@@ -109,8 +140,9 @@ contains
             !! nodes, weights, gradients
 
         integer :: a, first(3)
-        real(wp) :: w1(3, 3), dw1(3, 3)
+        real(wp), allocatable :: w1(:, :), dw1(:, :)
 
+        allocate (w1(self%nodes_per_axis(), 3), dw1(self%nodes_per_axis(), 3))
         first = 0
         w1 = 0.0_wp
         dw1 = 0.0_wp
@@ -119,36 +151,40 @@ contains
             call self%weights_1d((xp(a) - grid%origin(a))/grid%dx, lp(a), grid%dx, &
                 grid%ncells(a), first(a), w1(:, a), dw1(:, a))
         end do
-        call tensor_product(grid, first, self%nodes_per_axis(), w1, dw1, st)
+        call tensor_product(grid, first, w1, dw1, st)
     end subroutine evaluate
 
     !> Tensor-product stencil from per-axis weights.
     !>
-    !> Axis `a` uses nodes first(a) .. first(a) + nper - 1 (0-based) with weights w1(:, a) and
-    !> derivatives dw1(:, a). Nodes outside the grid and zero weights are skipped.
-    pure subroutine tensor_product(grid, first, nper, w1, dw1, st)
+    !> Axis `a` uses nodes first(a) .. first(a) + nper - 1 (0-based, nper = size(w1, 1)) with
+    !> weights w1(:, a) and derivatives dw1(:, a). Nodes outside the grid and zero weights are
+    !> skipped.
+    pure subroutine tensor_product(grid, first, w1, dw1, st)
         type(grid_type), intent(in) :: grid
             !! grid geometry
         integer, intent(in) :: first(3)
             !! first node along each axis (0-based)
-        integer, intent(in) :: nper
-            !! nodes per axis (2 or 3)
-        real(wp), intent(in) :: w1(3, 3)
+        real(wp), intent(in) :: w1(:, :)
             !! 1D weights (node, axis) [-]
-        real(wp), intent(in) :: dw1(3, 3)
+        real(wp), intent(in) :: dw1(:, :)
             !! 1D weight derivatives (node, axis) [1/m]
         type(stencil_type), intent(out) :: st
             !! resulting stencil
 
-        integer :: i, j, k, ii, jj, kk, nk, c
+        integer :: i, j, k, ii, jj, kk, nk, c, nper
         real(wp) :: wij
 
+        nper = size(w1, 1)
         c = 0
         if (grid%dim == 2) then
             nk = 1
         else
             nk = nper
         end if
+        allocate (st%node(nper*nper*nk), st%w(nper*nper*nk), st%dw(3, nper*nper*nk))
+        st%node = 0
+        st%w = 0.0_wp
+        st%dw = 0.0_wp
         do k = 1, nk
             kk = first(3) + k - 1
             if (kk < 0 .or. kk >= grid%nn(3)) cycle

@@ -1,5 +1,10 @@
-!> Build the shape function a case asks for.
+!> The registry of shape functions: the shape function a case asks for.
+!>
+!> One line per shape function, from its key in the case (`case%solver%shape`, an enumeration of
+!> mpm_case) to its type. A key without a line here is an error, never a default.
 module mpm_shape_factory
+    use mpm_error, only: error_type, fatal_error, exit_other
+    use mpm_strings, only: int_text
     use mpm_case, only: shape_linear, shape_cpgimp
     use mpm_shape, only: shape_type
     use mpm_shape_linear, only: linear_shape_type
@@ -10,21 +15,19 @@ module mpm_shape_factory
 
 contains
 
-    !> Allocate the shape function for `kind` (shape_linear or shape_cpgimp).
-    subroutine new_shape(shape, kind)
+    !> Allocate the shape function of key `kind`; an unknown key is an error.
+    subroutine new_shape(shape, kind, error)
         class(shape_type), allocatable, intent(out) :: shape
             !! the shape function
         integer, intent(in) :: kind
             !! case%solver%shape
+        type(error_type), allocatable, intent(out) :: error
+            !! set (exit_other) when no shape function has the key
 
-        select case (kind)
-        case (shape_linear)
-            allocate (linear_shape_type :: shape)
-        case (shape_cpgimp)
-            allocate (gimp_shape_type :: shape)
-        case default
-            allocate (gimp_shape_type :: shape)
-        end select
+        if (kind == shape_linear) allocate (linear_shape_type :: shape)
+        if (kind == shape_cpgimp) allocate (gimp_shape_type :: shape)
+        if (.not. allocated(shape)) call fatal_error(error, "no shape function has the key "// &
+            int_text(kind)//" (mpm_shape_factory)", exit_other)
     end subroutine new_shape
 
 end module mpm_shape_factory

@@ -22,11 +22,15 @@ module mpm_shape_gimp
     private
     public :: gimp_shape_type, gimp_weight, gimp_weights_1d
 
+    integer, parameter :: width = 3
+        !! nodes per axis: lp <= dx/2 keeps the support within three nodes
+
     !> cpGIMP: a particle touches up to 3 nodes per direction (lp <= dx/2).
     type, extends(shape_type) :: gimp_shape_type
     contains
         procedure :: weights_1d => gimp_shape_weights_1d
         procedure :: nodes_per_axis => gimp_nodes_per_axis
+        procedure :: halo_width => gimp_halo_width
         procedure :: weights_all => gimp_weights_all
     end type gimp_shape_type
 
@@ -88,9 +92,9 @@ contains
             !! cells along this axis
         integer, intent(out) :: first
             !! first of the three nodes (0-based; may be -1 or past the grid, skipped later)
-        real(wp), intent(out) :: w(3)
+        real(wp), intent(out) :: w(width)
             !! weights [-]
-        real(wp), intent(out) :: dw(3)
+        real(wp), intent(out) :: dw(width)
             !! derivatives [1/m]
 
         integer :: k
@@ -106,7 +110,7 @@ contains
         ! (distance >= 1.5 dx >= dx + lp), and symmetrically on the right half: the first
         ! node is the cell's left node minus one in the left half, without a branch
         first = floor(xi - 0.5_wp)
-        do k = 1, 3
+        do k = 1, width
             call gimp_weight_cells(xi - real(first + k - 1, wp), l, half_inv_l, inv_dx, w(k), &
                 dw(k))
         end do
@@ -117,15 +121,26 @@ contains
         real(wp), intent(in) :: xi, lp, dx
         integer, intent(in) :: ncells
         integer, intent(out) :: first
-        real(wp), intent(out) :: w(3), dw(3)
+        real(wp), intent(out), contiguous :: w(:), dw(:)
 
+        ! contiguous: no copy in and out here, so this wrapper stays small and the optimiser
+        ! inlines gimp_weights_1d into gimp_weights_all as it did before the wrapper took
+        ! arrays of any width (with a copy it did not, and the weights changed in their last
+        ! bits)
         call gimp_weights_1d(xi, lp, dx, ncells, first, w, dw)
     end subroutine gimp_shape_weights_1d
 
     pure integer function gimp_nodes_per_axis(self)
         class(gimp_shape_type), intent(in) :: self
-        gimp_nodes_per_axis = 3
+        gimp_nodes_per_axis = width
     end function gimp_nodes_per_axis
+
+    !> Three node layers at a cut c: a particle of the slab below it (cells < c) touches
+    !> nodes up to c + 1, one of the slab above (cells >= c) nodes from c - 1.
+    pure integer function gimp_halo_width(self)
+        class(gimp_shape_type), intent(in) :: self
+        gimp_halo_width = 3
+    end function gimp_halo_width
 
     subroutine gimp_weights_all(self, grid, x, lp, first, w, dw)
         class(gimp_shape_type), intent(in) :: self
@@ -135,7 +150,7 @@ contains
         real(wp), intent(out) :: w(:, :, :), dw(:, :, :)
 
         integer :: p, a
-        real(wp) :: xi, w3(3), dw3(3)
+        real(wp) :: xi, w3(width), dw3(width)
 
         !$omp parallel do default(none) schedule(static) shared(grid, x, lp, first, w, dw) &
         !$omp private(p, a, xi, w3, dw3)
@@ -143,8 +158,8 @@ contains
             do a = 1, grid%dim
                 xi = (x(a, p) - grid%origin(a))/grid%dx
                 call gimp_weights_1d(xi, lp(a, p), grid%dx, grid%ncells(a), first(a, p), w3, dw3)
-                w(:, a, p) = w3(1:3)
-                dw(:, a, p) = dw3(1:2)
+                w(:, a, p) = w3
+                dw(:, a, p) = dw3(1:width - 1)
             end do
         end do
         !$omp end parallel do

@@ -7,11 +7,15 @@ module mpm_shape_linear
     private
     public :: linear_shape_type, linear_weights_1d
 
+    integer, parameter :: width = 2
+        !! nodes per axis: the two nodes of the particle's cell
+
     !> Standard MPM hat functions: a particle touches the 2**dim nodes of its cell.
     type, extends(shape_type) :: linear_shape_type
     contains
         procedure :: weights_1d => linear_shape_weights_1d
         procedure :: nodes_per_axis => linear_nodes_per_axis
+        procedure :: halo_width => linear_halo_width
         procedure :: weights_all => linear_weights_all
     end type linear_shape_type
 
@@ -27,17 +31,17 @@ contains
             !! cell size [m]
         integer, intent(out) :: first
             !! left node of the cell (0-based)
-        real(wp), intent(out) :: w(3)
-            !! weights of nodes first, first + 1 (third unused) [-]
-        real(wp), intent(out) :: dw(3)
+        real(wp), intent(out) :: w(width)
+            !! weights of nodes first, first + 1 [-]
+        real(wp), intent(out) :: dw(width)
             !! derivatives [1/m]
 
         real(wp) :: r
 
         first = min(max(floor(xi), 0), ncells - 1)
         r = xi - real(first, wp)
-        w = [1.0_wp - r, r, 0.0_wp]
-        dw = [-1.0_wp/dx, 1.0_wp/dx, 0.0_wp]
+        w = [1.0_wp - r, r]
+        dw = [-1.0_wp/dx, 1.0_wp/dx]
     end subroutine linear_weights_1d
 
     pure subroutine linear_shape_weights_1d(self, xi, lp, dx, ncells, first, w, dw)
@@ -45,15 +49,25 @@ contains
         real(wp), intent(in) :: xi, lp, dx
         integer, intent(in) :: ncells
         integer, intent(out) :: first
-        real(wp), intent(out) :: w(3), dw(3)
+        real(wp), intent(out), contiguous :: w(:), dw(:)
 
         call linear_weights_1d(xi, ncells, dx, first, w, dw)
     end subroutine linear_shape_weights_1d
 
     pure integer function linear_nodes_per_axis(self)
         class(linear_shape_type), intent(in) :: self
-        linear_nodes_per_axis = 2
+        linear_nodes_per_axis = width
     end function linear_nodes_per_axis
+
+    !> Three node layers at a cut: a particle of a slab touches only the node of its own
+    !> cut (the cut's node layer), but the slab's grid keeps one ghost cell beyond each cut
+    !> (mpm_decomposition: a particle moves up to a cell in a step and stays on its image's
+    !> grid until it migrates), and the images hold the same sums on every node layer their
+    !> grids share (the running contact loads of those nodes follow them at a rebalance).
+    pure integer function linear_halo_width(self)
+        class(linear_shape_type), intent(in) :: self
+        linear_halo_width = 3
+    end function linear_halo_width
 
     subroutine linear_weights_all(self, grid, x, lp, first, w, dw)
         class(linear_shape_type), intent(in) :: self
@@ -63,16 +77,16 @@ contains
         real(wp), intent(out) :: w(:, :, :), dw(:, :, :)
 
         integer :: p, a
-        real(wp) :: xi, w3(3), dw3(3)
+        real(wp) :: xi, w2(width), dw2(width)
 
         !$omp parallel do default(none) schedule(static) shared(grid, x, lp, first, w, dw) &
-        !$omp private(p, a, xi, w3, dw3)
+        !$omp private(p, a, xi, w2, dw2)
         do p = 1, size(x, 2)
             do a = 1, grid%dim
                 xi = (x(a, p) - grid%origin(a))/grid%dx
-                call linear_weights_1d(xi, grid%ncells(a), grid%dx, first(a, p), w3, dw3)
-                w(:, a, p) = w3(1:2)
-                dw(:, a, p) = dw3(1:1)
+                call linear_weights_1d(xi, grid%ncells(a), grid%dx, first(a, p), w2, dw2)
+                w(:, a, p) = w2
+                dw(:, a, p) = dw2(1:width - 1)
             end do
         end do
         !$omp end parallel do

@@ -26,11 +26,13 @@ module mpm_stencil
     use mpm_shape, only: shape_type
     implicit none
     private
-    public :: stencils_type, compute_stencils, max_nodes, particle_nodes, stencil_bytes, &
-        axis_derivatives
+    public :: stencils_type, compute_stencils, particle_nodes, stencil_bytes, axis_derivatives, &
+        axis_derivatives_any, fixed_width
 
-    integer, parameter :: max_nodes = 27
-        !! largest number of nodes one particle touches (3 per direction in 3D)
+    integer, parameter :: fixed_width = 3
+        !! widest stencil the kernels with scratch of fixed size serve (constant-width loops
+        !! of widths 2 and 3, narrow grids): axis_derivatives
+
     integer, parameter :: particles_per_chunk = 2048
         !! particles per chunk of a scatter pass (at least; fewer chunks for small runs)
     integer, parameter :: max_chunks = 32
@@ -47,10 +49,13 @@ module mpm_stencil
         integer :: dim = 2
             !! space dimensions
         integer :: nps = 3
-            !! nodes per axis of the shape function (2 linear, 3 cpGIMP)
+            !! nodes per axis of the shape function (its support width, nodes_per_axis)
         integer :: nper(3) = 1
             !! nodes kept per axis: nps, less on an axis of the grid with fewer nodes; 1 on
             !! axis 3 in 2D
+        integer :: width = 0
+            !! nps when every axis keeps all nps nodes (the kernels then run the loops of
+            !! constant length of that width, when they have them), 0 otherwise
         integer :: count = 1
             !! nodes per particle, product(nper)
         integer :: stride(3) = 0
@@ -117,7 +122,6 @@ contains
 
         integer :: p, a, k, dim, nps, kept, first, shift, c, q, nlayers, nb, b
         integer :: cell_stride(3)
-        real(wp) :: w(3), dw(3)
 
         dim = grid%dim
         nps = shape%nodes_per_axis()
@@ -129,7 +133,7 @@ contains
         cell_stride = [1, grid%ncells(1), grid%ncells(1)*grid%ncells(2)]
         !$omp parallel do default(none) schedule(static) &
         !$omp shared(stc, grid, particles, dim, nps, cell_stride) &
-        !$omp private(p, a, k, kept, first, shift, w, dw, c)
+        !$omp private(p, a, k, kept, first, shift, c)
         do p = 1, particles%n
             c = 1
             do a = 1, dim
@@ -138,18 +142,7 @@ contains
                 kept = stc%nper(a)
                 shift = max(0, min(first, grid%nn(a) - kept)) - first
                 if (shift /= 0 .or. kept < nps) then
-                    w(1:nps) = stc%w(:, a, p)
-                    dw(1:nps - 1) = stc%dw(:, a, p)
-                    dw(nps) = -sum(dw(1:nps - 1))
-                    do k = 1, nps
-                        if (k + shift >= 1 .and. k + shift <= nps .and. k <= kept) then
-                            stc%w(k, a, p) = w(k + shift)
-                            if (k < nps) stc%dw(k, a, p) = dw(k + shift)
-                        else
-                            stc%w(k, a, p) = 0.0_wp
-                            if (k < nps) stc%dw(k, a, p) = 0.0_wp
-                        end if
-                    end do
+                    call shift_factors(stc%w(:, a, p), stc%dw(:, a, p), shift, kept)
                     stc%first(a, p) = first + shift
                 end if
                 do k = 1, nps - 1   ! without branches: where w is zero depends on the position
@@ -202,6 +195,36 @@ contains
         call cut_chunks(stc, grid)
     end subroutine compute_stencils
 
+    !> The 1D factors of one particle and axis moved by `shift` nodes (node k takes what node
+    !> k + shift had), only the first `kept` nodes kept, the others zero.
+    pure subroutine shift_factors(w, dw, shift, kept)
+        real(wp), intent(inout) :: w(:)
+            !! weights (nps) [-]
+        real(wp), intent(inout) :: dw(:)
+            !! derivatives of the first nps - 1 nodes [1/m]
+        integer, intent(in) :: shift
+            !! nodes to move by
+        integer, intent(in) :: kept
+            !! nodes kept
+
+        integer :: k, nps
+        real(wp) :: w0(size(w)), dw0(size(w))
+
+        nps = size(w)
+        w0 = w
+        dw0(1:nps - 1) = dw
+        dw0(nps) = -sum(dw0(1:nps - 1))
+        do k = 1, nps
+            if (k + shift >= 1 .and. k + shift <= nps .and. k <= kept) then
+                w(k) = w0(k + shift)
+                if (k < nps) dw(k) = dw0(k + shift)
+            else
+                w(k) = 0.0_wp
+                if (k < nps) dw(k) = 0.0_wp
+            end if
+        end do
+    end subroutine shift_factors
+
     !> Cell index (0-based) along axis a of a coordinate, clamped to the grid (int truncates
     !> towards zero: the same cell as floor after the clamp).
     pure integer function axis_cell(grid, x, a)
@@ -237,6 +260,8 @@ contains
         do a = 1, dim
             stc%nper(a) = min(nps, grid%nn(a))
         end do
+        stc%width = 0
+        if (all(stc%nper(1:dim) == nps)) stc%width = nps
         stc%count = product(stc%nper)
         stc%stride = [1, grid%nn(1), grid%nn(1)*grid%nn(2)]
         stc%slow = dim
@@ -354,15 +379,16 @@ contains
             !! stencils of the step
         integer, intent(in) :: p
             !! particle
-        integer, intent(out) :: node(max_nodes)
-            !! linear node indices (first stc%count used)
-        real(wp), intent(out) :: w(max_nodes)
+        integer, intent(out) :: node(:)
+            !! linear node indices (stc%count or more entries, first stc%count used)
+        real(wp), intent(out) :: w(:)
             !! weights [-]
-        real(wp), intent(out) :: dw(3, max_nodes)
-            !! weight gradients [1/m] (first dim components)
+        real(wp), intent(out) :: dw(:, :)
+            !! weight gradients (3, nodes) [1/m] (first dim components)
 
         integer :: i, j, k, c, base, basej
-        real(wp) :: wjk, wx(3), dwx(3), wy(3), dwy(3), wz(3), dwz(3)
+        real(wp) :: wjk, wx(stc%nps), dwx(stc%nps), wy(stc%nps), dwy(stc%nps), wz(stc%nps), &
+            dwz(stc%nps)
 
         call axis_factors(stc, 1, p, stc%nper(1), wx, dwx)
         call axis_factors(stc, 2, p, stc%nper(2), wy, dwy)
@@ -401,9 +427,12 @@ contains
         end if
     end subroutine particle_nodes
 
-    !> The 1D weight derivatives of particle p along axis a, nodes 1 .. n (n = nper(a)): the
-    !> derivative of the last node is minus the sum of the others (zero when its weight is
-    !> zero).
+    !> The 1D weight derivatives of particle p along axis a, nodes 1 .. n (n = nper(a) <=
+    !> fixed_width): the derivative of the last node is minus the sum of the others (zero
+    !> when its weight is zero). For the kernels of widths up to fixed_width: scratch of that
+    !> fixed size, which the optimiser compiles as main did (with an extent of n, the
+    !> narrow-grid kernels fused their operations otherwise and changed in the last bits);
+    !> axis_derivatives_any for any width.
     pure subroutine axis_derivatives(stc, a, p, n, dw)
         type(stencils_type), intent(in) :: stc
             !! stencils of the step
@@ -412,8 +441,8 @@ contains
         integer, intent(in) :: p
             !! particle
         integer, intent(in) :: n
-            !! nodes along the axis, stc%nper(a)
-        real(wp), intent(out) :: dw(3)
+            !! nodes along the axis, stc%nper(a), at most fixed_width
+        real(wp), intent(out) :: dw(fixed_width)
             !! derivatives (first n) [1/m]
 
         integer :: k
@@ -427,6 +456,30 @@ contains
         dw(n) = merge(-total, 0.0_wp, stc%w(n, a, p) > 0.0_wp)
     end subroutine axis_derivatives
 
+    !> axis_derivatives for any width (scratch of n nodes).
+    pure subroutine axis_derivatives_any(stc, a, p, n, dw)
+        type(stencils_type), intent(in) :: stc
+            !! stencils of the step
+        integer, intent(in) :: a
+            !! axis
+        integer, intent(in) :: p
+            !! particle
+        integer, intent(in) :: n
+            !! nodes along the axis, stc%nper(a)
+        real(wp), intent(out) :: dw(n)
+            !! derivatives [1/m]
+
+        integer :: k
+        real(wp) :: total
+
+        total = 0.0_wp
+        do k = 1, n - 1
+            dw(k) = stc%dw(k, a, p)
+            total = total + dw(k)
+        end do
+        dw(n) = merge(-total, 0.0_wp, stc%w(n, a, p) > 0.0_wp)
+    end subroutine axis_derivatives_any
+
     !> The 1D weights and derivatives of particle p along axis a, nodes 1 .. n (n = nper(a)),
     !> the derivatives from axis_derivatives.
     pure subroutine axis_factors(stc, a, p, n, w, dw)
@@ -438,13 +491,13 @@ contains
             !! particle
         integer, intent(in) :: n
             !! nodes along the axis, stc%nper(a)
-        real(wp), intent(out) :: w(3)
+        real(wp), intent(out) :: w(:)
             !! weights (first n) [-]
-        real(wp), intent(out) :: dw(3)
+        real(wp), intent(out) :: dw(:)
             !! derivatives (first n) [1/m]
 
         w(1:n) = stc%w(1:n, a, p)
-        call axis_derivatives(stc, a, p, n, dw)
+        call axis_derivatives_any(stc, a, p, n, dw(1:n))
     end subroutine axis_factors
 
     !> Bytes per particle of the stencils, the order and the cell scratch.

@@ -1,7 +1,9 @@
 !> Halo exchange: the nodal sums of the node layers two images share.
 !>
-!> Where the grid is cut among images (mpm_decomposition), the three node layers around a
-!> cut are on both images, and each holds the sums of its own particles only. After each
+!> Where the grid is cut among images (mpm_decomposition), the node layers around a cut
+!> (`layers` of them: the halo width of the shape function, shape_type%halo_width; three
+!> for linear and cpGIMP) are on both images, and each holds the sums of its own particles
+!> only. After each
 !> scatter the images trade those layers and add the neighbour's part, so both hold the
 !> whole sum (a + b on one and b + a on the other: the same bits) and their nodal updates
 !> agree. Before the first scatter of a step the images also trade the part of their box of
@@ -16,32 +18,40 @@ module mpm_halo
     use mpm_parallel, only: exchange_neighbours
     implicit none
     private
-    public :: halo_sum, halo_contact_gaps, halo_box
-
-    integer, parameter :: shared_layers = 3
-        !! node layers shared at a cut
+    public :: halo_sum, halo_contact_gaps, halo_box, halo_nodes, halo_pairs, box_part, grow_box
 
 contains
 
     !> Add the neighbours' parts of the shared nodes' mass, momentum and forces (the fields
-    !> the last scatter wrote).
-    subroutine halo_sum(grid, mass, momentum, fint, fext)
+    !> the last scatter wrote; a field not named is not traded).
+    subroutine halo_sum(grid, layers, mass, momentum, fint, fext)
         type(grid_type), intent(inout) :: grid
             !! grid after a scatter (fold)
-        logical, intent(in) :: mass
+        integer, intent(in) :: layers
+            !! node layers shared at a cut (shape_type%halo_width)
+        logical, intent(in), optional :: mass
             !! mass was scattered
-        logical, intent(in) :: momentum
+        logical, intent(in), optional :: momentum
             !! momentum was scattered
-        logical, intent(in) :: fint
+        logical, intent(in), optional :: fint
             !! internal force was scattered
-        logical, intent(in) :: fext
+        logical, intent(in), optional :: fext
             !! extra body force was scattered
 
         integer, allocatable :: lo_nodes(:), hi_nodes(:)
         real(wp), allocatable :: send_lo(:), send_hi(:), recv_lo(:), recv_hi(:)
+        logical :: with_mass, with_momentum, with_fint, with_fext
 
         if (grid%halo_axis == 0) return
-        call side_nodes(grid, lo_nodes, hi_nodes)
+        with_mass = .false.
+        if (present(mass)) with_mass = mass
+        with_momentum = .false.
+        if (present(momentum)) with_momentum = momentum
+        with_fint = .false.
+        if (present(fint)) with_fint = fint
+        with_fext = .false.
+        if (present(fext)) with_fext = fext
+        call halo_nodes(grid, layers, lo_nodes, hi_nodes)
         call pack_side(lo_nodes, send_lo)
         call pack_side(hi_nodes, send_hi)
         call exchange_neighbours(grid%halo_left, grid%halo_right, send_lo, send_hi, recv_lo, &
@@ -62,19 +72,19 @@ contains
             r = 0
             do k = 1, size(nodes)
                 id = nodes(k)
-                if (mass) then
+                if (with_mass) then
                     buf(r + 1) = grid%mass(id)
                     r = r + 1
                 end if
-                if (momentum) then
+                if (with_momentum) then
                     buf(r + 1:r + d) = grid%momentum(:, id)
                     r = r + d
                 end if
-                if (fint) then
+                if (with_fint) then
                     buf(r + 1:r + d) = grid%fint(:, id)
                     r = r + d
                 end if
-                if (fext) then
+                if (with_fext) then
                     buf(r + 1:r + d) = grid%fext(:, id)
                     r = r + d
                 end if
@@ -96,19 +106,19 @@ contains
                     r = r + rows()
                     cycle
                 end if
-                if (mass) then
+                if (with_mass) then
                     grid%mass(id) = grid%mass(id) + buf(r + 1)
                     r = r + 1
                 end if
-                if (momentum) then
+                if (with_momentum) then
                     grid%momentum(:, id) = grid%momentum(:, id) + buf(r + 1:r + d)
                     r = r + d
                 end if
-                if (fint) then
+                if (with_fint) then
                     grid%fint(:, id) = grid%fint(:, id) + buf(r + 1:r + d)
                     r = r + d
                 end if
-                if (fext) then
+                if (with_fext) then
                     grid%fext(:, id) = grid%fext(:, id) + buf(r + 1:r + d)
                     r = r + d
                 end if
@@ -117,19 +127,21 @@ contains
 
         integer function rows()
             rows = 0
-            if (mass) rows = rows + 1
-            if (momentum) rows = rows + grid%dim
-            if (fint) rows = rows + grid%dim
-            if (fext) rows = rows + grid%dim
+            if (with_mass) rows = rows + 1
+            if (with_momentum) rows = rows + grid%dim
+            if (with_fint) rows = rows + grid%dim
+            if (with_fext) rows = rows + grid%dim
         end function rows
 
     end subroutine halo_sum
 
     !> Grow this image's box of touched nodes (0-based node coordinates, lo > hi along an axis
     !> when empty) by the shared nodes its neighbours' particles touch. Collective.
-    subroutine halo_box(grid, lo, hi)
+    subroutine halo_box(grid, layers, lo, hi)
         type(grid_type), intent(in) :: grid
             !! this image's grid
+        integer, intent(in) :: layers
+            !! node layers shared at a cut (shape_type%halo_width)
         integer, intent(inout) :: lo(3), hi(3)
             !! box of the nodes this image's particles touch; on return the box that also
             !! holds the shared nodes the neighbours' particles touch
@@ -142,70 +154,86 @@ contains
         n = grid%nn(a)
         ! the part of the box in each side's shared layers, counted from the side's first
         ! shared layer along the cut axis (the neighbour's numbering of the same layers)
-        send_lo = side_part(0, shared_layers - 1, grid%halo_left > 0)
-        send_hi = side_part(n - shared_layers, n - 1, grid%halo_right > 0)
+        if (grid%halo_left > 0) then
+            send_lo = real(box_part(lo, hi, a, 0, layers - 1), wp)
+        else
+            allocate (send_lo(0))
+        end if
+        if (grid%halo_right > 0) then
+            send_hi = real(box_part(lo, hi, a, n - layers, n - 1), wp)
+        else
+            allocate (send_hi(0))
+        end if
         call exchange_neighbours(grid%halo_left, grid%halo_right, send_lo, send_hi, recv_lo, &
             recv_hi, most=6)
-        call take(recv_lo, 0)
-        call take(recv_hi, n - shared_layers)
-
-    contains
-
-        function side_part(l0, l1, neighbour) result(buf)
-            integer, intent(in) :: l0, l1
-            logical, intent(in) :: neighbour
-            real(wp), allocatable :: buf(:)
-
-            integer :: plo(3), phi(3)
-
-            if (.not. neighbour) then
-                allocate (buf(0))
-                return
-            end if
-            plo = lo
-            phi = hi
-            plo(a) = max(lo(a), l0) - l0
-            phi(a) = min(hi(a), l1) - l0
-            buf = real([plo, phi], wp)
-        end function side_part
-
-        subroutine take(buf, first)
-            real(wp), intent(in) :: buf(:)
-            integer, intent(in) :: first
-                !! this image's layer of the side's first shared layer
-
-            integer :: rlo(3), rhi(3), d
-
-            if (size(buf) /= 6) return
-            rlo = nint(buf(1:3))
-            rhi = nint(buf(4:6))
-            rlo(a) = rlo(a) + first
-            rhi(a) = rhi(a) + first
-            d = grid%dim
-            if (any(rhi(1:d) < rlo(1:d))) return
-            if (any(hi(1:d) < lo(1:d))) then
-                lo = rlo
-                hi = rhi
-            else
-                lo = min(lo, rlo)
-                hi = max(hi, rhi)
-            end if
-        end subroutine take
-
+        if (size(recv_lo) == 6) call grow_box(lo, hi, nint(recv_lo), a, 0, grid%dim)
+        if (size(recv_hi) == 6) call grow_box(lo, hi, nint(recv_hi), a, n - layers, grid%dim)
     end subroutine halo_box
+
+    !> The part of the box lo .. hi (0-based node coordinates) in the node layers l0 .. l1 of
+    !> axis a, its coordinates along a counted from l0: [lo, hi] of the part (lo > hi along
+    !> a when the box misses those layers).
+    pure function box_part(lo, hi, a, l0, l1) result(part)
+        integer, intent(in) :: lo(3), hi(3)
+            !! the box
+        integer, intent(in) :: a
+            !! axis of the layers
+        integer, intent(in) :: l0, l1
+            !! first and last layer
+        integer :: part(6)
+            !! lower then upper corner of the part
+
+        part(1:3) = lo
+        part(4:6) = hi
+        part(a) = max(lo(a), l0) - l0
+        part(3 + a) = min(hi(a), l1) - l0
+    end function box_part
+
+    !> Grow the box lo .. hi by the part of a neighbour's box that box_part gave (its
+    !> coordinates along axis a counted from this image's layer `first`); an empty part leaves
+    !> the box, an empty box becomes the part.
+    pure subroutine grow_box(lo, hi, part, a, first, dim)
+        integer, intent(inout) :: lo(3), hi(3)
+            !! the box (0-based node coordinates; lo > hi along an axis when empty)
+        integer, intent(in) :: part(6)
+            !! lower then upper corner of the neighbour's part
+        integer, intent(in) :: a
+            !! axis of the cut
+        integer, intent(in) :: first
+            !! this image's layer of the part's layer 0
+        integer, intent(in) :: dim
+            !! space dimensions
+
+        integer :: rlo(3), rhi(3)
+
+        rlo = part(1:3)
+        rhi = part(4:6)
+        rlo(a) = rlo(a) + first
+        rhi(a) = rhi(a) + first
+        if (any(rhi(1:dim) < rlo(1:dim))) return
+        if (any(hi(1:dim) < lo(1:dim))) then
+            lo = rlo
+            hi = rhi
+        else
+            lo = min(lo, rlo)
+            hi = max(hi, rhi)
+        end if
+    end subroutine grow_box
 
     !> The gap between the material and a frictional face at a shared node is the smaller of
     !> the two images' gaps (P2G sets it from the particles of this image).
-    subroutine halo_contact_gaps(grid)
+    subroutine halo_contact_gaps(grid, layers)
         type(grid_type), intent(inout) :: grid
             !! grid after P2G
+        integer, intent(in) :: layers
+            !! node layers shared at a cut (shape_type%halo_width)
 
         integer, allocatable :: lo_pairs(:), hi_pairs(:)
         real(wp), allocatable :: send_lo(:), send_hi(:), recv_lo(:), recv_hi(:)
         integer :: k
 
         if (grid%halo_axis == 0 .or. grid%ncontacts == 0) return
-        call side_pairs(grid, lo_pairs, hi_pairs)
+        call halo_pairs(grid, layers, lo_pairs, hi_pairs)
         send_lo = grid%contact_gap(lo_pairs)
         send_hi = grid%contact_gap(hi_pairs)
         call exchange_neighbours(grid%halo_left, grid%halo_right, send_lo, send_hi, recv_lo, &
@@ -220,24 +248,28 @@ contains
 
     !> The shared nodes at the low and high ends of halo_axis (none without a neighbour
     !> there), in lexicographic order: the neighbour lists the same nodes in the same order.
-    subroutine side_nodes(grid, lo_nodes, hi_nodes)
+    subroutine halo_nodes(grid, layers, lo_nodes, hi_nodes)
         type(grid_type), intent(in) :: grid
+            !! this image's grid (halo_axis set)
+        integer, intent(in) :: layers
+            !! node layers shared at a cut (shape_type%halo_width)
         integer, allocatable, intent(out) :: lo_nodes(:), hi_nodes(:)
+            !! shared node indices at the low and the high end
 
         integer :: n
 
         n = grid%nn(grid%halo_axis)
         if (grid%halo_left > 0) then
-            lo_nodes = layer_nodes(grid, 0, shared_layers - 1)
+            lo_nodes = layer_nodes(grid, 0, layers - 1)
         else
             allocate (lo_nodes(0))
         end if
         if (grid%halo_right > 0) then
-            hi_nodes = layer_nodes(grid, n - shared_layers, n - 1)
+            hi_nodes = layer_nodes(grid, n - layers, n - 1)
         else
             allocate (hi_nodes(0))
         end if
-    end subroutine side_nodes
+    end subroutine halo_nodes
 
     !> Nodes whose index along halo_axis is in [l0, l1], in lexicographic order.
     function layer_nodes(grid, l0, l1) result(nodes)
@@ -265,9 +297,13 @@ contains
 
     !> Frictional contact pairs at the shared nodes of each end, in pair order (faces in a
     !> fixed order, nodes of a face in lexicographic order: the neighbour's order too).
-    subroutine side_pairs(grid, lo_pairs, hi_pairs)
+    subroutine halo_pairs(grid, layers, lo_pairs, hi_pairs)
         type(grid_type), intent(in) :: grid
+            !! this image's grid (halo_axis set) with its contact pairs
+        integer, intent(in) :: layers
+            !! node layers shared at a cut (shape_type%halo_width)
         integer, allocatable, intent(out) :: lo_pairs(:), hi_pairs(:)
+            !! contact pairs at shared nodes of the low and the high end
 
         integer :: c, layer, n
         logical :: lo_side(grid%ncontacts), hi_side(grid%ncontacts)
@@ -275,12 +311,12 @@ contains
         n = grid%nn(grid%halo_axis)
         do c = 1, grid%ncontacts
             layer = node_layer(grid, grid%contact_node(c), grid%halo_axis)
-            lo_side(c) = grid%halo_left > 0 .and. layer < shared_layers
-            hi_side(c) = grid%halo_right > 0 .and. layer >= n - shared_layers
+            lo_side(c) = grid%halo_left > 0 .and. layer < layers
+            hi_side(c) = grid%halo_right > 0 .and. layer >= n - layers
         end do
         lo_pairs = pack([(c, c = 1, grid%ncontacts)], lo_side)
         hi_pairs = pack([(c, c = 1, grid%ncontacts)], hi_side)
-    end subroutine side_pairs
+    end subroutine halo_pairs
 
     !> Whether node id is in the box of nodes the last scatter of this image touched.
     pure logical function in_box(grid, id)

@@ -26,7 +26,8 @@ module mpm_run
     use mpm_filesystem, only: make_directory, directory_exists, file_exists, rename_file, &
         remove_file, folder_lock_type, lock_folder, text_file_type, open_text_file, put_line, &
         flush_text_file, close_text_file
-    use mpm_case, only: shape_linear
+    use mpm_shape, only: shape_type
+    use mpm_shape_factory, only: new_shape
     use mpm_bodies, only: count_body_particles
     use mpm_threads, only: thread_governor_type, new_thread_governor, governor_threads, &
         governor_step, governor_text, set_threads
@@ -683,11 +684,13 @@ contains
     !> particles (with the displacement and strain they hold while being created, the
     !> stencils and order of a step, the guard's copy) and grid nodes (fields and scatter
     !> buffers). `particles` is the number of particles of the whole case.
-    function memory_estimate(case, particles) result(bytes)
+    function memory_estimate(case, particles, nodes_per_axis) result(bytes)
         type(case_type), intent(in) :: case
             !! resolved case
         integer(i8), intent(in) :: particles
             !! particles of the case
+        integer, intent(in) :: nodes_per_axis
+            !! support width of the case's shape function (shape_type%nodes_per_axis)
         real(wp) :: bytes
             !! estimate [bytes]
 
@@ -695,7 +698,7 @@ contains
         real(wp) :: per_particle, per_node, d, nps, nodes
 
         d = real(case%dim, wp)
-        nps = merge(2.0_wp, 3.0_wp, case%solver%shape == shape_linear)
+        nps = real(nodes_per_axis, wp)
         ! the arrays of the field table that new_particles allocates, with 2 state variables,
         ! the APIC affine velocities and the ids of several images
         per_particle = real(created_particle_bytes(case%dim, 2, case%solver%apic, image_count() > 1), wp)
@@ -722,6 +725,7 @@ contains
         integer(i8) :: particles, available, n
         integer :: b
         real(wp) :: need
+        class(shape_type), allocatable :: shape
 
         particles = 0
         if (present(restart)) then
@@ -736,7 +740,9 @@ contains
                 if (n > 0) particles = particles + n
             end do
         end if
-        need = memory_estimate(case, particles)
+        call new_shape(shape, case%solver%shape, error)
+        if (allocated(error)) return
+        need = memory_estimate(case, particles, shape%nodes_per_axis())
         available = available_memory_bytes()
         if (available < 0 .or. need <= real(available, wp)) return
         call fatal_error(error, case%file//": the case needs about "//size_text(need)// &

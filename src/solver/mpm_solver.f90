@@ -12,7 +12,7 @@ module mpm_solver
     use mpm_strings, only: vector_text
     use mpm_error, only: error_type, fatal_error, exit_numerical, exit_input, exit_other
     use mpm_case, only: case_type, scheme_usf, scheme_usl, scheme_musl, damping_kinetic, &
-        field_strain, field_displacement
+        damping_local, field_strain, field_displacement
     use mpm_case_stability, only: p_wave_speed, viscous_time_step
     use mpm_grid, only: grid_type, new_grid, add_terrain
     use mpm_terrain, only: terrain_misses_domain
@@ -31,8 +31,11 @@ module mpm_solver
     use mpm_contact_loads, only: face_loads, take_face_loads, face_node_count, terrain_loads, &
         take_terrain_loads
     use mpm_stencil, only: stencils_type, compute_stencils
-    use mpm_transfer, only: p2g, nodal_velocity, integrate_nodes, g2p, motion_type, &
-        report_lost, update_stress, nstress_sums, nnodal_sums, nodal_damping, nodal_friction
+    use mpm_transfer, only: p2g, p2g_options_type, g2p, motion_type, report_lost, update_stress, &
+        nstress_sums
+    use mpm_kernel_nodal, only: nodal_velocity, integrate_nodes, nnodal_sums, nodal_damping, &
+        nodal_friction
+    use mpm_halo, only: halo_sum, halo_box, halo_contact_gaps
     use mpm_clock, only: wall_time
     implicit none
     private
@@ -187,7 +190,8 @@ contains
             sim%time_step_limit(i) = viscous_time_step(case%materials(i), case%domain%dx, case%dim)
             nstate = max(nstate, sim%materials(i)%m%nstate())
         end do
-        call new_shape(sim%shape, case%solver%shape)
+        call new_shape(sim%shape, case%solver%shape, error)
+        if (allocated(error)) return
         loaded = .false.
         restart = .false.
         if (present(start)) then
@@ -706,30 +710,37 @@ contains
         associate (grid => sim%grid, particles => sim%particles, stc => sim%stencils, &
                    fbar => sim%case%solver%fbar)
             if (scheme == scheme_usf) then
-                call p2g(grid, particles, stc, .true., .false., fbar)
+                call scatter_to_nodes(sim, p2g_options_type(mass=.true., fbar=fbar))
                 call lap(sim, phase_p2g, clock)
                 call nodal_velocity(grid)
                 call lap(sim, phase_nodal, clock)
                 call update_stress(grid, particles, stc, sim%materials, dt, fbar, work, &
                     sim%case%gravity)
                 call lap(sim, phase_stress, clock)
-                call p2g(grid, particles, stc, .false., .true., fbar)
+                call scatter_to_nodes(sim, p2g_options_type(fint=.true., fbar=fbar))
             else
-                call p2g(grid, particles, stc, .true., .true., fbar)
+                call scatter_to_nodes(sim, p2g_options_type(mass=.true., fint=.true., fbar=fbar))
             end if
             call lap(sim, phase_p2g, clock)
-            call integrate_nodes(grid, dt, sim%case%gravity, sim%case%damping%type, &
-                sim%case%damping%value, nodal_work)
+            call integrate_nodes(grid, dt, sim%case%gravity, &
+                local_damping=sim%case%damping%type == damping_local, alpha=sim%case%damping%value, &
+                dissipated=nodal_work)
             call lap(sim, phase_nodal, clock)
             ! MUSL: the same pass maps the updated particle momentum back to the nodes, and the
             ! particles move in the stress update; USL, USF: they move here
             if (scheme == scheme_usl .and. .not. fbar) then
                 ! the stress update needs the nodal velocities of the moves: same pass
                 call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, sim%case%gravity, &
-                    .false., motion, kinetic, sim%materials, work)
+                    remap=.false., motion=motion, kinetic=kinetic, materials=sim%materials, &
+                    strain_work=work)
             else
                 call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, sim%case%gravity, &
-                    scheme == scheme_musl, motion, kinetic)
+                    remap=scheme == scheme_musl, motion=motion, kinetic=kinetic)
+            end if
+            if (scheme == scheme_musl) then
+                ! the remapped momentum of the shared nodes, then the velocities of the remap
+                call halo_sum(grid, sim%shape%halo_width(), momentum=.true.)
+                call nodal_velocity(grid)
             end if
             call lap(sim, phase_g2p, clock)
             select case (scheme)
@@ -776,6 +787,28 @@ contains
         if (.not. allocated(error)) call rebalance(sim, error)
         call lap(sim, phase_other, clock)
     end subroutine advance
+
+    !> P2G of the step with the images' halo: with mass, the images first trade the parts of
+    !> their boxes of touched nodes in the shared layers (the box of the step's grid work);
+    !> after the scatter they add the neighbours' parts of the shared nodes, and take the
+    !> smaller contact gap there.
+    subroutine scatter_to_nodes(sim, opts)
+        type(simulation_type), intent(inout), target :: sim
+            !! the simulation, its stencils computed for the step
+        type(p2g_options_type), intent(in) :: opts
+            !! what to scatter
+
+        integer :: layers, box_lo(3), box_hi(3)
+
+        layers = sim%shape%halo_width()
+        box_lo = sim%stencils%box_lo
+        box_hi = sim%stencils%box_hi
+        if (opts%mass) call halo_box(sim%grid, layers, box_lo, box_hi)
+        call p2g(sim%grid, sim%particles, sim%stencils, opts, box_lo, box_hi)
+        call halo_sum(sim%grid, layers, mass=opts%mass, momentum=opts%mass, fint=opts%fint, &
+            fext=opts%mass .and. allocated(sim%particles%body_force))
+        if (opts%mass) call halo_contact_gaps(sim%grid, layers)
+    end subroutine scatter_to_nodes
 
     !> The energy terms after a step from those before and the sums of the step (over all
     !> images): kinetic energy, change of the potential, work of the loads, the stress sums

@@ -1,59 +1,59 @@
-!> The particle and grid passes of one explicit step.
+!> The particle passes of one explicit step: the threaded loops over particles that call the
+!> kernels (src/solver/kernels/).
 !>
-!> Particle-to-grid (P2G) scatters mass, momentum and forces to the nodes; the nodal update
-!> integrates the momentum with damping and boundary conditions; grid-to-particle (G2P)
-!> gathers accelerations and velocities back; the stress update uses the nodal velocities
-!> chosen by the scheme. Each pass is one procedure; the scheme (USF/USL/MUSL) only orders
-!> them (see mpm_solver), except that USL without F-bar updates the stresses inside G2P (the
-!> same nodal velocities, one gather instead of two). Every pass reads the stencils of the
-!> step (mpm_stencil): the shape functions are evaluated once per step, and the grid work
-!> covers the box of nodes the particles touch.
+!> Particle-to-grid (P2G) scatters mass, momentum and forces to the nodes (mpm_kernel_scatter);
+!> grid-to-particle (G2P) gathers accelerations and velocities back (mpm_kernel_gather); the
+!> stress update uses the nodal velocities chosen by the scheme (its kernel for a block of
+!> particles, stress_block, stays in this module: in a module of its own the optimiser
+!> inlined it otherwise, see docs/performance.md). The
+!> nodal update is mpm_kernel_nodal. Each pass is one procedure; the step (mpm_solver::advance)
+!> orders them by the scheme (USF/USL/MUSL) and completes the nodes shared with other images
+!> after each scatter (mpm_halo): the passes see no coarrays. USL without F-bar updates the
+!> stresses inside G2P (the same nodal velocities, one gather instead of two). Every pass
+!> reads the stencils of the step (mpm_stencil): the shape functions are evaluated once per
+!> step, and the grid work covers the box of nodes the particles touch.
 !>
 !> Threads: the gathers (G2P, stress update) are parallel over particles; the scatters (P2G,
 !> remap) sum each chunk of cell-sorted particles into its own buffer and fold the buffers
-!> into the grid in chunk order; the nodal update is parallel over nodes; every sum over
-!> particles or nodes (energies) is taken per chunk or block and the partial sums added in a
-!> fixed order. A run gives the same bits with any number of threads.
+!> into the grid in chunk order; every sum over particles (energies) is taken per chunk or
+!> block and the partial sums added in a fixed order. A run gives the same bits with any
+!> number of threads.
 module mpm_transfer
     use mpm_kinds, only: wp
     use mpm_strings, only: vector_text
     use mpm_error, only: error_type, fatal_error, exit_numerical
-    use mpm_grid, only: grid_type, contact_index, node_owned
-    use mpm_halo, only: halo_sum, halo_contact_gaps, halo_box
-    use mpm_terrain, only: terrain_distance
+    use mpm_grid, only: grid_type
     use mpm_particles, only: particles_type, particle_number
-    use mpm_stencil, only: stencils_type, particle_nodes, max_nodes, axis_derivatives
+    use mpm_stencil, only: stencils_type, particle_nodes
     use mpm_material, only: material_holder_type, nwork_kinds
-    use mpm_case, only: damping_local, bc_free
+    use mpm_case, only: bc_free
+    use mpm_kernel_scatter, only: scatter_particle
+    use mpm_kernel_gather, only: gather_particle
+    use mpm_kernel_nodal, only: box_middle, box_row
+    use mpm_kernel_contact, only: contact_gaps
     implicit none
     private
-    public :: p2g, nodal_velocity, integrate_nodes, g2p, motion_type, report_lost
-    public :: update_stress, nstress_sums
+    public :: p2g, p2g_options_type, g2p, motion_type, report_lost, update_stress, nstress_sums
 
     integer, parameter :: nstress_sums = 2*nwork_kinds
         !! sums of a stress pass: the work of the stresses over the step by work kind of the
         !! materials (1 : nwork_kinds, `work_*` of mpm_material), then the elastic energy
         !! stored in the particles at the end of the step by work kind [J]
 
-    real(wp), parameter :: contact_tolerance = 1.0e-3_wp
-        !! material closer to a frictional face than this fraction of dx touches it [-]
-    real(wp), parameter :: load_smoothing = 0.1_wp
-        !! weight of the newest step in the running mean of the normal contact impulse when
-        !! grid%contact_time is 0 [-]
-    integer, parameter :: full_gimp_3d = 1, full_gimp_2d = 2, full_linear_3d = 3, &
-        full_linear_2d = 4, other_stencil = 5
-        !! stencil kinds with loops of constant length (stencil_kind)
     integer, parameter :: gather_block = 256
         !! particles per block of the passes that only gather (load balance; the partial sums
         !! of a block are added in block order)
 
-    !> Buffers of one scatter pass: per chunk, the node layers it touches (mpm_stencil).
-    type :: scatter_type
-        real(wp), allocatable :: mass(:)
-        real(wp), allocatable :: momentum(:, :)
-        real(wp), allocatable :: fint(:, :)
-        real(wp), allocatable :: fext(:, :)
-    end type scatter_type
+    !> What a P2G pass scatters.
+    type :: p2g_options_type
+        logical :: mass = .false.
+            !! mass, momentum and the extra body force
+        logical :: fint = .false.
+            !! the internal force
+        logical :: fbar = .false.
+            !! F-bar: the internal force takes the pressure of each particle as the mean of
+            !! its cell, the counterpart of the cell-averaged volume change of `update_stress`
+    end type p2g_options_type
 
     !> What the particles did when they moved in a pass, for the checks of the step.
     type :: motion_type
@@ -72,39 +72,42 @@ module mpm_transfer
             !! sum m b . dx [J]
     end type motion_type
 
-    integer, parameter, public :: nodal_damping = 1, nodal_friction = 2, nnodal_sums = 2
-        !! sums of the nodal update (integrate_nodes): work of local damping and of the
-        !! friction of frictional faces and the terrain (positive: energy removed)
-
 contains
 
-    !> Scatter particle mass, momentum and body forces (with_mass) and the internal force
-    !> (with_fint) to the nodes; the fields not scattered keep their values.
+    !> Scatter particle mass, momentum and body forces (opts%mass) and the internal force
+    !> (opts%fint) to the nodes; the fields not scattered keep their values. With mass, the
+    !> smallest gap of each contact pair too.
     !>
     !> f_int,i = - sum_p V_p sigma_p . grad N_i(x_p); in 2D only the in-plane components.
     !> Gravity is not scattered: the nodal update adds m_i g. Only the extra body force of
-    !> drivers that prescribe one (particles%body_force) goes to grid%fext.
-    subroutine p2g(grid, particles, stc, with_mass, with_fint, fbar)
+    !> drivers that prescribe one (particles%body_force) goes to grid%fext. The nodes shared
+    !> with other images hold this image's part only (mpm_halo completes them).
+    subroutine p2g(grid, particles, stc, opts, box_lo, box_hi)
         type(grid_type), intent(inout), target :: grid
             !! grid receiving the nodal sums
         type(particles_type), intent(in) :: particles
             !! particles
         type(stencils_type), intent(in) :: stc
             !! stencils, order and chunks of the step
-        logical, intent(in) :: with_mass
-            !! scatter mass, momentum and the extra body force
-        logical, intent(in) :: with_fint
-            !! scatter the internal force
-        logical, intent(in) :: fbar
-            !! F-bar: the internal force takes the pressure of each particle as the mean of its
-            !! cell, the counterpart of the cell-averaged volume change of `update_stress`
+        type(p2g_options_type), intent(in) :: opts
+            !! what to scatter
+        integer, intent(in), optional :: box_lo(3), box_hi(3)
+            !! with mass: the box of nodes the step's grid work covers (0-based), when it is
+            !! larger than the stencils' (on several images: mpm_halo::halo_box)
 
-        integer :: p, q, k, c, dim, ns, shift, fint_row, body_row, rows, mass_row
+        integer :: p, q, k, c, dim, ns, shift, fint_row, body_row, rows, mass_row, lo(3), hi(3)
         real(wp) :: s(6), vs(6), xp(3), vp(3), aff(3, 3), bf(3)
-        logical :: apic, body
+        logical :: apic, body, with_mass, with_fint, fbar
         real(wp), allocatable :: cell_pv(:), cell_v(:), gaps(:)
         real(wp), pointer, contiguous :: buf(:, :)
 
+        with_mass = opts%mass
+        with_fint = opts%fint
+        fbar = opts%fbar
+        lo = stc%box_lo
+        hi = stc%box_hi
+        if (present(box_lo)) lo = box_lo
+        if (present(box_hi)) hi = box_hi
         dim = grid%dim
         ns = particles%nstress
         apic = allocated(particles%affine) .and. with_mass
@@ -173,14 +176,14 @@ contains
                     vs = -particles%volume(p)*s
                 end if
                 call scatter_particle(stc, grid, p, shift, particles%mass(p), xp, vp, aff, apic, &
-                    mass_row, mass_row + 1, vs, fint_row, bf, body_row, buf)
+                    mass_row=mass_row, momentum_row=mass_row + 1, vs=vs, fint_row=fint_row, bf=bf, &
+                    body_row=body_row, buf=buf)
             end do
         end do
         !$omp end parallel do
 
-        call fold(grid, stc, buf, with_mass, fint_row, body_row)
-        ! the nodes shared with neighbouring images take their particles' part too
-        call halo_sum(grid, with_mass, with_mass, with_fint, body)
+        call fold(grid, stc, buf, mass_rows=with_mass, fint_row=fint_row, body_row=body_row, &
+            box_lo=lo, box_hi=hi)
         if (with_mass .and. grid%ncontacts > 0) then
             ! the smallest gap per pair: a minimum, the same whatever the order (threads)
             allocate (gaps(grid%ncontacts))
@@ -192,7 +195,6 @@ contains
             end do
             !$omp end parallel do
             grid%contact_gap = gaps
-            call halo_contact_gaps(grid)
         end if
     end subroutine p2g
 
@@ -217,7 +219,8 @@ contains
     !> of the step's box (nodes no chunk touches get zero): mass and momentum (rows
     !> 1 : 1 + dim) when `mass_rows`, the internal force from fint_row, the extra body force
     !> from body_row.
-    subroutine fold(grid, stc, buf, mass_rows, fint_row, body_row, only_momentum)
+    subroutine fold(grid, stc, buf, mass_rows, fint_row, body_row, only_momentum, box_lo, &
+            box_hi)
         type(grid_type), intent(inout) :: grid
         type(stencils_type), intent(in) :: stc
         real(wp), intent(in) :: buf(:, :)
@@ -225,9 +228,10 @@ contains
         integer, intent(in) :: fint_row, body_row
         logical, intent(in), optional :: only_momentum
             !! set the momentum only, from rows 1 : dim (the MUSL remap)
+        integer, intent(in), optional :: box_lo(3), box_hi(3)
+            !! with mass rows (not only_momentum): the box of nodes of the step's grid work
 
-        integer :: layer, id, k, b, rows, dim, lo(3), hi(3), j, x, y, z, first, last, &
-            box_lo(3), box_hi(3)
+        integer :: layer, id, k, b, rows, dim, lo(3), hi(3), j, x, y, z, first, last
         real(wp) :: total(10)
         logical :: momentum, row_inside, inside
 
@@ -240,9 +244,6 @@ contains
             ! touches and zeroes every field of the nodes of the last box that it does not
             ! touch; the nodal loops then cover its box (on several images, also the shared
             ! nodes the neighbours' particles touch: halo_box)
-            box_lo = stc%box_lo
-            box_hi = stc%box_hi
-            call halo_box(grid, box_lo, box_hi)
             lo = max(0, min(box_lo, grid%active_lo))
             hi = min(grid%nn - 1, max(box_hi, grid%active_hi))
             grid%active_lo = box_lo
@@ -292,313 +293,20 @@ contains
         !$omp end parallel do
     end subroutine fold
 
-    !> Middle index bound of a box for box_row: the y bound in 3D, 0 in 2D (the slowest axis,
-    !> the outer loop, is y there).
-    pure integer function box_middle(bound, dim)
-        integer, intent(in) :: bound(3)
-            !! lower or upper corner of the box (0-based node indices)
-        integer, intent(in) :: dim
-            !! space dimensions
-        box_middle = 0
-        if (dim == 3) box_middle = bound(2)
-    end function box_middle
-
-    !> The run of nodes x = lo(1) .. hi(1) of a box at index `layer` along the slowest axis and
-    !> middle index j (y in 3D, unused in 2D): node indices first .. last and its y and z.
-    pure subroutine box_row(grid, lo, hi, layer, j, first, last, y, z)
-        type(grid_type), intent(in) :: grid
-            !! the grid
-        integer, intent(in) :: lo(3), hi(3)
-            !! corners of the box (0-based node indices)
-        integer, intent(in) :: layer, j
-            !! index along the slowest axis; middle index (box_middle)
-        integer, intent(out) :: first, last
-            !! node indices of the run (1-based)
-        integer, intent(out) :: y, z
-            !! node coordinates of the run (0-based)
-
-        if (grid%dim == 2) then
-            y = layer
-            z = 0
-        else
-            y = j
-            z = layer
-        end if
-        first = 1 + lo(1) + grid%nn(1)*(y + grid%nn(2)*z)
-        last = first + hi(1) - lo(1)
-    end subroutine box_row
-
-    !> Record, for the contact nodes (frictional faces, terrain) particle p maps to, the gap
-    !> between the particle's domain and the face or surface (negative when it reaches past
-    !> it), as the smallest so far.
-    subroutine contact_gaps(grid, particles, stc, p, gaps)
-        type(grid_type), intent(in) :: grid
-            !! grid with its contact pairs
-        type(particles_type), intent(in) :: particles
-            !! particles
-        type(stencils_type), intent(in) :: stc
-            !! stencils of the step
-        integer, intent(in) :: p
-            !! particle
-        real(wp), intent(inout) :: gaps(:)
-            !! smallest gap of each contact pair so far [m]
-
-        integer :: a, side, c, k, dim
-        integer :: node(max_nodes)
-        real(wp) :: gap, face, w(max_nodes), dw(3, max_nodes), x(3), d, n(3)
-        logical :: have_nodes, found
-
-        have_nodes = .false.
-        dim = grid%dim
-        if (allocated(grid%terrain)) then
-            ! the terrain: the distance from the particle domain to the surface
-            x = 0.0_wp
-            x(1:dim) = particles%x(:, p)
-            call terrain_distance(grid%terrain, x, found, d, n)
-            if (found) then
-                gap = d - sum(particles%lp(:, p)*abs(n(1:dim)))
-                call particle_nodes(stc, p, node, w, dw)
-                have_nodes = .true.
-                do k = 1, stc%count
-                    if (w(k) <= 0.0_wp) cycle
-                    c = grid%terrain_pair(node(k))
-                    if (c > 0) gaps(c) = min(gaps(c), gap)
-                end do
-            end if
-        end if
-        do a = 1, grid%dim
-            do side = 1, 2
-                if (grid%contact_offset(side, a) < 0) cycle
-                if (side == 1) then
-                    face = grid%origin(a)
-                    gap = particles%x(a, p) - particles%lp(a, p) - face
-                else
-                    face = grid%origin(a) + grid%dx*real(grid%nn(a) - 1, wp)
-                    gap = face - particles%x(a, p) - particles%lp(a, p)
-                end if
-                if (gap > 2.0_wp*grid%dx) cycle
-                if (.not. have_nodes) then
-                    call particle_nodes(stc, p, node, w, dw)
-                    have_nodes = .true.
-                end if
-                do k = 1, stc%count
-                    if (w(k) <= 0.0_wp) cycle
-                    c = contact_index(grid, node(k), side, a)
-                    if (c > 0) gaps(c) = min(gaps(c), gap)
-                end do
-            end do
-        end do
-    end subroutine contact_gaps
-
-    !> Nodal velocity v_i = p_i / m_i with the boundary conditions applied.
-    subroutine nodal_velocity(grid)
-        type(grid_type), intent(inout) :: grid
-            !! grid with mass and momentum set
-
-        integer :: i, layer, j, first, last, y, z
-        real(wp) :: work
-
-        call apply_contacts(grid, 0.0_wp, work)
-        !$omp parallel do default(none) schedule(static) shared(grid) &
-        !$omp private(i, layer, j, first, last, y, z)
-        do layer = grid%active_lo(grid%dim), grid%active_hi(grid%dim)
-            do j = box_middle(grid%active_lo, grid%dim), box_middle(grid%active_hi, grid%dim)
-                call box_row(grid, grid%active_lo, grid%active_hi, layer, j, first, last, y, z)
-                do i = first, last
-                    if (grid%mass(i) > 0.0_wp) then
-                        where (grid%constrained(:, i)) grid%momentum(:, i) = 0.0_wp
-                        grid%velocity(:, i) = grid%momentum(:, i)/grid%mass(i)
-                    else
-                        grid%velocity(:, i) = 0.0_wp
-                    end if
-                end do
-            end do
-        end do
-        !$omp end parallel do
-    end subroutine nodal_velocity
-
-    !> Advance the nodal momentum over dt with gravity, damping and boundary conditions.
-    !>
-    !> f = f_int + m_i g + f_ext (f_ext: extra body forces only). Local damping adds
-    !> f_d = - alpha |f| sign(v) per component, f the unbalanced force and v the nodal velocity
-    !> at the start of the step. Frictional faces then act on the updated velocities
-    !> (apply_contacts). Returns the work of damping and of friction in this step
-    !> (positive: energy removed), see nnodal_sums. The fixed components of the boundaries
-    !> and the normal constraint of the contacts do no work: their reaction acts where the
-    !> velocity of the end of the step, the one the particles move and strain with, is zero.
-    subroutine integrate_nodes(grid, dt, gravity, damping, alpha, dissipated)
-        type(grid_type), intent(inout) :: grid
-            !! grid with mass, momentum and forces set
-        real(wp), intent(in) :: dt
-            !! time step [s]
-        real(wp), intent(in) :: gravity(3)
-            !! gravitational acceleration [m/s2]
-        integer, intent(in) :: damping
-            !! case%damping%type
-        real(wp), intent(in) :: alpha
-            !! local damping coefficient [-]
-        real(wp), intent(out) :: dissipated(nnodal_sums)
-            !! energy removed in this step by local damping and by contact friction [J]
-
-        integer :: i, dim, layer, j, first, last, y, z, lo, hi
-        real(wp) :: f(3), v0(3), fd(3), acc
-        real(wp), allocatable :: partial(:)
-
-        dim = grid%dim
-        ! one partial sum per layer of the box (slowest axis), added in layer order: the same
-        ! sums with any number of threads
-        lo = grid%active_lo(dim)
-        hi = grid%active_hi(dim)
-        allocate (partial(lo:max(lo, hi)))
-        partial = 0.0_wp
-        !$omp parallel do default(none) schedule(static) &
-        !$omp shared(grid, dt, gravity, damping, alpha, dim, partial, lo, hi) &
-        !$omp private(layer, j, first, last, y, z, i, f, v0, fd, acc)
-        do layer = lo, hi
-            acc = 0.0_wp
-            do j = box_middle(grid%active_lo, dim), box_middle(grid%active_hi, dim)
-                call box_row(grid, grid%active_lo, grid%active_hi, layer, j, first, last, y, z)
-                do i = first, last
-                    if (grid%mass(i) <= 0.0_wp) then
-                        grid%momentum(:, i) = 0.0_wp
-                        grid%acceleration(:, i) = 0.0_wp
-                        grid%velocity(:, i) = 0.0_wp
-                        cycle
-                    end if
-                    f(1:dim) = grid%fint(:, i) + grid%fext(:, i) + grid%mass(i)*gravity(1:dim)
-                    v0(1:dim) = grid%momentum(:, i)/grid%mass(i)
-                    ! Held components are zero in the nodal velocity of the start of the step as
-                    ! well as of its end, so their acceleration is zero and the FLIP update leaves
-                    ! the particle velocities beside a fixed or sliding face to the forces (as
-                    ! Uintah does). Putting the removed mapped velocity into the acceleration
-                    ! instead makes the manufactured solution less accurate (cpGIMP MUSL, 64
-                    ! cells: 9.4e-5 m against 3.5e-5 m).
-                    where (grid%constrained(:, i))
-                        grid%momentum(:, i) = 0.0_wp
-                        v0(1:dim) = 0.0_wp
-                    end where
-                    if (damping == damping_local) then
-                        fd(1:dim) = -alpha*abs(f(1:dim))*sign(1.0_wp, v0(1:dim))
-                        where (v0(1:dim) == 0.0_wp) fd(1:dim) = 0.0_wp
-                        where (grid%constrained(:, i)) fd(1:dim) = 0.0_wp
-                        f(1:dim) = f(1:dim) + fd(1:dim)
-                        ! nodes shared with another image count on one of them
-                        if (node_owned(grid, i)) acc = acc &
-                            - dt*sum(fd(1:dim)*(v0(1:dim) + 0.5_wp*dt*f(1:dim)/grid%mass(i)))
-                    end if
-                    where (grid%constrained(:, i)) f(1:dim) = 0.0_wp
-                    if (grid%mass(i) < grid%small_mass) f(1:dim) = 0.0_wp
-                    grid%acceleration(:, i) = f(1:dim)/grid%mass(i)
-                    grid%momentum(:, i) = grid%momentum(:, i) + dt*f(1:dim)
-                    grid%velocity(:, i) = grid%momentum(:, i)/grid%mass(i)
-                end do
-            end do
-            partial(layer) = acc
-        end do
-        !$omp end parallel do
-        dissipated = 0.0_wp
-        do layer = lo, hi
-            dissipated(nodal_damping) = dissipated(nodal_damping) + partial(layer)
-        end do
-        if (grid%ncontacts > 0) then
-            call apply_contacts(grid, dt, dissipated(nodal_friction))
-            do i = 1, grid%ncontacts
-                associate (id => grid%contact_node(i))
-                    if (grid%mass(id) > 0.0_wp) grid%velocity(:, id) = grid%momentum(:, id) &
-                        /grid%mass(id)
-                end associate
-            end do
-        end if
-    end subroutine integrate_nodes
-
-    !> Coulomb friction on frictional faces, node by node.
-    !>
-    !> A face node is in contact when the material touches the face (P2G records the gap
-    !> between the particle domains and the face) and moves into it: its normal velocity is
-    !> removed, and the normal impulse that takes enters a running mean over about ten steps
-    !> (contact_load). Friction then reduces the tangential velocity by at most
-    !> mu * contact_load / m (to zero: sticking). A node moving away from the face is free
-    !> (lift-off), and a node the material no longer touches takes no normal impulse.
-    !>
-    !> Why the running mean (found with the sliding-block test): the normal velocity of a
-    !> face node carries the particles' numerical noise, so some steps the node moves away
-    !> from the face and takes no impulse, and in others it takes more. Friction limited by
-    !> the impulse of the same step then has no grip in the steps without one, and a block
-    !> that should stick creeps down the slope; limited by the mean it sees the steady
-    !> normal load. A two-sided normal constraint is no cure: the positive part of a noisy
-    !> normal impulse is far larger than its mean, and friction locks sliding blocks.
-    !>
-    !> Acts on grid%momentum; when dt > 0 the velocity change also enters grid%acceleration,
-    !> so the particles (FLIP update) see the contact force, and friction is applied; with
-    !> dt = 0 only the normal constraint is (velocities remapped within a step).
-    subroutine apply_contacts(grid, dt, work)
-        type(grid_type), intent(inout) :: grid
-            !! grid with mass and momentum set
-        real(wp), intent(in) :: dt
-            !! time step [s]; 0 when only velocities are corrected
-        real(wp), intent(out) :: work
-            !! work of friction [J]: the friction impulse times the tangential velocity of
-            !! the end of the step, m (v_n - v_new) . v_new (v_n: the velocity with the normal
-            !! part removed), mu N ds for a slide ds; the normal impulse acts where the normal
-            !! velocity is zero and does no work
-
-        integer :: c, id, dim
-        real(wp) :: v(3), vnew(3), vt(3), n(3), vn, vt_norm, factor, weight, v1(3)
-        logical :: touching
-
-        dim = grid%dim
-        work = 0.0_wp
-        do c = 1, grid%ncontacts
-            id = grid%contact_node(c)
-            if (grid%mass(id) <= 0.0_wp) then
-                if (dt > 0.0_wp) grid%contact_load(c) = 0.0_wp
-                cycle
-            end if
-            ! n: unit normal into the obstacle (a face: +-e_axis, exactly; the arithmetic
-            ! below then gives the same bits as component-wise code)
-            n(1:dim) = grid%contact_dir(:, c)
-            v(1:dim) = grid%momentum(:, id)/grid%mass(id)
-            vn = dot_product(v(1:dim), n(1:dim))
-            touching = grid%contact_gap(c) <= contact_tolerance*grid%dx
-            if (.not. touching) vn = 0.0_wp
-            vnew(1:dim) = v(1:dim)
-            if (vn > 0.0_wp) vnew(1:dim) = v(1:dim) - vn*n(1:dim)
-            v1(1:dim) = vnew(1:dim)
-            if (dt > 0.0_wp) then
-                ! running mean over a fixed time, so that the friction does not depend on dt
-                weight = load_smoothing
-                if (grid%contact_time > 0.0_wp) weight = min(1.0_wp, dt/grid%contact_time)
-                grid%contact_load(c) = (1.0_wp - weight)*grid%contact_load(c) &
-                    + weight*max(vn, 0.0_wp)*grid%mass(id)
-                vn = dot_product(vnew(1:dim), n(1:dim))
-                vt(1:dim) = vnew(1:dim) - vn*n(1:dim)
-                vt_norm = norm2(vt(1:dim))
-                if (vt_norm > 0.0_wp) then
-                    factor = max(0.0_wp, &
-                        1.0_wp - grid%contact_mu(c)*grid%contact_load(c)/(grid%mass(id)*vt_norm))
-                    vnew(1:dim) = factor*vt(1:dim) + vn*n(1:dim)
-                end if
-                grid%acceleration(:, id) = grid%acceleration(:, id) + (vnew(1:dim) - v(1:dim))/dt
-            end if
-            grid%momentum(:, id) = grid%mass(id)*vnew(1:dim)
-            if (node_owned(grid, id)) work = work &
-                + grid%mass(id)*dot_product(v1(1:dim) - vnew(1:dim), vnew(1:dim))
-        end do
-    end subroutine apply_contacts
-
     !> Gather nodal accelerations and velocities: v_p += dt sum N_i a_i (FLIP), and, unless
     !> `remap`, move the particle by dx_p = dt sum N_i v_i (the later passes of the step use
     !> the stencils of the start-of-step positions, not the positions).
     !>
     !> With `remap` (MUSL), the same pass maps the updated particle momentum back to the nodes
-    !> (chunk buffers folded in a fixed order, as in p2g) and recomputes the nodal velocities.
+    !> (chunk buffers folded in a fixed order, as in p2g); the step then completes the shared
+    !> nodes (mpm_halo) and recomputes the nodal velocities (nodal_velocity).
     !> With `materials` (USL without F-bar, whose stress update uses the same nodal velocities
     !> as the moves), the same pass also updates the stresses: one gather per particle and step
     !> instead of two; the blocks and the order of the work sums are those of update_stress.
     subroutine g2p(grid, particles, stc, dt, flip, gravity, remap, motion, kinetic, materials, &
             strain_work)
         type(grid_type), intent(inout), target :: grid
-            !! grid after the nodal update (momentum and velocity replaced with `remap`)
+            !! grid after the nodal update (momentum replaced with `remap`)
         type(particles_type), intent(inout) :: particles
             !! particles whose velocities are updated
         type(stencils_type), intent(in) :: stc
@@ -669,7 +377,7 @@ contains
             do q = qlo, qhi
                 p = stc%order(q)
                 call update_particle_velocity(grid, particles, stc, p, dt, flip, apic, &
-                    .not. remap, stress, dx, gradv)
+                    need_v=.not. remap, with_gradient=stress, dx=dx, gradv=gradv)
                 ke = ke + 0.5_wp*particles%mass(p)*sum(particles%v(:, p)**2)
                 if (.not. remap) call move_particle(grid, particles, p, dx(1:dim), gravity, mine)
                 if (stress) ldts(:, :, q - qlo + 1) = dt*gradv
@@ -680,7 +388,8 @@ contains
                         aff(1:dim, 1:dim) = particles%affine(:, :, p)
                     end if
                     call scatter_particle(stc, grid, p, shift, particles%mass(p), xp, vp, aff, &
-                        apic, 0, 1, vs, 0, bf, 0, buf)
+                        apic, mass_row=0, momentum_row=1, vs=vs, fint_row=0, bf=bf, body_row=0, &
+                        buf=buf)
                 end if
             end do
             if (stress) call stress_block(particles, materials, stc, qlo, qhi, ldts, dt, dim, work)
@@ -701,9 +410,8 @@ contains
             end do
         end if
         if (remap) then
-            call fold(grid, stc, buf, .true., 0, 0, only_momentum=.true.)
-            call halo_sum(grid, .false., .true., .false., .false.)
-            call nodal_velocity(grid)
+            call fold(grid, stc, buf, mass_rows=.true., fint_row=0, body_row=0, &
+                only_momentum=.true.)
         end if
     end subroutine g2p
 
@@ -721,23 +429,21 @@ contains
             !! the increment dx is used (the particle moves in this pass)
         real(wp), intent(out) :: dx(3), gradv(3, 3)
 
-        integer :: dim, c
-        integer :: node(max_nodes)
-        real(wp) :: a(3), v(3), w(max_nodes), dw(3, max_nodes)
+        integer :: dim
+        real(wp) :: a(3), v(3)
 
         dim = grid%dim
         ! the MUSL remap (FLIP) needs the accelerations only: the particles move later
-        call gather_particle(stc, p, grid%acceleration, grid%velocity, .not. apic, &
-            need_v .or. apic .or. flip < 1.0_wp, apic .or. with_gradient, a, v, gradv)
+        call gather_particle(stc, p, grid%acceleration, grid%velocity, with_a=.not. apic, &
+            with_v=need_v .or. apic .or. flip < 1.0_wp, with_gradient=apic .or. with_gradient, &
+            a=a, v=v, gradient=gradv)
         if (apic) then
             ! APIC: the particle takes the nodal velocity field, its value and its gradient.
             ! A particle alone on its nodes would only get back the affine field it gave
             ! them, and a stretching one would keep stretching without end (its volume grew
             ! by 1e72 at the front of a collapse); alone, it moves without an affine part.
             particles%v(:, p) = v(1:dim)
-            call particle_nodes(stc, p, node, w, dw)
-            c = stc%count
-            if (alone(grid, particles%mass(p), c, node, w)) then
+            if (alone(grid, stc, p, particles%mass(p))) then
                 particles%affine(:, :, p) = 0.0_wp
             else
                 particles%affine(:, :, p) = gradv(1:dim, 1:dim)
@@ -893,9 +599,9 @@ contains
             !$omp parallel do default(none) schedule(static) &
             !$omp shared(grid, particles, stc, grads, vels) private(p, a3)
             do p = 1, particles%n
-                call gather_particle(stc, p, grid%velocity, grid%velocity, .false., .true., .true., &
-                    a3, &
-                    vels(:, p), grads(:, :, p))
+                call gather_particle(stc, p, grid%velocity, grid%velocity, with_a=.false., &
+                    with_v=.true., with_gradient=.true., a=a3, v=vels(:, p), &
+                    gradient=grads(:, :, p))
             end do
             !$omp end parallel do
             cell_old = 0.0_wp
@@ -908,7 +614,7 @@ contains
                     + particles%volume(p)*determinant(dF, dim)
             end do
         end if
-        ng = group_count(stc, .false.)
+        ng = group_count(stc, chunks=.false.)
         allocate (partial(nstress_sums, ng), moved(ng))
         !$omp parallel do default(none) schedule(dynamic, 1) &
         !$omp shared(grid, particles, stc, materials, dt, dim, fbar, grads, vels, gravity, &
@@ -917,16 +623,15 @@ contains
         do k = 1, ng
             work = 0.0_wp
             mine = motion_type()
-            call group_range(stc, .false., k, qlo, qhi)
+            call group_range(stc, chunks=.false., g=k, qlo=qlo, qhi=qhi)
             do q = qlo, qhi
                 p = stc%order(q)
                 if (fbar) then
                     gradv = grads(:, :, p)
                     v = vels(:, p)
                 else
-                    call gather_particle(stc, p, grid%velocity, grid%velocity, .false., .true., &
-                        .true., &
-                        a3, v, gradv)
+                    call gather_particle(stc, p, grid%velocity, grid%velocity, with_a=.false., &
+                        with_v=.true., with_gradient=.true., a=a3, v=v, gradient=gradv)
                 end if
                 ! gradv(i, j) = d v_i / d x_j; ldt = dt gradv, dF = I + ldt
                 ldt = dt*gradv
@@ -1111,162 +816,6 @@ contains
         jac = determinant(g, 3)
     end subroutine deform_3d
 
-    pure subroutine scatter_particle(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
-            vs, fint_row, bf, body_row, buf)
-        type(stencils_type), intent(in) :: stc
-        type(grid_type), intent(in) :: grid
-        integer, intent(in) :: p, shift, fint_row, body_row
-        real(wp), intent(in) :: m, xp(3), vp(3), aff(3, 3), vs(6), bf(3)
-        logical, intent(in) :: apic
-        integer, intent(in) :: mass_row, momentum_row
-        real(wp), intent(inout) :: buf(:, :)
-
-        select case (stencil_kind(stc))
-        case (full_gimp_3d)
-            call scatter_g3(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, vs, &
-                fint_row, bf, body_row, buf)
-        case (full_gimp_2d)
-            call scatter_g2(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, vs, &
-                fint_row, bf, body_row, buf)
-        case (full_linear_3d)
-            call scatter_l3(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, vs, &
-                fint_row, bf, body_row, buf)
-        case (full_linear_2d)
-            call scatter_l2(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, vs, &
-                fint_row, bf, body_row, buf)
-        case default
-            call scatter_any(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, vs, &
-                fint_row, bf, body_row, buf, stc%nper(1), stc%nper(2), stc%nper(3))
-        end select
-    end subroutine scatter_particle
-
-    !> scatter_particle for full stencils, cpGIMP in 3D.
-    pure subroutine scatter_g3(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
-            vs, fint_row, bf, body_row, buf)
-        integer, parameter :: n1 = 3, n2 = 3, n3 = 3
-        include "mpm_transfer_scatter.inc"
-    end subroutine scatter_g3
-
-    !> scatter_particle for full stencils, cpGIMP in 2D.
-    pure subroutine scatter_g2(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
-            vs, fint_row, bf, body_row, buf)
-        integer, parameter :: n1 = 3, n2 = 3, n3 = 1
-        include "mpm_transfer_scatter.inc"
-    end subroutine scatter_g2
-
-    !> scatter_particle for full stencils, linear in 3D.
-    pure subroutine scatter_l3(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
-            vs, fint_row, bf, body_row, buf)
-        integer, parameter :: n1 = 2, n2 = 2, n3 = 2
-        include "mpm_transfer_scatter.inc"
-    end subroutine scatter_l3
-
-    !> scatter_particle for full stencils, linear in 2D.
-    pure subroutine scatter_l2(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
-            vs, fint_row, bf, body_row, buf)
-        integer, parameter :: n1 = 2, n2 = 2, n3 = 1
-        include "mpm_transfer_scatter.inc"
-    end subroutine scatter_l2
-
-    !> scatter_particle for any stencil (an axis of the grid with fewer nodes than the shape
-    !> function touches).
-    pure subroutine scatter_any(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
-            vs, fint_row, bf, body_row, buf, n1, n2, n3)
-        integer, intent(in) :: n1, n2, n3
-        include "mpm_transfer_scatter.inc"
-    end subroutine scatter_any
-
-
-    !> APIC: the parts C_p(:, a) (x_i,a - x_p,a) of the node velocity, per axis and node.
-    pure subroutine apic_terms(stc, grid, p, xp, aff, cx, cy, cz)
-        type(stencils_type), intent(in) :: stc
-        type(grid_type), intent(in) :: grid
-        integer, intent(in) :: p
-        real(wp), intent(in) :: xp(3), aff(3, 3)
-        real(wp), intent(out) :: cx(3, 3), cy(3, 3), cz(3, 3)
-
-        integer :: i
-        real(wp) :: r
-
-        cx = 0.0_wp
-        cy = 0.0_wp
-        cz = 0.0_wp
-        do i = 1, stc%nper(1)
-            r = grid%origin(1) + grid%dx*real(stc%first(1, p) + i - 1, wp) - xp(1)
-            cx(:, i) = aff(:, 1)*r
-        end do
-        do i = 1, stc%nper(2)
-            r = grid%origin(2) + grid%dx*real(stc%first(2, p) + i - 1, wp) - xp(2)
-            cy(:, i) = aff(:, 2)*r
-        end do
-        if (stc%dim == 3) then
-            do i = 1, stc%nper(3)
-                r = grid%origin(3) + grid%dx*real(stc%first(3, p) + i - 1, wp) - xp(3)
-                cz(:, i) = aff(:, 3)*r
-            end do
-        end if
-    end subroutine apic_terms
-
-    !> Gather at one particle from two nodal vector fields: sum N_i fa_i, sum N_i fv_i and,
-    !> when `with_gradient`, sum fv_i (x) grad N_i (gradient(i, j) = d fv_i / d x_j).
-    pure subroutine gather_particle(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
-        type(stencils_type), intent(in) :: stc
-            !! stencils of the step
-        integer, intent(in) :: p
-            !! particle
-        real(wp), intent(in), contiguous :: fa(:, :), fv(:, :)
-            !! nodal fields (dim, nodes): acceleration and velocity
-        logical, intent(in) :: with_a, with_v, with_gradient
-            !! gather fa; gather fv; gather the gradient of fv
-        real(wp), intent(out) :: a(3), v(3), gradient(3, 3)
-            !! results (first dim components; v is zero without with_v and with_gradient)
-
-        select case (stencil_kind(stc))
-        case (full_gimp_3d)
-            call gather_g3(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
-        case (full_gimp_2d)
-            call gather_g2(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
-        case (full_linear_3d)
-            call gather_l3(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
-        case (full_linear_2d)
-            call gather_l2(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
-        case default
-            call gather_any(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient, &
-                stc%nper(1), stc%nper(2), stc%nper(3))
-        end select
-    end subroutine gather_particle
-
-    !> gather_particle for full stencils, cpGIMP in 3D.
-    pure subroutine gather_g3(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
-        integer, parameter :: n1 = 3, n2 = 3, n3 = 3
-        include "mpm_transfer_gather.inc"
-    end subroutine gather_g3
-
-    !> gather_particle for full stencils, cpGIMP in 2D.
-    pure subroutine gather_g2(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
-        integer, parameter :: n1 = 3, n2 = 3, n3 = 1
-        include "mpm_transfer_gather.inc"
-    end subroutine gather_g2
-
-    !> gather_particle for full stencils, linear in 3D.
-    pure subroutine gather_l3(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
-        integer, parameter :: n1 = 2, n2 = 2, n3 = 2
-        include "mpm_transfer_gather.inc"
-    end subroutine gather_l3
-
-    !> gather_particle for full stencils, linear in 2D.
-    pure subroutine gather_l2(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
-        integer, parameter :: n1 = 2, n2 = 2, n3 = 1
-        include "mpm_transfer_gather.inc"
-    end subroutine gather_l2
-
-    !> gather_particle for any stencil (an axis of the grid with fewer nodes than the shape
-    !> function touches).
-    pure subroutine gather_any(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient, &
-            n1, n2, n3)
-        integer, intent(in) :: n1, n2, n3
-        include "mpm_transfer_gather.inc"
-    end subroutine gather_any
 
 
     !> Groups of sorted particles of a pass: the scatter chunks (`chunks`), or blocks of
@@ -1296,33 +845,22 @@ contains
         end if
     end subroutine group_range
 
-    !> Which constant-length loops a step's stencils can use: full cpGIMP or linear stencils
-    !> in 2D or 3D, or another (an axis of the grid with fewer nodes than the shape touches).
-    pure integer function stencil_kind(stc)
-        type(stencils_type), intent(in) :: stc
-        stencil_kind = other_stencil
-        if (stc%dim == 3 .and. stc%count == 27) stencil_kind = full_gimp_3d
-        if (stc%dim == 2 .and. stc%count == 9) stencil_kind = full_gimp_2d
-        if (stc%dim == 3 .and. stc%count == 8) stencil_kind = full_linear_3d
-        if (stc%dim == 2 .and. stc%count == 4) stencil_kind = full_linear_2d
-    end function stencil_kind
-
-    !> Whether a particle of mass m is alone on the nodes of its stencil (each node with a
+    !> Whether particle p of mass m is alone on the nodes of its stencil (each node with a
     !> weight has its mass from this particle, to round-off).
-    pure logical function alone(grid, m, count, node, w)
+    pure logical function alone(grid, stc, p, m)
         type(grid_type), intent(in) :: grid
             !! grid with nodal masses
+        type(stencils_type), intent(in) :: stc
+            !! stencils of the step
+        integer, intent(in) :: p
+            !! particle
         real(wp), intent(in) :: m
             !! particle mass [kg]
-        integer, intent(in) :: count
-            !! nodes of the stencil
-        integer, intent(in) :: node(:)
-            !! nodes
-        real(wp), intent(in) :: w(:)
-            !! weights
-        integer :: c
+        integer :: c, node(stc%count)
+        real(wp) :: w(stc%count), dw(3, stc%count)
+        call particle_nodes(stc, p, node, w, dw)
         alone = .true.
-        do c = 1, count
+        do c = 1, stc%count
             if (w(c) <= 0.0_wp) cycle
             if (grid%mass(node(c)) > (1.0_wp + 1.0e-9_wp)*m*w(c)) then
                 alone = .false.

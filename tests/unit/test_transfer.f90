@@ -14,7 +14,7 @@ program test_transfer
     use mpm_case, only: case_type, read_case_string
     use mpm_solver, only: simulation_type, new_simulation, advance, stable_time_step
     use mpm_stencil, only: compute_stencils
-    use mpm_transfer, only: p2g
+    use mpm_transfer, only: p2g, p2g_options_type
     implicit none
 
     type(test_suite_type) :: suite
@@ -71,7 +71,8 @@ contains
             end do
             call compute_stencils(sim%stencils, sim%grid, sim%particles, sim%shape, error)
             if (allocated(error)) exit
-            call p2g(sim%grid, sim%particles, sim%stencils, .true., .true., .false.)
+            call p2g(sim%grid, sim%particles, sim%stencils, &
+                p2g_options_type(mass=.true., fint=.true.))
             associate (g => sim%grid)
                 worst_mass = max(worst_mass, abs(sum(g%mass) - mass)/mass)
                 gmom = 0.0_wp

@@ -1,0 +1,159 @@
+!> Contacts of the material with frictional faces and the terrain: the gap of each contact
+!> pair from the particle domains (P2G) and the no-penetration and Coulomb friction
+!> constraints on the nodal momentum (nodal update).
+module mpm_kernel_contact
+    use mpm_kinds, only: wp
+    use mpm_grid, only: grid_type, contact_index, node_owned
+    use mpm_terrain, only: terrain_distance
+    use mpm_particles, only: particles_type
+    use mpm_stencil, only: stencils_type, particle_nodes
+    implicit none
+    private
+    public :: apply_contacts, contact_gaps
+
+    real(wp), parameter :: contact_tolerance = 1.0e-3_wp
+        !! material closer to a frictional face than this fraction of dx touches it [-]
+    real(wp), parameter :: load_smoothing = 0.1_wp
+        !! weight of the newest step in the running mean of the normal contact impulse when
+        !! grid%contact_time is 0 [-]
+
+contains
+
+    !> Coulomb friction on frictional faces, node by node.
+    !>
+    !> A face node is in contact when the material touches the face (P2G records the gap
+    !> between the particle domains and the face) and moves into it: its normal velocity is
+    !> removed, and the normal impulse that takes enters a running mean over about ten steps
+    !> (contact_load). Friction then reduces the tangential velocity by at most
+    !> mu * contact_load / m (to zero: sticking). A node moving away from the face is free
+    !> (lift-off), and a node the material no longer touches takes no normal impulse.
+    !>
+    !> Why the running mean (found with the sliding-block test): the normal velocity of a
+    !> face node carries the particles' numerical noise, so some steps the node moves away
+    !> from the face and takes no impulse, and in others it takes more. Friction limited by
+    !> the impulse of the same step then has no grip in the steps without one, and a block
+    !> that should stick creeps down the slope; limited by the mean it sees the steady
+    !> normal load. A two-sided normal constraint is no cure: the positive part of a noisy
+    !> normal impulse is far larger than its mean, and friction locks sliding blocks.
+    !>
+    !> Acts on grid%momentum; when dt > 0 the velocity change also enters grid%acceleration,
+    !> so the particles (FLIP update) see the contact force, and friction is applied; with
+    !> dt = 0 only the normal constraint is (velocities remapped within a step).
+    subroutine apply_contacts(grid, dt, work)
+        type(grid_type), intent(inout) :: grid
+            !! grid with mass and momentum set
+        real(wp), intent(in) :: dt
+            !! time step [s]; 0 when only velocities are corrected
+        real(wp), intent(out) :: work
+            !! work of friction [J]: the friction impulse times the tangential velocity of
+            !! the end of the step, m (v_n - v_new) . v_new (v_n: the velocity with the normal
+            !! part removed), mu N ds for a slide ds; the normal impulse acts where the normal
+            !! velocity is zero and does no work
+
+        integer :: c, id, dim
+        real(wp) :: v(3), vnew(3), vt(3), n(3), vn, vt_norm, factor, weight, v1(3)
+        logical :: touching
+
+        dim = grid%dim
+        work = 0.0_wp
+        do c = 1, grid%ncontacts
+            id = grid%contact_node(c)
+            if (grid%mass(id) <= 0.0_wp) then
+                if (dt > 0.0_wp) grid%contact_load(c) = 0.0_wp
+                cycle
+            end if
+            ! n: unit normal into the obstacle (a face: +-e_axis, exactly; the arithmetic
+            ! below then gives the same bits as component-wise code)
+            n(1:dim) = grid%contact_dir(:, c)
+            v(1:dim) = grid%momentum(:, id)/grid%mass(id)
+            vn = dot_product(v(1:dim), n(1:dim))
+            touching = grid%contact_gap(c) <= contact_tolerance*grid%dx
+            if (.not. touching) vn = 0.0_wp
+            vnew(1:dim) = v(1:dim)
+            if (vn > 0.0_wp) vnew(1:dim) = v(1:dim) - vn*n(1:dim)
+            v1(1:dim) = vnew(1:dim)
+            if (dt > 0.0_wp) then
+                ! running mean over a fixed time, so that the friction does not depend on dt
+                weight = load_smoothing
+                if (grid%contact_time > 0.0_wp) weight = min(1.0_wp, dt/grid%contact_time)
+                grid%contact_load(c) = (1.0_wp - weight)*grid%contact_load(c) &
+                    + weight*max(vn, 0.0_wp)*grid%mass(id)
+                vn = dot_product(vnew(1:dim), n(1:dim))
+                vt(1:dim) = vnew(1:dim) - vn*n(1:dim)
+                vt_norm = norm2(vt(1:dim))
+                if (vt_norm > 0.0_wp) then
+                    factor = max(0.0_wp, &
+                        1.0_wp - grid%contact_mu(c)*grid%contact_load(c)/(grid%mass(id)*vt_norm))
+                    vnew(1:dim) = factor*vt(1:dim) + vn*n(1:dim)
+                end if
+                grid%acceleration(:, id) = grid%acceleration(:, id) + (vnew(1:dim) - v(1:dim))/dt
+            end if
+            grid%momentum(:, id) = grid%mass(id)*vnew(1:dim)
+            if (node_owned(grid, id)) work = work &
+                + grid%mass(id)*dot_product(v1(1:dim) - vnew(1:dim), vnew(1:dim))
+        end do
+    end subroutine apply_contacts
+
+    !> Record, for the contact nodes (frictional faces, terrain) particle p maps to, the gap
+    !> between the particle's domain and the face or surface (negative when it reaches past
+    !> it), as the smallest so far.
+    subroutine contact_gaps(grid, particles, stc, p, gaps)
+        type(grid_type), intent(in) :: grid
+            !! grid with its contact pairs
+        type(particles_type), intent(in) :: particles
+            !! particles
+        type(stencils_type), intent(in) :: stc
+            !! stencils of the step
+        integer, intent(in) :: p
+            !! particle
+        real(wp), intent(inout) :: gaps(:)
+            !! smallest gap of each contact pair so far [m]
+
+        integer :: a, side, c, k, dim
+        integer :: node(stc%count)
+        real(wp) :: gap, face, w(stc%count), dw(3, stc%count), x(3), d, n(3)
+        logical :: have_nodes, found
+
+        have_nodes = .false.
+        dim = grid%dim
+        if (allocated(grid%terrain)) then
+            ! the terrain: the distance from the particle domain to the surface
+            x = 0.0_wp
+            x(1:dim) = particles%x(:, p)
+            call terrain_distance(grid%terrain, x, found, d, n)
+            if (found) then
+                gap = d - sum(particles%lp(:, p)*abs(n(1:dim)))
+                call particle_nodes(stc, p, node, w, dw)
+                have_nodes = .true.
+                do k = 1, stc%count
+                    if (w(k) <= 0.0_wp) cycle
+                    c = grid%terrain_pair(node(k))
+                    if (c > 0) gaps(c) = min(gaps(c), gap)
+                end do
+            end if
+        end if
+        do a = 1, grid%dim
+            do side = 1, 2
+                if (grid%contact_offset(side, a) < 0) cycle
+                if (side == 1) then
+                    face = grid%origin(a)
+                    gap = particles%x(a, p) - particles%lp(a, p) - face
+                else
+                    face = grid%origin(a) + grid%dx*real(grid%nn(a) - 1, wp)
+                    gap = face - particles%x(a, p) - particles%lp(a, p)
+                end if
+                if (gap > 2.0_wp*grid%dx) cycle
+                if (.not. have_nodes) then
+                    call particle_nodes(stc, p, node, w, dw)
+                    have_nodes = .true.
+                end if
+                do k = 1, stc%count
+                    if (w(k) <= 0.0_wp) cycle
+                    c = contact_index(grid, node(k), side, a)
+                    if (c > 0) gaps(c) = min(gaps(c), gap)
+                end do
+            end do
+        end do
+    end subroutine contact_gaps
+
+end module mpm_kernel_contact

@@ -1,0 +1,99 @@
+!> The gather kernel: two nodal vector fields (and the gradient of one) at a particle, from
+!> the nodes of its stencil (G2P, stress update).
+!>
+!> As the scatter kernel (mpm_kernel_scatter), the body (mpm_kernel_gather.inc) is compiled
+!> once per stencil width with loops of constant length (2 and 3, in 2D and 3D), once for the
+!> narrow grids of widths up to 3 and once for any width, and the variant is chosen by
+!> `stencils_type%width`.
+module mpm_kernel_gather
+    use mpm_kinds, only: wp
+    use mpm_stencil, only: stencils_type, axis_derivatives, fixed_width
+    use mpm_kernel_scatter, only: narrow_width
+    implicit none
+    private
+    public :: gather_particle
+
+contains
+
+    !> Gather at one particle from two nodal vector fields: sum N_i fa_i, sum N_i fv_i and,
+    !> when `with_gradient`, sum fv_i (x) grad N_i (gradient(i, j) = d fv_i / d x_j).
+    pure subroutine gather_particle(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
+        type(stencils_type), intent(in) :: stc
+            !! stencils of the step
+        integer, intent(in) :: p
+            !! particle
+        real(wp), intent(in), contiguous :: fa(:, :), fv(:, :)
+            !! nodal fields (dim, nodes): acceleration and velocity
+        logical, intent(in) :: with_a, with_v, with_gradient
+            !! gather fa; gather fv; gather the gradient of fv
+        real(wp), intent(out) :: a(3), v(3), gradient(3, 3)
+            !! results (first dim components; v is zero without with_v and with_gradient)
+
+        ! the variant of the stencils' width (0: an axis keeps fewer nodes) and dimension
+        select case (10*stc%width + stc%dim)
+        case (33)
+            call gather_w3_3d(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
+        case (32)
+            call gather_w3_2d(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
+        case (23)
+            call gather_w2_3d(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
+        case (22)
+            call gather_w2_2d(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
+        case default
+            if (stc%nps <= narrow_width) then
+                call gather_narrow(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient, &
+                    stc%nper(1), stc%nper(2), stc%nper(3))
+            else
+                call gather_any(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient, &
+                    stc%nper(1), stc%nper(2), stc%nper(3), stc%nper(1), stc%nper(2), stc%nper(3))
+            end if
+        end select
+    end subroutine gather_particle
+
+    !> gather_particle for full stencils of width 3 in 3D.
+    pure subroutine gather_w3_3d(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
+        integer, parameter :: n1 = 3, n2 = 3, n3 = 3
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        include "mpm_kernel_gather.inc"
+    end subroutine gather_w3_3d
+
+    !> gather_particle for full stencils of width 3 in 2D.
+    pure subroutine gather_w3_2d(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
+        integer, parameter :: n1 = 3, n2 = 3, n3 = 1
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        include "mpm_kernel_gather.inc"
+    end subroutine gather_w3_2d
+
+    !> gather_particle for full stencils of width 2 in 3D.
+    pure subroutine gather_w2_3d(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
+        integer, parameter :: n1 = 2, n2 = 2, n3 = 2
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        include "mpm_kernel_gather.inc"
+    end subroutine gather_w2_3d
+
+    !> gather_particle for full stencils of width 2 in 2D.
+    pure subroutine gather_w2_2d(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
+        integer, parameter :: n1 = 2, n2 = 2, n3 = 1
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        include "mpm_kernel_gather.inc"
+    end subroutine gather_w2_2d
+
+    !> gather_particle for the stencils of a shape function of width up to narrow_width on a
+    !> grid with an axis of fewer nodes (scratch of that width).
+    pure subroutine gather_narrow(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient, &
+            n1, n2, n3)
+        integer, intent(in) :: n1, n2, n3
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        include "mpm_kernel_gather.inc"
+    end subroutine gather_narrow
+
+    !> gather_particle for any stencil (a shape function wider than narrow_width without
+    !> loops of its width here; scratch of the stencil's width, m = n).
+    pure subroutine gather_any(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient, &
+            n1, n2, n3, m1, m2, m3)
+        use mpm_stencil, only: axis_derivatives => axis_derivatives_any
+        integer, intent(in) :: n1, n2, n3, m1, m2, m3
+        include "mpm_kernel_gather.inc"
+    end subroutine gather_any
+
+end module mpm_kernel_gather
