@@ -514,6 +514,10 @@ def main(argv):
         lines += column_section(column, figures)
     if bui is not None:
         lines += bui_section(bui, figures)
+    # sections measured outside the study (the cantilever of issue 19), kept across make study
+    kept = figures / "cantilever.md"
+    if kept.exists():
+        lines += ["", kept.read_text().rstrip("\n"), ""]
     page.write_text("\n".join(lines) + "\n")
     print(f"wrote {page}")
     return 0

@@ -547,7 +547,7 @@ contains
     !> Stress update from the nodal velocities in grid%velocity.
     !>
     !> L = sum_i v_i (x) grad N_i; strain increment D dt, spin W dt; F <- (I + L dt) F;
-    !> V = det(F) V0; GIMP half-sizes lp = lp0 F_aa (contiguous particle GIMP). Returns the
+    !> V = det(F) V0; GIMP half-sizes from F (domain_half_sizes). Returns the
     !> work of the stresses over the step (strain energy increment). Like every pass of a
     !> step, it uses the shape functions at the start-of-step positions.
     !>
@@ -668,9 +668,9 @@ contains
     !> dt d v_i / d x_k, particle order(qlo + j - 1)): strain increments D dt and spins W dt to
     !> the materials, one call per run of particles of the same material (update_stress_block:
     !> no call per particle for the simple ones), then F <- (I + ldt) F, V = det(F) V0,
-    !> lp = lp0 F_aa; adds the work of the stresses over the step and the elastic energy
-    !> the particles store at its end to `work` (by work kind of the materials, see
-    !> nstress_sums), particle by particle in order.
+    !> lp from F (domain_half_sizes); adds the work of the stresses over the step and the
+    !> elastic energy the particles store at its end to `work` (by work kind of the materials,
+    !> see nstress_sums), particle by particle in order.
     subroutine stress_block(particles, materials, stc, qlo, qhi, ldt, dt, dim, work)
         type(particles_type), intent(inout) :: particles
             !! particles
@@ -758,9 +758,8 @@ contains
             end if
             vold = particles%volume(p)
             particles%volume(p) = jac*particles%volume0(p)
-            do a = 1, dim
-                particles%lp(a, p) = particles%lp0(a, p)*abs(particles%f(a, a, p))
-            end do
+            call domain_half_sizes(particles%f(:, :, p), particles%lp0(:, p), dim, &
+                particles%lp(:, p))
             ! trapezoidal rule on V sigma (volume and stress at both ends of the step):
             ! second order in dt, also when the volume changes with the strain
             ! (V sigma)_mid : de, shear components twice (tensor components)
@@ -776,6 +775,28 @@ contains
                 + density(j)*particles%volume(p)
         end do
     end subroutine stress_block
+
+    !> Half-sizes of a particle's cpGIMP domain from its deformation gradient: along axis a,
+    !> lp_a = sqrt(sum_b (F_ab lp0_b)^2), the root-mean-square extent along x_a of the
+    !> deformed reference box (edges F e_b lp0_b). A stretch along the axes gives lp0_a F_aa,
+    !> as lp0_a |F_aa| does, but a rotation leaves the size unchanged: lp0_a |F_aa| shrank
+    !> the domain of a particle turned by 90 degrees to a point (linear hat weights), and the
+    !> free end of a hanging cantilever turned unstable there (docs/accuracy-vs-cost.md).
+    pure subroutine domain_half_sizes(f, lp0, dim, lp)
+        real(wp), intent(in) :: f(:, :)
+            !! deformation gradient (dim x dim)
+        real(wp), intent(in) :: lp0(:)
+            !! half-sizes of the reference domain [m]
+        integer, intent(in) :: dim
+            !! space dimensions
+        real(wp), intent(out) :: lp(:)
+            !! half-sizes of the current domain [m]
+        integer :: a
+
+        do a = 1, dim
+            lp(a) = norm2(f(a, 1:dim)*lp0(1:dim))
+        end do
+    end subroutine domain_half_sizes
 
     !> F <- (I + ldt) F in 2D and its determinant.
     pure subroutine deform_2d(f, ldt, jac)
