@@ -7,6 +7,8 @@
 mms.csv comes from bench/study_mms; column.csv and bui.csv from bench/study_cases.py (their
 sections are written by bench/study_report.py); a missing file leaves its section out. --times:
 lines "part seconds" (run_study.sh) for the run time of each part of the study.
+docs/study/runout_refinement.md, written by hand (measurements the study does not make), is
+appended as it is.
 """
 
 import argparse
@@ -26,6 +28,9 @@ import study_cases  # noqa: E402  (bench/, next to this file)
 import study_report  # noqa: E402
 
 TARGETS = [1e-3, 1e-4, 1e-5]
+# the section on the runout of collapses under refinement (issue 19): measurements made by
+# hand, not by the study, appended to the page as they are
+RUNOUT_NOTES = REPO / "docs" / "study" / "runout_refinement.md"
 
 
 def fmt(value, spec=".3g"):
@@ -518,6 +523,9 @@ def main(argv):
     kept = figures / "cantilever.md"
     if kept.exists():
         lines += ["", kept.read_text().rstrip("\n"), ""]
+    # measurements made by hand, not by the study (issue 19: the runout under refinement)
+    if RUNOUT_NOTES.is_file():
+        lines += ["", RUNOUT_NOTES.read_text().rstrip("\n")]
     page.write_text("\n".join(lines) + "\n")
     print(f"wrote {page}")
     return 0
