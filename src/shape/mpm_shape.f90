@@ -22,7 +22,15 @@ module mpm_shape
     use mpm_grid, only: grid_type
     implicit none
     private
-    public :: shape_type, stencil_type, tensor_product
+    public :: shape_type, stencil_type, tensor_product, max_nodes_per_axis, max_stencil_nodes
+
+    integer, parameter :: max_nodes_per_axis = 4
+        !! widest shape function the kernels take, in nodes per axis (4: a cubic B-spline);
+        !! the factory refuses a wider one. Per-particle scratch has this fixed size: gfortran
+        !! allocates an automatic array of run-time size on the heap, and per particle that
+        !! cost 19 % of the default case in malloc and free
+    integer, parameter :: max_stencil_nodes = max_nodes_per_axis**3
+        !! most nodes of one particle's stencil (3D)
 
     !> Nodes, weights and weight gradients of one particle (tests and diagnostics; the passes
     !> of a step use the 1D factors of mpm_stencil).

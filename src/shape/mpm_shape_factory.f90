@@ -6,7 +6,7 @@ module mpm_shape_factory
     use mpm_error, only: error_type, fatal_error, exit_other
     use mpm_strings, only: int_text
     use mpm_case, only: shape_linear, shape_cpgimp
-    use mpm_shape, only: shape_type
+    use mpm_shape, only: shape_type, max_nodes_per_axis
     use mpm_shape_linear, only: linear_shape_type
     use mpm_shape_gimp, only: gimp_shape_type
     implicit none
@@ -26,8 +26,14 @@ contains
 
         if (kind == shape_linear) allocate (linear_shape_type :: shape)
         if (kind == shape_cpgimp) allocate (gimp_shape_type :: shape)
-        if (.not. allocated(shape)) call fatal_error(error, "no shape function has the key "// &
-            int_text(kind)//" (mpm_shape_factory)", exit_other)
+        if (.not. allocated(shape)) then
+            call fatal_error(error, "no shape function has the key "//int_text(kind)// &
+                " (mpm_shape_factory)", exit_other)
+        else if (shape%nodes_per_axis() > max_nodes_per_axis) then
+            call fatal_error(error, "shape function "//int_text(kind)//" touches "// &
+                int_text(shape%nodes_per_axis())//" nodes per axis, more than the kernels' "// &
+                "max_nodes_per_axis = "//int_text(max_nodes_per_axis)//" (mpm_shape)", exit_other)
+        end if
     end subroutine new_shape
 
 end module mpm_shape_factory

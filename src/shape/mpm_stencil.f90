@@ -23,7 +23,7 @@ module mpm_stencil
     use mpm_error, only: error_type, fatal_error, exit_other
     use mpm_grid, only: grid_type
     use mpm_particles, only: particles_type
-    use mpm_shape, only: shape_type
+    use mpm_shape, only: shape_type, max_nodes_per_axis
     implicit none
     private
     public :: stencils_type, compute_stencils, particle_nodes, stencil_bytes, axis_derivatives, &
@@ -387,8 +387,9 @@ contains
             !! weight gradients (3, nodes) [1/m] (first dim components)
 
         integer :: i, j, k, c, base, basej
-        real(wp) :: wjk, wx(stc%nps), dwx(stc%nps), wy(stc%nps), dwy(stc%nps), wz(stc%nps), &
-            dwz(stc%nps)
+        real(wp) :: wjk, wx(max_nodes_per_axis), dwx(max_nodes_per_axis), &
+            wy(max_nodes_per_axis), dwy(max_nodes_per_axis), wz(max_nodes_per_axis), &
+            dwz(max_nodes_per_axis)
 
         call axis_factors(stc, 1, p, stc%nper(1), wx, dwx)
         call axis_factors(stc, 2, p, stc%nper(2), wy, dwy)

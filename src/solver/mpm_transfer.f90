@@ -25,6 +25,7 @@ module mpm_transfer
     use mpm_grid, only: grid_type
     use mpm_particles, only: particles_type, particle_number
     use mpm_stencil, only: stencils_type, particle_nodes
+    use mpm_shape, only: max_stencil_nodes
     use mpm_material, only: material_holder_type, nwork_kinds
     use mpm_case, only: bc_free
     use mpm_kernel_scatter, only: scatter_particle
@@ -887,8 +888,8 @@ contains
             !! particle
         real(wp), intent(in) :: m
             !! particle mass [kg]
-        integer :: c, node(stc%count)
-        real(wp) :: w(stc%count), dw(3, stc%count)
+        integer :: c, node(max_stencil_nodes)
+        real(wp) :: w(max_stencil_nodes), dw(3, max_stencil_nodes)
         logical :: held
         call particle_nodes(stc, p, node, w, dw)
         held = .false.

@@ -7,6 +7,7 @@ module mpm_kernel_contact
     use mpm_terrain, only: terrain_distance
     use mpm_particles, only: particles_type
     use mpm_stencil, only: stencils_type, particle_nodes
+    use mpm_shape, only: max_stencil_nodes
     implicit none
     private
     public :: apply_contacts, contact_gaps
@@ -110,8 +111,8 @@ contains
             !! smallest gap of each contact pair so far [m]
 
         integer :: a, side, c, k, dim
-        integer :: node(stc%count)
-        real(wp) :: gap, face, w(stc%count), dw(3, stc%count), x(3), d, n(3)
+        integer :: node(max_stencil_nodes)
+        real(wp) :: gap, face, w(max_stencil_nodes), dw(3, max_stencil_nodes), x(3), d, n(3)
         logical :: have_nodes, found
 
         have_nodes = .false.
