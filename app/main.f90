@@ -1,5 +1,5 @@
-!> mpm_geo: command line of the explicit MPM solver. Parses the arguments, reads the case,
-!> runs it, and turns errors into a message on standard error and an exit code:
+!> The mpm_geo program, command line of the explicit MPM solver. Parses the arguments, reads
+!> the case, runs it, and turns errors into a message on standard error and an exit code:
 !> 0 success, 1 other errors, 2 invalid input, 3 numerical failure, 4 stopped by a signal
 !> after writing a checkpoint, 5 an output file could not be written (a full disk).
 program mpm_geo_main

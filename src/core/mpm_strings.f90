@@ -24,14 +24,14 @@ module mpm_strings
     integer, parameter :: max_decimal_exponent = 300
     ! What a token is as a number (parse_real; number_slow: valid, left to strtod)
     integer, parameter :: number_invalid = 0
-        !! parse_real: not a number
+        !! result of parse_real: not a number
     integer, parameter :: number_finite = 1
-        !! parse_real: a finite number, converted
+        !! result of parse_real: a finite number, converted
     integer, parameter :: number_slow = 2
     integer, parameter :: number_not_finite = 3
-        !! parse_real: NaN or infinity
+        !! result of parse_real: NaN or infinity
     integer, parameter :: number_too_large = 4
-        !! parse_real: a decimal exponent beyond 300: out of range
+        !! result of parse_real: a decimal exponent beyond 300, out of range
     ! 10**k, k = 0..22: exact doubles (10**k = 5**k 2**k and 5**22 < 2**53)
     real(wp), parameter :: exact_powers(0:22) = [1.0e0_wp, 1.0e1_wp, 1.0e2_wp, 1.0e3_wp, &
         1.0e4_wp, 1.0e5_wp, 1.0e6_wp, 1.0e7_wp, 1.0e8_wp, 1.0e9_wp, 1.0e10_wp, 1.0e11_wp, &

@@ -47,8 +47,9 @@ module mpm_strength
         real(wp) :: dilatancy_residual = 0.0_wp
             !! residual dilatancy angle [rad] (softening only)
         real(wp) :: softening_strain = 0.0_wp
-            !! linear: plastic shear strain at which the residual values are reached;
-            !! exponential: strain scale eta_0 in x = x_r + (x_p - x_r) exp(-eps_p / eta_0) [-]
+            !! for the linear law, the plastic shear strain at which the residual values are
+            !! reached; for the exponential law, the strain scale eta_0 in
+            !! x = x_r + (x_p - x_r) exp(-eps_p / eta_0) [-]
     end type strength_type
 
 contains

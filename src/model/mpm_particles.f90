@@ -108,14 +108,14 @@ module mpm_particles
         type(particle_field_type) :: field
             !! its description
         integer :: only = 0
-            !! job_allocate: the one field to allocate; 0: every field held_always or
+            !! for job_allocate, the one field to allocate; 0: every field held_always or
             !! held_written
         integer :: n = 0
             !! job_allocate, job_regrow: particles
         integer :: dim = 2
-            !! job_allocate: space dimensions
+            !! for job_allocate, the space dimensions
         integer :: nstate = 0
-            !! job_allocate: material state variables per particle
+            !! for job_allocate, the material state variables per particle
         integer, allocatable :: kept(:)
             !! job_regrow: particles kept, in their order, at the start of the new arrays
         real(wp), allocatable :: records(:)

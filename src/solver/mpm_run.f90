@@ -36,7 +36,7 @@ module mpm_run
     public :: run_options_type, run_summary_type, run_case, memory_estimate, checkpoint_path
 
     integer, parameter :: request_due = 1
-        !! checkpoint_request: a checkpoint is due (a stop signal adds its number)
+        !! set by checkpoint_request when a checkpoint is due (a stop signal adds its number)
 
     !> A copy of the state after a healthy step, kept by the blow-up guard.
     type :: snapshot_type

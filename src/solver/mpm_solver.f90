@@ -53,9 +53,9 @@ module mpm_solver
         phase_stress = 5, phase_other = 6, phase_output = 7
     character(len=*), parameter :: phase_names(nphases) = [character(len=8) :: &
         "sorting", "P2G", "nodal", "G2P", "stress", "other", "output"]
-        !! sorting: shape functions, particle order by cell layer and chunks; P2G: scatters;
-        !! nodal: nodal update; G2P: velocities, positions (USL, USF), the MUSL remap;
-        !! stress: stress update (MUSL: positions); other: time step, guard, energies; output
+        !! sorting (shape functions, particle order by cell layer and chunks); P2G (scatters);
+        !! nodal (nodal update); G2P (velocities, positions (USL, USF), the MUSL remap);
+        !! stress (stress update, MUSL: positions); other: time step, guard, energies; output
     integer, parameter :: rebalance_steps = 50
         !! steps between two looks at the particle counts of the images
     real(wp), parameter :: rebalance_threshold = 1.1_wp

@@ -52,7 +52,7 @@ module mpm_transfer
         logical :: fint = .false.
             !! the internal force
         logical :: fbar = .false.
-            !! F-bar: the internal force takes the pressure of each particle as the mean of
+            !! with F-bar, the internal force takes the pressure of each particle as the mean of
             !! its cell, the counterpart of the cell-averaged volume change of `update_stress`
     end type p2g_options_type
 
@@ -319,7 +319,7 @@ contains
         real(wp), intent(in) :: gravity(3)
             !! gravitational acceleration (potential energy of the moves) [m/s2]
         logical, intent(in) :: remap
-            !! MUSL: scatter the updated momentum and recompute the nodal velocities; the
+            !! for MUSL, scatter the updated momentum and recompute the nodal velocities; the
             !! particles then move in the stress update, with the remapped velocities
         type(motion_type), intent(out) :: motion
             !! largest move and lost particle when the particles move here (not remap)
