@@ -1,0 +1,96 @@
+!> The energy balance of a run: its terms (energies_type), their total and residual, the
+!> guard's energy scale, and the record checkpoints keep. docs/output.md defines each term;
+!> mpm_solver sums them step by step.
+module mpm_energy
+    use mpm_kinds, only: wp
+    use mpm_material, only: nwork_kinds
+    implicit none
+    private
+    public :: energies_type, energy_total, energy_residual, energy_scale, energy_record, &
+        energies_from_record, nenergy_record
+
+    integer, parameter :: nenergy_record = 11 + nwork_kinds
+        !! values of energy_record (the `energy` attribute of a checkpoint's run record)
+
+    !> Energy terms of a run [J] (per metre of thickness in 2D [J/m]), since the start of the
+    !> balance (start_energy_balance). They close: energy_residual, kinetic + elastic +
+    !> potential + plastic + viscous + damping + friction - loads - initial, is the
+    !> energy the discretisation created (> 0) or lost (< 0). docs/output.md defines each.
+    type :: energies_type
+        real(wp) :: kinetic = 0.0_wp
+            !! sum 1/2 m v^2 [J]
+        real(wp) :: strain = 0.0_wp
+            !! work done by the stresses since the start, all materials [J]
+        real(wp) :: elastic = 0.0_wp
+            !! elastic energy stored in the particles now, sum V w(sigma) [J]
+        real(wp) :: potential = 0.0_wp
+            !! gravitational potential relative to the start, - sum m g . u [J], summed step
+            !! by step from the moves
+        real(wp) :: plastic = 0.0_wp
+            !! plastic dissipation: work of the stresses of plastic materials minus the change
+            !! of their stored elastic energy [J]
+        real(wp) :: viscous = 0.0_wp
+            !! viscous dissipation: the same for viscous materials [J]
+        real(wp) :: damping = 0.0_wp
+            !! energy removed by the `damping` of the case (local or kinetic) [J]
+        real(wp) :: friction = 0.0_wp
+            !! kinetic energy removed by the friction of frictional faces and the terrain [J]
+        real(wp) :: loads = 0.0_wp
+            !! work of the prescribed body forces of drivers (not gravity) [J]
+        real(wp) :: initial = 0.0_wp
+            !! kinetic + elastic energy at the start of the balance [J]
+        real(wp) :: supplied = 0.0_wp
+            !! largest |work of gravity| + |work of loads| so far (energy_scale) [J]
+        real(wp) :: stored(nwork_kinds) = 0.0_wp
+            !! the elastic energy by work kind of the materials (`work_*` of mpm_material) [J]
+    end type energies_type
+
+contains
+
+    !> Kinetic + elastic + potential + dissipated energy - work of the loads [J]: constant
+    !> (equal to `initial`) for an exact integrator.
+    pure real(wp) function energy_total(e)
+        type(energies_type), intent(in) :: e
+            !! energy terms
+        energy_total = e%kinetic + e%elastic + e%potential + e%plastic + e%viscous &
+            + e%damping + e%friction - e%loads
+    end function energy_total
+
+    !> The energy the discretisation created since the start (> 0) or lost (< 0) [J].
+    pure real(wp) function energy_residual(e)
+        type(energies_type), intent(in) :: e
+            !! energy terms
+        energy_residual = energy_total(e) - e%initial
+    end function energy_residual
+
+    !> The energy scale of a run for the blow-up guard [J]: initial kinetic + elastic energy
+    !> and the largest |work of gravity| + |work of loads| so far (an undamped body swings
+    !> back to where gravity did no net work: what it was given is the largest), at least
+    !> `floor`.
+    pure real(wp) function energy_scale(e, floor)
+        type(energies_type), intent(in) :: e
+            !! energy terms
+        real(wp), intent(in) :: floor
+            !! smallest scale [J]
+        energy_scale = max(e%initial + e%supplied, floor)
+    end function energy_scale
+
+    !> The energy terms as one array (checkpoints), in the order of energies_type.
+    pure function energy_record(e) result(r)
+        type(energies_type), intent(in) :: e
+            !! energy terms
+        real(wp) :: r(nenergy_record)
+        r = [e%kinetic, e%strain, e%elastic, e%potential, e%plastic, e%viscous, e%damping, &
+            e%friction, e%loads, e%initial, e%supplied, e%stored]
+    end function energy_record
+
+    !> The energy terms of an energy_record.
+    pure function energies_from_record(r) result(e)
+        real(wp), intent(in) :: r(nenergy_record)
+            !! energy_record
+        type(energies_type) :: e
+        e = energies_type(r(1), r(2), r(3), r(4), r(5), r(6), r(7), r(8), r(9), r(10), &
+            r(11), r(12:))
+    end function energies_from_record
+
+end module mpm_energy
