@@ -26,7 +26,7 @@ module mpm_stencil
     use mpm_shape, only: shape_type, max_nodes_per_axis
     implicit none
     private
-    public :: stencils_type, compute_stencils, particle_nodes, stencil_bytes, axis_derivatives, &
+    public :: stencils_type, compute_stencils, particle_nodes, particle_weights, stencil_bytes, axis_derivatives, &
         axis_derivatives_any, fixed_width
 
     integer, parameter :: fixed_width = 3
@@ -427,6 +427,52 @@ contains
             end do
         end if
     end subroutine particle_nodes
+
+    !> The nodes and weights of particle p, without the gradients (the hot paths that only ask
+    !> which nodes a particle touches and how much: APIC's held-node test, contact gaps).
+    !> Arrays of the fixed largest stencil, so the compiler sees contiguous scratch; each
+    !> weight is the same product as in particle_nodes, bit for bit.
+    pure subroutine particle_weights(stc, p, node, w)
+        type(stencils_type), intent(in) :: stc
+            !! stencils of the step
+        integer, intent(in) :: p
+            !! particle
+        integer, intent(out) :: node(max_nodes_per_axis**3)
+            !! linear node indices (first stc%count used)
+        real(wp), intent(out) :: w(max_nodes_per_axis**3)
+            !! weights [-]
+
+        integer :: i, j, k, c, base, basej
+        real(wp) :: wjk
+
+        if (stc%dim == 2) then
+            base = 1 + stc%first(1, p) + stc%stride(2)*stc%first(2, p)
+            c = 0
+            do j = 1, stc%nper(2)
+                basej = base + stc%stride(2)*(j - 1)
+                do i = 1, stc%nper(1)
+                    c = c + 1
+                    node(c) = basej + i - 1
+                    w(c) = stc%w(i, 1, p)*stc%w(j, 2, p)
+                end do
+            end do
+        else
+            base = 1 + stc%first(1, p) + stc%stride(2)*stc%first(2, p) &
+                + stc%stride(3)*stc%first(3, p)
+            c = 0
+            do k = 1, stc%nper(3)
+                do j = 1, stc%nper(2)
+                    wjk = stc%w(j, 2, p)*stc%w(k, 3, p)
+                    basej = base + stc%stride(2)*(j - 1) + stc%stride(3)*(k - 1)
+                    do i = 1, stc%nper(1)
+                        c = c + 1
+                        node(c) = basej + i - 1
+                        w(c) = stc%w(i, 1, p)*wjk
+                    end do
+                end do
+            end do
+        end if
+    end subroutine particle_weights
 
     !> The 1D weight derivatives of particle p along axis a, nodes 1 .. n (n = nper(a) <=
     !> fixed_width): the derivative of the last node is minus the sum of the others (zero

@@ -6,7 +6,7 @@ module mpm_kernel_contact
     use mpm_grid, only: grid_type, contact_index, node_owned
     use mpm_terrain, only: terrain_distance
     use mpm_particles, only: particles_type
-    use mpm_stencil, only: stencils_type, particle_nodes
+    use mpm_stencil, only: stencils_type, particle_weights
     use mpm_shape, only: max_stencil_nodes
     implicit none
     private
@@ -112,7 +112,7 @@ contains
 
         integer :: a, side, c, k, dim
         integer :: node(max_stencil_nodes)
-        real(wp) :: gap, face, w(max_stencil_nodes), dw(3, max_stencil_nodes), x(3), d, n(3)
+        real(wp) :: gap, face, w(max_stencil_nodes), x(3), d, n(3)
         logical :: have_nodes, found
 
         have_nodes = .false.
@@ -124,7 +124,7 @@ contains
             call terrain_distance(grid%terrain, x, found, d, n)
             if (found) then
                 gap = d - sum(particles%lp(:, p)*abs(n(1:dim)))
-                call particle_nodes(stc, p, node, w, dw)
+                call particle_weights(stc, p, node, w)
                 have_nodes = .true.
                 do k = 1, stc%count
                     if (w(k) <= 0.0_wp) cycle
@@ -145,7 +145,7 @@ contains
                 end if
                 if (gap > 2.0_wp*grid%dx) cycle
                 if (.not. have_nodes) then
-                    call particle_nodes(stc, p, node, w, dw)
+                    call particle_weights(stc, p, node, w)
                     have_nodes = .true.
                 end if
                 do k = 1, stc%count
