@@ -87,6 +87,9 @@ contains
                 example = '{"E": 1e6, "nu": 0.3, "rho": 1000, "phi": 30, "c": 100}'
             case ("newtonian")
                 example = '{"rho": 1000, "viscosity": 1e-3, "bulk_modulus": 2.2e9}'
+            case ("mu_i")
+                example = '{"K": 1e6, "G": 5e5, "rho": 1000, "mu_s": 0.38, "mu_2": 0.64, ' &
+                    //'"I_0": 0.279, "grain_diameter": 5e-4, "grain_density": 2450}'
             case default
                 cycle
             end select
