@@ -15,7 +15,9 @@ program mpm_geo_main
     use mpm_state, only: run_record_type, read_run_record, load_state
     use mpm_particles, only: particles_type
     use mpm_parallel, only: image_id, image_count, end_images
-    use mpm_strings, only: int_text, path_problem, max_name_bytes
+    use mpm_strings, only: int_text, path_problem, max_name_bytes, text_or
+    use mpm_shape, only: shape_type
+    use mpm_shape_factory, only: new_shape
     implicit none
 
     !> What the command line asks for.
@@ -48,6 +50,7 @@ program mpm_geo_main
     type(command_type) :: cmd
     type(run_record_type) :: run
     type(particles_type) :: particles
+    class(shape_type), allocatable :: shape
     real(wp) :: state_time
     integer :: state_step
     logical :: before_run = .true.
@@ -62,6 +65,10 @@ program mpm_geo_main
     else
         call read_case_file(cmd%case_path, case, error)
     end if
+    if (allocated(error)) call fail(error)
+    ! solver.shape_function: the registry of the shape functions lies above the case layer,
+    ! so its name is checked here (and --check refuses a name no shape function has)
+    call new_shape(shape, trim(case%solver%shape_function), error, text_or(case%file, "?"))
     if (allocated(error)) call fail(error)
     if (allocated(cmd%output_dir)) case%output%directory = cmd%output_dir
     if (cmd%overwrite) case%output%overwrite = .true.

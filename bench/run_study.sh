@@ -5,6 +5,9 @@
 #   column  the self-weight column through mpm_geo (bench/study_cases.py column) ~ 3 min
 #   bui     the Bui et al. (2008) collapse through mpm_geo (bench/study_cases.py bui): the 2.5 mm
 #           runs take minutes each on one thread, about 40 min in all (STUDY_BUI_DX shortens it)
+#   cantilever  the Sadeghirad cantilever of issue 19 (bench/study_cantilever.py): the runs of
+#           STUDY_CANTILEVER_RUNS appended to docs/study/cantilever.csv (the table of
+#           docs/study/cantilever.md is written from them by hand); not a default part
 # Usage: bench/run_study.sh [build-dir]
 # Environment:
 #   STUDY_PARTS         the parts to run (default "mms column bui"); a part not run keeps the CSV
@@ -12,6 +15,8 @@
 #   STUDY_COLUMN_CELLS  cells over the column's height (default "4 8 16 32 64 128")
 #   STUDY_BUI_DX        cell sizes of the Bui runs [m] (default "0.01 0.005 0.0025"; a shorter
 #                       ladder: "0.01 0.005", about 5 min)
+#   STUDY_CANTILEVER_RUNS  "cells:shape:scheme:transfer:ppc ..." (default: the cubic B-spline,
+#                       MUSL FLIP and APIC, 2 x 2, at 0.25 and 0.125 m cells)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
@@ -20,6 +25,8 @@ python=.venv/bin/python
 parts=${STUDY_PARTS:-mms column bui}
 column_cells=${STUDY_COLUMN_CELLS:-4 8 16 32 64 128}
 bui_dx=${STUDY_BUI_DX:-0.01 0.005 0.0025}
+cantilever_runs=${STUDY_CANTILEVER_RUNS:-0.25:bspline3:MUSL:flip:2 0.25:bspline3:MUSL:apic:2 \
+0.125:bspline3:MUSL:flip:2 0.125:bspline3:MUSL:apic:2}
 export OMP_NUM_THREADS=1
 mkdir -p "$out"
 [ -x "$python" ] || { echo "study: $python not found; run 'make deps'" >&2; exit 1; }
@@ -60,8 +67,16 @@ for part in $parts; do
             "$python" bench/study_cases.py bui --exe "$build/mpm_geo" --out "$out/bui.csv" \
                 --dx $bui_dx
             ;;
+        cantilever)
+            need mpm_geo
+            echo "study: Sadeghirad cantilever (runs $cantilever_runs)"
+            # shellcheck disable=SC2086
+            "$python" bench/study_cantilever.py --exe "$build/mpm_geo" \
+                --out "$out/cantilever.csv" --runs $cantilever_runs
+            ;;
         *)
-            echo "study: unknown part '$part' in STUDY_PARTS (parts: mms column bui)" >&2
+            echo "study: unknown part '$part' in STUDY_PARTS (parts: mms column bui" \
+                "cantilever)" >&2
             exit 1
             ;;
     esac

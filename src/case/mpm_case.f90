@@ -17,7 +17,7 @@ module mpm_case
     use mpm_case_materials, only: material_spec_type
     use mpm_case_bodies, only: body_spec_type
     use mpm_case_solver, only: solver_section_type, scheme_usf, scheme_usl, scheme_musl, &
-        scheme_names, shape_linear, shape_cpgimp, shape_names
+        scheme_names
     use mpm_case_time, only: time_section_type
     use mpm_case_damping, only: damping_section_type, damping_none, damping_local, &
         damping_kinetic, damping_names
@@ -38,7 +38,6 @@ module mpm_case
     public :: checkpoint_section_type, guard_section_type
     public :: bc_free, bc_sliding, bc_fixed, bc_frictional, bc_names
     public :: scheme_usf, scheme_usl, scheme_musl, scheme_names
-    public :: shape_linear, shape_cpgimp, shape_names
     public :: damping_none, damping_local, damping_kinetic, damping_names
     public :: dist_regular, dist_random, distribution_names
     public :: field_position, field_displacement, field_velocity, field_stress, field_strain

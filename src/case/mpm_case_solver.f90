@@ -2,12 +2,12 @@
 module mpm_case_solver
     use mpm_kinds, only: wp
     use mpm_error, only: error_type
+    use mpm_strings, only: lower, int_text
     use mpm_case_cursor, only: cursor_type
     implicit none
     private
     public :: solver_section_type, read_solver, solver_keys
     public :: scheme_usf, scheme_usl, scheme_musl, scheme_names
-    public :: shape_linear, shape_cpgimp, shape_names
 
     ! Update scheme (when the stress is updated within a step)
     integer, parameter :: scheme_usf = 1   !! update stress first
@@ -16,11 +16,8 @@ module mpm_case_solver
     character(len=*), parameter :: scheme_names(3) = [character(len=4) :: "USF", "USL", "MUSL"]
         !! name of each scheme in the case file
 
-    ! Shape function
-    integer, parameter :: shape_linear = 1  !! bilinear / trilinear hat functions
-    integer, parameter :: shape_cpgimp = 2  !! contiguous-particle GIMP
-    character(len=*), parameter :: shape_names(2) = [character(len=6) :: "linear", "cpgimp"]
-        !! name of each shape function in the case file
+    integer, parameter :: shape_function_width = 32
+        !! longest value of solver.shape_function kept
 
     character(len=*), parameter :: solver_keys(*) = [character(len=18) :: "scheme", &
         "shape_function", "locking_correction", "transfer", "flip_fraction"]
@@ -30,8 +27,9 @@ module mpm_case_solver
     type :: solver_section_type
         integer :: scheme = scheme_musl
             !! update scheme
-        integer :: shape = shape_cpgimp
-            !! shape function
+        character(len=shape_function_width) :: shape_function = "cpgimp"
+            !! name of the shape function, in lower case: the registry of the shape functions
+            !! (mpm_shape_factory, above the case layer) checks it
         logical :: apic = .false.
             !! affine particle-in-cell transfer (solver.transfer = "apic") instead of FLIP
         real(wp) :: flip_fraction = 1.0_wp
@@ -56,15 +54,23 @@ contains
         type(cursor_type) :: cur
         logical :: found
         integer :: choice
+        character(len=:), allocatable :: name
 
         call root%get_section("solver", solver_keys, cur, error, found=found)
         if (allocated(error) .or. .not. found) return
         call cur%get_choice("scheme", scheme_names, [scheme_usf, scheme_usl, scheme_musl], &
             solver%scheme, error)
         if (allocated(error)) return
-        call cur%get_choice("shape_function", [character(len=6) :: shape_names, "gimp"], &
-            [shape_linear, shape_cpgimp, shape_cpgimp], solver%shape, error)
+        name = trim(solver%shape_function)
+        call cur%get_string("shape_function", name, error)
         if (allocated(error)) return
+        if (len(name) > shape_function_width) then
+            call cur%fail(error, cur%key_path("shape_function")//' = "'//name(1:20)// &
+                '..." is not allowed: longer than any shape function name (' &
+                //int_text(shape_function_width)//" characters at most)")
+            return
+        end if
+        solver%shape_function = lower(name)
         choice = merge(1, 0, solver%fbar)
         call cur%get_choice("locking_correction", [character(len=4) :: "none", "fbar"], [0, 1], &
             choice, error)

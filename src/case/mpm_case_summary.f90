@@ -78,7 +78,7 @@ contains
         end if
         text = text//"gravity     "//fmt_vector(case%gravity(1:dim))//" m/s2"//nl
         text = text//"solver      scheme "//trim(scheme_names(case%solver%scheme))//", shape function " &
-            //trim(shape_names(case%solver%shape))
+            //trim(case%solver%shape_function)
         if (case%solver%fbar) text = text//", F-bar locking correction"
         if (case%solver%apic) text = text//", APIC transfer"
         if (case%solver%flip_fraction < 1.0_wp) text = text//", velocity update " &

@@ -10,7 +10,11 @@
 !> - its halo width, `halo_width`: how many node layers two images must share at a cut of
 !>   the grid (mpm_halo sums them after each scatter);
 !> - its 1D weights and derivatives, `weights_1d`, which must sum to one (the stencils keep
-!>   all derivatives but the last, which is minus the sum of the others).
+!>   all derivatives but the last, which is minus the sum of the others);
+!> - its names in the case file (`names`, `solver.shape_function`; the first is the one
+!>   messages and the `--check` summary show);
+!> - optionally, `initial_domain`: whether its weights take the particle domain at its
+!>   initial size (`particles%lp0`, uGIMP) rather than the deformed one (`particles%lp`).
 !>
 !> `weights_all` evaluates `weights_1d` for every particle and axis once per step; a shape
 !> function may override it with a loop that calls its own 1D weights directly (no dynamic
@@ -23,6 +27,7 @@ module mpm_shape
     implicit none
     private
     public :: shape_type, stencil_type, tensor_product, max_nodes_per_axis, max_stencil_nodes
+    public :: shape_name_width, fold_ghost_nodes
 
     integer, parameter :: max_nodes_per_axis = 4
         !! widest shape function the kernels take, in nodes per axis (4: a cubic B-spline);
@@ -31,6 +36,8 @@ module mpm_shape
         !! cost 19 % of the default case in malloc and free
     integer, parameter :: max_stencil_nodes = max_nodes_per_axis**3
         !! most nodes of one particle's stencil (3D)
+    integer, parameter :: shape_name_width = 24
+        !! longest name of a shape function in the case file
 
     !> Nodes, weights and weight gradients of one particle (tests and diagnostics; the passes
     !> of a step use the 1D factors of mpm_stencil).
@@ -54,6 +61,10 @@ module mpm_shape
             !! support width: nodes per axis a particle can touch (2 linear, 3 cpGIMP)
         procedure(width_interface), deferred :: halo_width
             !! node layers two images share at a cut of the grid
+        procedure(names_interface), deferred :: names
+            !! its names in the case file (solver.shape_function), the one shown first
+        procedure :: initial_domain
+            !! whether the weights take the initial particle domain lp0 (default: no, lp)
         procedure :: weights_all
             !! weights_1d for every particle and axis (one call per step, threaded)
         procedure :: evaluate
@@ -92,9 +103,26 @@ module mpm_shape
             class(shape_type), intent(in) :: self
                 !! the shape function
         end function width_interface
+
+        !> The names of a shape function in the case file, any letter case (lower case here).
+        pure subroutine names_interface(self, names)
+            import :: shape_type, shape_name_width
+            class(shape_type), intent(in) :: self
+                !! the shape function
+            character(len=shape_name_width), allocatable, intent(out) :: names(:)
+                !! its names, the one messages show first
+        end subroutine names_interface
     end interface
 
 contains
+
+    !> Whether the weights take the particle domain at its initial size (particles%lp0)
+    !> instead of the deformed one (particles%lp): no, unless a shape function says so.
+    pure logical function initial_domain(self)
+        class(shape_type), intent(in) :: self
+            !! the shape function
+        initial_domain = .false.
+    end function initial_domain
 
     !> weights_1d of every particle along every axis of the grid: the generic loop (one
     !> dynamic call per particle and axis); a shape function may override it.
@@ -132,6 +160,50 @@ contains
         end do
         !$omp end parallel do
     end subroutine weights_all
+
+    !> The boundary modification of a spline basis: the weight of a node one beyond a grid
+    !> end (node -1 or ncells + 1, outside the grid) is given to the two nodes inside it,
+    !> twice to the end node and minus once to the next, N_0 += 2 N_-1, N_1 -= N_-1 (and
+    !> likewise at the upper end). The basis keeps the partition of unity, reproduces linear
+    !> functions up to the grid ends (the ghost node's value extrapolated linearly from the
+    !> two inside, u_-1 = 2 u_0 - u_1), keeps the smoothness of the spline (a sum of the same
+    !> splines) and stays non-negative: quadratic splines become N_0 = 1 - x, N_1 = x within
+    !> half a cell of the end (x in cells from it), a boundary modification in the sense of
+    !> Steffen, Kirby and Berzins (2008) (not compared term by term with their formulas),
+    !> and cubic ones N_0 = 1 - x + x**3/6 within a cell. Weights and derivatives of the
+    !> ghost nodes become zero.
+    pure subroutine fold_ghost_nodes(first, ncells, w, dw)
+        integer, intent(in) :: first
+            !! node (0-based) of w(1)
+        integer, intent(in) :: ncells
+            !! cells along the axis (nodes 0 .. ncells)
+        real(wp), intent(inout) :: w(:)
+            !! weights of nodes first .. first + size(w) - 1 [-]
+        real(wp), intent(inout) :: dw(:)
+            !! their derivatives [1/m]
+
+        integer :: k, j, n
+
+        n = size(w)
+        do k = 1, n
+            j = first + k - 1
+            if (j == -1 .and. k + 2 <= n) then
+                w(k + 1) = w(k + 1) + 2.0_wp*w(k)
+                w(k + 2) = w(k + 2) - w(k)
+                dw(k + 1) = dw(k + 1) + 2.0_wp*dw(k)
+                dw(k + 2) = dw(k + 2) - dw(k)
+                w(k) = 0.0_wp
+                dw(k) = 0.0_wp
+            else if (j == ncells + 1 .and. k - 2 >= 1) then
+                w(k - 1) = w(k - 1) + 2.0_wp*w(k)
+                w(k - 2) = w(k - 2) - w(k)
+                dw(k - 1) = dw(k - 1) + 2.0_wp*dw(k)
+                dw(k - 2) = dw(k - 2) - dw(k)
+                w(k) = 0.0_wp
+                dw(k) = 0.0_wp
+            end if
+        end do
+    end subroutine fold_ghost_nodes
 
     !> Stencil of a particle at `xp` with GIMP half-sizes `lp`: the tensor product of the
     !> 1D weights, nodes outside the grid and zero weights skipped.

@@ -17,7 +17,7 @@
 module mpm_shape_gimp
     use mpm_kinds, only: wp
     use mpm_grid, only: grid_type
-    use mpm_shape, only: shape_type
+    use mpm_shape, only: shape_type, shape_name_width
     implicit none
     private
     public :: gimp_shape_type, gimp_weight, gimp_weights_1d
@@ -31,6 +31,7 @@ module mpm_shape_gimp
         procedure :: weights_1d => gimp_shape_weights_1d
         procedure :: nodes_per_axis => gimp_nodes_per_axis
         procedure :: halo_width => gimp_halo_width
+        procedure :: names => gimp_names
         procedure :: weights_all => gimp_weights_all
     end type gimp_shape_type
 
@@ -141,6 +142,12 @@ contains
         class(gimp_shape_type), intent(in) :: self
         gimp_halo_width = 3
     end function gimp_halo_width
+
+    pure subroutine gimp_names(self, names)
+        class(gimp_shape_type), intent(in) :: self
+        character(len=shape_name_width), allocatable, intent(out) :: names(:)
+        names = [character(len=shape_name_width) :: "cpgimp", "gimp"]
+    end subroutine gimp_names
 
     subroutine gimp_weights_all(self, grid, x, lp, first, w, dw)
         class(gimp_shape_type), intent(in) :: self

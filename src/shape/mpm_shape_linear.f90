@@ -2,7 +2,7 @@
 module mpm_shape_linear
     use mpm_kinds, only: wp
     use mpm_grid, only: grid_type
-    use mpm_shape, only: shape_type
+    use mpm_shape, only: shape_type, shape_name_width
     implicit none
     private
     public :: linear_shape_type, linear_weights_1d
@@ -16,6 +16,7 @@ module mpm_shape_linear
         procedure :: weights_1d => linear_shape_weights_1d
         procedure :: nodes_per_axis => linear_nodes_per_axis
         procedure :: halo_width => linear_halo_width
+        procedure :: names => linear_names
         procedure :: weights_all => linear_weights_all
     end type linear_shape_type
 
@@ -68,6 +69,12 @@ contains
         class(linear_shape_type), intent(in) :: self
         linear_halo_width = 3
     end function linear_halo_width
+
+    pure subroutine linear_names(self, names)
+        class(linear_shape_type), intent(in) :: self
+        character(len=shape_name_width), allocatable, intent(out) :: names(:)
+        names = [character(len=shape_name_width) :: "linear"]
+    end subroutine linear_names
 
     subroutine linear_weights_all(self, grid, x, lp, first, w, dw)
         class(linear_shape_type), intent(in) :: self

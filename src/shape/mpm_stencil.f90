@@ -129,7 +129,12 @@ contains
         if (present(cells)) stc%with_cells = cells
         call allocate_stencils(stc, grid, particles%n, nps, error)
         if (allocated(error)) return
-        call shape%weights_all(grid, particles%x, particles%lp, stc%first, stc%w, stc%dw)
+        if (shape%initial_domain()) then
+            ! uGIMP: the particle domain at its initial size
+            call shape%weights_all(grid, particles%x, particles%lp0, stc%first, stc%w, stc%dw)
+        else
+            call shape%weights_all(grid, particles%x, particles%lp, stc%first, stc%w, stc%dw)
+        end if
         cell_stride = [1, grid%ncells(1), grid%ncells(1)*grid%ncells(2)]
         !$omp parallel do default(none) schedule(static) &
         !$omp shared(stc, grid, particles, dim, nps, cell_stride) &

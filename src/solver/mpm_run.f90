@@ -6,7 +6,7 @@ module mpm_run
         exit_interrupted
     use mpm_clock, only: wall_time
     use mpm_system, only: peak_memory_mb, available_memory_bytes
-    use mpm_strings, only: int_text
+    use mpm_strings, only: int_text, text_or
     use mpm_signals, only: catch_stop_signals, release_stop_signals, stop_signal, signal_name
     use mpm_particles, only: particles_type, particle_bytes, pack_particles, rebuild_particles, &
         record_length, created_particle_bytes
@@ -740,7 +740,8 @@ contains
                 if (n > 0) particles = particles + n
             end do
         end if
-        call new_shape(shape, case%solver%shape, error)
+        call new_shape(shape, trim(case%solver%shape_function), error, &
+            text_or(case%file, "?"))
         if (allocated(error)) return
         need = memory_estimate(case, particles, shape%nodes_per_axis())
         available = available_memory_bytes()

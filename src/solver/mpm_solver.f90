@@ -9,7 +9,7 @@
 !> nodal velocities remapped from the updated particle velocities.
 module mpm_solver
     use mpm_kinds, only: wp, i8
-    use mpm_strings, only: vector_text
+    use mpm_strings, only: vector_text, text_or
     use mpm_error, only: error_type, fatal_error, exit_numerical, exit_input, exit_other
     use mpm_case, only: case_type, scheme_usf, scheme_usl, scheme_musl, damping_kinetic, &
         damping_local, field_strain, field_displacement
@@ -157,7 +157,8 @@ contains
             sim%time_step_limit(i) = viscous_time_step(case%materials(i), case%domain%dx, case%dim)
             nstate = max(nstate, sim%materials(i)%m%nstate())
         end do
-        call new_shape(sim%shape, case%solver%shape, error)
+        call new_shape(sim%shape, trim(case%solver%shape_function), error, &
+            text_or(case%file, "?"))
         if (allocated(error)) return
         loaded = .false.
         restart = .false.

@@ -6,7 +6,7 @@ program test_mpm_case
     use mpm_error, only: error_type, exit_input
     use mpm_case, only: case_type, read_case_file, read_case_string, case_summary, &
         bc_free, bc_sliding, bc_fixed, bc_frictional, &
-        scheme_musl, scheme_usl, shape_cpgimp, shape_linear, damping_none, damping_local, &
+        scheme_musl, scheme_usl, damping_none, damping_local, &
         dist_regular, dist_random, field_position, field_velocity, field_stress, &
         material_spec_type
     use mpm_case_stability, only: critical_time_step, p_wave_speed
@@ -191,7 +191,7 @@ contains
         call check_close(suite, case%bodies(1)%velocity(1), 1.0_wp, tol, "2D: body velocity")
         call check_close(suite, case%gravity(2), -9.81_wp, tol*10, "2D: gravity y")
         call check(suite, case%solver%scheme == scheme_musl, "2D: scheme 'musl' is MUSL")
-        call check(suite, case%solver%shape == shape_cpgimp, "2D: 'GIMP' is cpgimp")
+        call check(suite, case%solver%shape_function == "gimp", "2D: 'GIMP' kept in lower case")
         call check_close(suite, case%time%tend, 0.1_wp, tol, "2D: tend")
         call check(suite, case%time%dt == 0.0_wp, "2D: no fixed dt")
         call check_close(suite, case%time%cfl, 0.5_wp, 0.0_wp, "2D: cfl defaults to 0.5")
@@ -240,7 +240,7 @@ contains
             "3D: 'elastic' resolves to linear_elastic")
         call check_close(suite, poisson_of(case%materials(2)), 0.25_wp, tol, "3D: nu")
         call check(suite, case%bodies(1)%material == 2, "3D: body uses material 2")
-        call check(suite, case%solver%scheme == scheme_usl .and. case%solver%shape == shape_linear, &
+        call check(suite, case%solver%scheme == scheme_usl .and. case%solver%shape_function == "linear", &
             "3D: scheme and shape")
         call check(suite, case%solver%fbar, "3D: F-bar locking correction")
         call check(suite, .not. case%solver%apic .and. case%solver%flip_fraction == 1.0_wp, &

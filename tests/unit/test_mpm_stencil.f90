@@ -16,12 +16,18 @@ program test_mpm_stencil
     use mpm_shape, only: shape_type, stencil_type
     use mpm_shape_linear, only: linear_shape_type
     use mpm_shape_gimp, only: gimp_shape_type
+    use mpm_shape_ugimp, only: ugimp_shape_type
+    use mpm_shape_bspline2, only: bspline2_shape_type
+    use mpm_shape_bspline3, only: bspline3_shape_type
     use mpm_stencil, only: stencils_type, compute_stencils, particle_nodes
     implicit none
 
     type(test_suite_type) :: suite
     type(linear_shape_type) :: linear
     type(gimp_shape_type) :: gimp
+    type(ugimp_shape_type) :: ugimp
+    type(bspline2_shape_type) :: bspline2
+    type(bspline3_shape_type) :: bspline3
     real(wp), parameter :: round_off = 100.0_wp*epsilon(1.0_wp)
     integer, parameter :: particles_per_chunk = 2048, max_chunks = 32
         !! mpm_stencil's chunk sizes (the expected chunk count)
@@ -32,7 +38,13 @@ program test_mpm_stencil
     call check_stencils(gimp, "cpgimp", 2, 9000)
     call check_stencils(gimp, "cpgimp", 3, 5000)
     call check_stencils(gimp, "cpgimp", 2, 300)
-    call check_narrow_axis()
+    call check_stencils(ugimp, "ugimp", 2, 3000)
+    call check_stencils(bspline2, "bspline2", 2, 9000)
+    call check_stencils(bspline2, "bspline2", 3, 5000)
+    call check_stencils(bspline3, "bspline3", 2, 9000)
+    call check_stencils(bspline3, "bspline3", 3, 5000)
+    call check_narrow_axis(gimp, "cpgimp")
+    call check_narrow_axis(bspline3, "bspline3")
     call finish(suite)
 
 contains
@@ -67,7 +79,7 @@ contains
         lp = 0.25_wp*grid%dx
         particles%n = n
         particles%dim = dim
-        allocate (particles%x(dim, n), particles%lp(dim, n))
+        allocate (particles%x(dim, n), particles%lp(dim, n), particles%lp0(dim, n))
         do p = 1, n
             do a = 1, dim
                 t = modulo(0.6180339887_wp*real(p, wp)*real(a + 1, wp) + 0.31_wp*a, 1.0_wp)
@@ -80,6 +92,7 @@ contains
                 particles%x(a, p) = grid%origin(a) + lp + extent*t
             end do
             particles%lp(:, p) = lp
+            particles%lp0(:, p) = lp
         end do
     end subroutine make_particles
 
@@ -135,6 +148,8 @@ contains
                 if (xi > 1.0_wp .and. xi < real(grid%ncells(a), wp) - 1.0_wp) then
                     if (nps == 2) then
                         if (stc%first(a, p) /= floor(xi)) first_ok = .false.
+                    else if (nps == 4) then
+                        if (stc%first(a, p) /= floor(xi) - 1) first_ok = .false.
                     else
                         if (stc%first(a, p) /= floor(xi - 0.5_wp)) first_ok = .false.
                     end if
@@ -227,9 +242,13 @@ contains
         call check(suite, box_ok, what//"box of touched nodes is tight")
     end subroutine check_stencils
 
-    !> An axis of one cell (2 nodes): cpGIMP keeps 2 of its 3 nodes there, so the stencils
-    !> have no fast-path width (0) and the weights still sum to one.
-    subroutine check_narrow_axis()
+    !> An axis of one cell (2 nodes): cpGIMP keeps 2 of its 3 nodes there, the cubic spline 2
+    !> of 4, so the stencils have no fast-path width (0) and the weights still sum to one.
+    subroutine check_narrow_axis(shape, name)
+        class(shape_type), intent(in) :: shape
+            !! shape function
+        character(len=*), intent(in) :: name
+            !! its name
         type(grid_type) :: grid
         type(particles_type) :: particles
         type(stencils_type) :: stc
@@ -241,18 +260,19 @@ contains
 
         call make_grid(grid, 2, [7, 1, 1])
         call make_particles(particles, grid, 200)
-        call compute_stencils(stc, grid, particles, gimp, error)
-        call check(suite, .not. allocated(error), "narrow axis: stencils computed")
+        call compute_stencils(stc, grid, particles, shape, error)
+        call check(suite, .not. allocated(error), name//" narrow axis: stencils computed")
         if (allocated(error)) return
-        call check(suite, stc%width == 0 .and. all(stc%nper(1:2) == [3, 2]) .and. &
-            stc%count == 6, "narrow axis: no fast-path width, 3 x 2 nodes")
+        call check(suite, stc%width == 0 .and. all(stc%nper(1:2) == [shape%nodes_per_axis(), 2]) &
+            .and. stc%count == 2*shape%nodes_per_axis(), name//" narrow axis: no fast-path "// &
+            "width, nps x 2 nodes")
         allocate (node(stc%count), w(stc%count), dw(3, stc%count))
         worst = 0.0_wp
         do p = 1, particles%n
             call particle_nodes(stc, p, node, w, dw)
             worst = max(worst, abs(sum(w) - 1.0_wp))
         end do
-        call check(suite, worst <= round_off, "narrow axis: weights sum to one")
+        call check(suite, worst <= round_off, name//" narrow axis: weights sum to one")
     end subroutine check_narrow_axis
 
     function dims(dim) result(text)
