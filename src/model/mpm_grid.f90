@@ -63,17 +63,19 @@ module mpm_grid
             !! gap between the material and the face at each pair, set by P2G (ncontacts) [m]
         real(wp), allocatable :: contact_load(:)
             !! running mean of the normal impulse the face takes at each pair (ncontacts) [N s]
+        real(wp), allocatable :: contact_friction(:, :)
+            !! friction impulse of the last nodal update at each pair (dim, ncontacts) [N s]
         integer :: contact_offset(2, 3) = -1
+            !! index before the first pair of each face (side, axis); -1: face not frictional
         real(wp) :: small_mass = 0.0_wp
             !! nodes lighter than this get no force (their velocity is the mapped one) [kg]
         real(wp) :: contact_time = 0.0_wp
             !! time constant of the running mean of the normal contact impulse [s]; 0: a fixed
+            !! weight per step
         integer :: active_lo(3) = 0, active_hi(3) = huge(1)/2
             !! the box of nodes (0-based, per axis) that the last P2G wrote (every other node
             !! is zero), the whole grid until the first one; the nodal loops of the step
             !! cover it
-            !! weight per step
-            !! index before the first pair of each face (side, axis); -1: face not frictional
         integer :: halo_axis = 0
             !! axis across which the grid is cut among images (mpm_decomposition); 0: whole
         integer :: halo_left = 0, halo_right = 0
@@ -174,12 +176,13 @@ contains
             grid%contact_normal(grid%ncontacts), grid%contact_dir(d, grid%ncontacts), &
             grid%contact_mu(grid%ncontacts), &
             grid%contact_gap(grid%ncontacts), grid%contact_load(grid%ncontacts), &
-            stat=stat, errmsg=msg)
+            grid%contact_friction(d, grid%ncontacts), stat=stat, errmsg=msg)
         if (stat /= 0) then
             call fatal_error(error, "cannot allocate the grid: "//trim(msg), exit_other)
             return
         end if
         grid%contact_load = 0.0_wp
+        grid%contact_friction = 0.0_wp
         grid%contact_gap = huge(1.0_wp)
         c = 0
         do a = 1, d
@@ -247,7 +250,8 @@ contains
         real(wp) :: x(3), dist, n(3), base(3)
         logical :: found
         integer, allocatable :: node(:), axis(:)
-        real(wp), allocatable :: normal(:), dir(:, :), friction(:), gap(:), load(:)
+        real(wp), allocatable :: normal(:), dir(:, :), friction(:), gap(:), load(:), &
+            impulse(:, :)
         character(len=256) :: msg
 
         d = grid%dim
@@ -279,7 +283,7 @@ contains
         nold = grid%ncontacts
         allocate (node(nold + nnew), axis(nold + nnew), normal(nold + nnew), &
             dir(d, nold + nnew), friction(nold + nnew), gap(nold + nnew), load(nold + nnew), &
-            stat=stat, errmsg=msg)
+            impulse(d, nold + nnew), stat=stat, errmsg=msg)
         if (stat /= 0) then
             call fatal_error(error, "cannot allocate the terrain contacts: "//trim(msg), &
                 exit_other)
@@ -312,6 +316,8 @@ contains
         call move_alloc(friction, grid%contact_mu)
         call move_alloc(gap, grid%contact_gap)
         call move_alloc(load, grid%contact_load)
+        impulse = 0.0_wp
+        call move_alloc(impulse, grid%contact_friction)
         grid%ncontacts = nold + nnew
 
     contains

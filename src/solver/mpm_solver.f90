@@ -634,7 +634,7 @@ contains
             if (scheme == scheme_usf) then
                 call scatter_to_nodes(sim, p2g_options_type(mass=.true., fbar=fbar))
                 call lap(sim, phase_p2g, clock)
-                call nodal_velocity(grid)
+                call nodal_velocity(grid, dt)
                 call lap(sim, phase_nodal, clock)
                 call update_stress(grid, particles, stc, sim%materials, dt, fbar, work, &
                     sim%case%gravity)
@@ -662,7 +662,8 @@ contains
             if (scheme == scheme_musl) then
                 ! the remapped momentum of the shared nodes, then the velocities of the remap
                 call halo_sum(grid, sim%shape%halo_width(), momentum=.true.)
-                call nodal_velocity(grid)
+                ! the particles slide with these velocities: friction works at them
+                call nodal_velocity(grid, dt, nodal_work(nodal_friction))
             end if
             call lap(sim, phase_g2p, clock)
             select case (scheme)

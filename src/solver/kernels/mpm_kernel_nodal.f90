@@ -21,14 +21,20 @@ module mpm_kernel_nodal
 contains
 
     !> Nodal velocity v_i = p_i / m_i with the boundary conditions applied.
-    subroutine nodal_velocity(grid)
+    subroutine nodal_velocity(grid, step, friction_work)
         type(grid_type), intent(inout) :: grid
             !! grid with mass and momentum set
+        real(wp), intent(in) :: step
+            !! time step the velocities move the particles over [s]
+        real(wp), intent(out), optional :: friction_work
+            !! work of the friction impulses of the step's nodal update at these velocities
+            !! (a remap: the velocities the particles move with) [J]
 
         integer :: i, layer, j, first, last, y, z
         real(wp) :: work
 
-        call apply_contacts(grid, 0.0_wp, work)
+        call apply_contacts(grid, 0.0_wp, step, work)
+        if (present(friction_work)) friction_work = work
         !$omp parallel do default(none) schedule(static) shared(grid) &
         !$omp private(i, layer, j, first, last, y, z)
         do layer = grid%active_lo(grid%dim), grid%active_hi(grid%dim)
@@ -131,7 +137,7 @@ contains
             dissipated(nodal_damping) = dissipated(nodal_damping) + partial(layer)
         end do
         if (grid%ncontacts > 0) then
-            call apply_contacts(grid, dt, dissipated(nodal_friction))
+            call apply_contacts(grid, dt, dt, dissipated(nodal_friction))
             do i = 1, grid%ncontacts
                 associate (id => grid%contact_node(i))
                     if (grid%mass(id) > 0.0_wp) grid%velocity(:, id) = grid%momentum(:, id) &
