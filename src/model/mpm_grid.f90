@@ -65,7 +65,8 @@ module mpm_grid
             !! running mean of the normal impulse the face takes at each pair (ncontacts) [N s]
         integer :: contact_offset(2, 3) = -1
         real(wp) :: small_mass = 0.0_wp
-            !! nodes lighter than this get no force (their velocity is the mapped one) [kg]
+            !! nodes of this mass or less are empty: at rest, no force, no momentum (round-off
+            !! level, set by the solver from the lightest particle) [kg]
         real(wp) :: contact_time = 0.0_wp
             !! time constant of the running mean of the normal contact impulse [s]; 0: a fixed
         integer :: active_lo(3) = 0, active_hi(3) = huge(1)/2

@@ -12,8 +12,10 @@
 !> and dS/dx_p the analytic derivative of each piece, evaluated without branches as the
 !> difference of the hat's antiderivative across the particle domain (gimp_weight_cells).
 !> 2D and 3D weights are tensor products.
-!> The particle domain follows the deformation (the solver updates l_p from F); next to a
-!> domain face it is truncated at the face so that the weights keep summing to one.
+!> The particle domain follows the deformation (the solver updates l_p from F). Next to a
+!> domain face the weight of the node beyond the face is folded onto the face node, so that
+!> the weights keep summing to one on the nodes of the grid and no node takes a weight that
+!> vanishes under a finite gradient.
 module mpm_shape_gimp
     use mpm_kinds, only: wp
     use mpm_grid, only: grid_type
@@ -100,10 +102,13 @@ contains
         integer :: k
         real(wp) :: l, half_inv_l, inv_dx
 
-        ! The particle domain is kept inside the grid (truncated at the domain faces) so the
-        ! weights still sum to one next to a boundary; lp <= dx/2 keeps the 3-node support.
+        ! lp <= dx/2 keeps the 3-node support. The domain is not shrunk at a domain face:
+        ! shrunk to the particle's distance from the face, it gave the next row of nodes a
+        ! weight that vanishes with that distance under a gradient that does not (a sliver of
+        ! mass under a full force); the weight beyond the face is folded onto the face node
+        ! below instead.
         inv_dx = 1.0_wp/dx
-        l = min(lp*inv_dx, 0.5_wp, xi, real(ncells, wp) - xi)
+        l = min(lp*inv_dx, 0.5_wp)
         l = max(l, 1.0e-6_wp)
         half_inv_l = 0.5_wp/l
         ! In the left half of a cell the node two cells to the right is out of reach
@@ -114,6 +119,22 @@ contains
             call gimp_weight_cells(xi - real(first + k - 1, wp), l, half_inv_l, inv_dx, w(k), &
                 dw(k))
         end do
+        ! A node beyond a domain face (first = -1, or first + 2 = ncells + 1) is tied to the
+        ! face node: its weight and derivative go to the face node (as the boundary-modified
+        ! B-splines do), so the weights sum to one inside the grid and the face node moves
+        ! the part of the domain beyond the face
+        if (first < 0) then
+            w(2) = w(2) + w(1)
+            dw(2) = dw(2) + dw(1)
+            w(1) = 0.0_wp
+            dw(1) = 0.0_wp
+        end if
+        if (first + width - 1 > ncells) then
+            w(width - 1) = w(width - 1) + w(width)
+            dw(width - 1) = dw(width - 1) + dw(width)
+            w(width) = 0.0_wp
+            dw(width) = 0.0_wp
+        end if
     end subroutine gimp_weights_1d
 
     pure subroutine gimp_shape_weights_1d(self, xi, lp, dx, ncells, first, w, dw)

@@ -59,7 +59,7 @@ contains
         work = 0.0_wp
         do c = 1, grid%ncontacts
             id = grid%contact_node(c)
-            if (grid%mass(id) <= 0.0_wp) then
+            if (grid%mass(id) <= grid%small_mass) then
                 if (dt > 0.0_wp) grid%contact_load(c) = 0.0_wp
                 cycle
             end if
