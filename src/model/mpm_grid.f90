@@ -68,7 +68,8 @@ module mpm_grid
         integer :: contact_offset(2, 3) = -1
             !! index before the first pair of each face (side, axis); -1: face not frictional
         real(wp) :: small_mass = 0.0_wp
-            !! nodes lighter than this get no force (their velocity is the mapped one) [kg]
+            !! nodes of this mass or less are empty: at rest, no force, no momentum (round-off
+            !! level, set by the solver from the lightest particle) [kg]
         real(wp) :: contact_time = 0.0_wp
             !! time constant of the running mean of the normal contact impulse [s]; 0: a fixed
             !! weight per step

@@ -58,6 +58,10 @@ module mpm_solver
         !! sorting (shape functions, particle order by cell layer and chunks); P2G (scatters);
         !! nodal (nodal update); G2P (velocities, positions (USL, USF), the MUSL remap);
         !! stress (stress update, MUSL: positions); other: time step, guard, energies; output
+    real(wp), parameter :: empty_node_fraction = 1.0e-9_wp
+        !! a node of at most this fraction of the lightest particle's mass is empty (at rest):
+        !! round-off level (the cpGIMP weights lose about 1e-16 / l of their value), far
+        !! below any node a particle really reaches
     integer, parameter :: rebalance_steps = 50
         !! steps between two looks at the particle counts of the images
     real(wp), parameter :: rebalance_threshold = 1.1_wp
@@ -216,7 +220,7 @@ contains
         lightest = huge(1.0_wp)
         if (sim%particles%n > 0) lightest = minval(sim%particles%mass)
         call min_over_images(lightest)
-        if (lightest < huge(1.0_wp)) sim%grid%small_mass = 1.0e-2_wp*lightest
+        if (lightest < huge(1.0_wp)) sim%grid%small_mass = empty_node_fraction*lightest
         ! APIC affine velocities: kept from a state file of an APIC run, zero otherwise (a
         ! uniform velocity per body); dropped when this stage does not use APIC
         if (.not. case%solver%apic .and. allocated(sim%particles%affine)) then

@@ -72,7 +72,7 @@ contains
         work = 0.0_wp
         do c = 1, grid%ncontacts
             id = grid%contact_node(c)
-            if (grid%mass(id) <= 0.0_wp) then
+            if (grid%mass(id) <= grid%small_mass) then
                 if (dt > 0.0_wp) grid%contact_load(c) = 0.0_wp
                 if (dt > 0.0_wp) grid%contact_friction(:, c) = 0.0_wp
                 cycle

@@ -41,7 +41,7 @@ contains
             do j = box_middle(grid%active_lo, grid%dim), box_middle(grid%active_hi, grid%dim)
                 call box_row(grid, grid%active_lo, grid%active_hi, layer, j, first, last, y, z)
                 do i = first, last
-                    if (grid%mass(i) > 0.0_wp) then
+                    if (grid%mass(i) > grid%small_mass) then
                         where (grid%constrained(:, i)) grid%momentum(:, i) = 0.0_wp
                         grid%velocity(:, i) = grid%momentum(:, i)/grid%mass(i)
                     else
@@ -95,7 +95,9 @@ contains
             do j = box_middle(grid%active_lo, dim), box_middle(grid%active_hi, dim)
                 call box_row(grid, grid%active_lo, grid%active_hi, layer, j, first, last, y, z)
                 do i = first, last
-                    if (grid%mass(i) <= 0.0_wp) then
+                    ! an empty node (mass at round-off level) is at rest, so neither the
+                    ! forces on it nor a mapped velocity do work the kinetic energy does not see
+                    if (grid%mass(i) <= grid%small_mass) then
                         grid%momentum(:, i) = 0.0_wp
                         grid%acceleration(:, i) = 0.0_wp
                         grid%velocity(:, i) = 0.0_wp
@@ -123,7 +125,6 @@ contains
                             - dt*sum(fd(1:dim)*(v0(1:dim) + 0.5_wp*dt*f(1:dim)/grid%mass(i)))
                     end if
                     where (grid%constrained(:, i)) f(1:dim) = 0.0_wp
-                    if (grid%mass(i) < grid%small_mass) f(1:dim) = 0.0_wp
                     grid%acceleration(:, i) = f(1:dim)/grid%mass(i)
                     grid%momentum(:, i) = grid%momentum(:, i) + dt*f(1:dim)
                     grid%velocity(:, i) = grid%momentum(:, i)/grid%mass(i)
@@ -140,8 +141,8 @@ contains
             call apply_contacts(grid, dt, dt, dissipated(nodal_friction))
             do i = 1, grid%ncontacts
                 associate (id => grid%contact_node(i))
-                    if (grid%mass(id) > 0.0_wp) grid%velocity(:, id) = grid%momentum(:, id) &
-                        /grid%mass(id)
+                    if (grid%mass(id) > grid%small_mass) grid%velocity(:, id) = &
+                        grid%momentum(:, id)/grid%mass(id)
                 end associate
             end do
         end if
