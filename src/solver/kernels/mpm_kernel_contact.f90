@@ -90,8 +90,9 @@ contains
             ! depend on the image's part of the grid, and used as a velocity it made a terrain
             ! slide on 2 images differ from the serial run (stress 5e-8 relative; the terrain
             ! keeps the tolerance test alone, as before)
-            if (touching .and. step > 0.0_wp .and. grid%contact_axis(c) > 0) &
+            if (touching .and. step > 0.0_wp .and. grid%contact_axis(c) > 0) then
                 vn = vn - max(grid%contact_gap(c), 0.0_wp)/step
+            end if
             vnew(1:dim) = v(1:dim)
             if (vn > 0.0_wp) vnew(1:dim) = v(1:dim) - vn*n(1:dim)
             v1(1:dim) = vnew(1:dim)
