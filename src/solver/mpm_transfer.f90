@@ -887,18 +887,26 @@ contains
             !! particle
         real(wp), intent(in) :: m
             !! particle mass [kg]
-        integer :: i, j, k, base, basej
-        real(wp) :: wjk, w
+        integer :: i, j, k, nk, base, basej
+        real(wp) :: wk, wjk, w
         logical :: held
         ! the nodes in the order of particle_nodes, each weight the same product (bit for
-        ! bit), tested where it is formed: no stencil arrays (every particle, every step)
+        ! bit: in 2D wk = 1 exactly), tested where it is formed: no stencil arrays (every
+        ! particle, every step)
         held = .false.
         unheld_weight = 0.0_wp
-        if (stc%dim == 2) then
+        nk = 1
+        if (stc%dim == 3) nk = stc%nper(3)
+        do k = 1, nk
+            wk = 1.0_wp
             base = 1 + stc%first(1, p) + stc%stride(2)*stc%first(2, p)
+            if (stc%dim == 3) then
+                wk = stc%w(k, 3, p)
+                base = base + stc%stride(3)*(stc%first(3, p) + k - 1)
+            end if
             do j = 1, stc%nper(2)
+                wjk = stc%w(j, 2, p)*wk
                 basej = base + stc%stride(2)*(j - 1) - 1
-                wjk = stc%w(j, 2, p)
                 do i = 1, stc%nper(1)
                     w = stc%w(i, 1, p)*wjk
                     if (w <= 0.0_wp) cycle
@@ -909,25 +917,7 @@ contains
                     end if
                 end do
             end do
-        else
-            base = 1 + stc%first(1, p) + stc%stride(2)*stc%first(2, p) &
-                + stc%stride(3)*stc%first(3, p)
-            do k = 1, stc%nper(3)
-                do j = 1, stc%nper(2)
-                    wjk = stc%w(j, 2, p)*stc%w(k, 3, p)
-                    basej = base + stc%stride(2)*(j - 1) + stc%stride(3)*(k - 1) - 1
-                    do i = 1, stc%nper(1)
-                        w = stc%w(i, 1, p)*wjk
-                        if (w <= 0.0_wp) cycle
-                        if (m*w > 0.5_wp*grid%mass(basej + i)) then
-                            held = .true.
-                        else
-                            unheld_weight = unheld_weight + w
-                        end if
-                    end do
-                end do
-            end do
-        end if
+        end do
         if (.not. held) unheld_weight = 1.0_wp
     end function unheld_weight
 
