@@ -175,7 +175,7 @@ contains
                     if (fbar) s(1:3) = s(1:3) + cell_pv(stc%cell(p)) - sum(s(1:3))/3.0_wp
                     vs = -particles%volume(p)*s
                 end if
-                call scatter_particle(stc, grid, p, shift, particles%mass(p), xp, vp, aff, apic, &
+                call scatter_particle(stc, grid%origin, grid%dx, p, shift, particles%mass(p), xp, vp, aff, apic, &
                     mass_row=mass_row, momentum_row=mass_row + 1, vs=vs, fint_row=fint_row, bf=bf, &
                     body_row=body_row, buf=buf)
             end do
@@ -387,12 +387,15 @@ contains
                         xp(1:dim) = particles%x(:, p)
                         aff(1:dim, 1:dim) = particles%affine(:, :, p)
                     end if
-                    call scatter_particle(stc, grid, p, shift, particles%mass(p), xp, vp, aff, &
+                    call scatter_particle(stc, grid%origin, grid%dx, p, shift, particles%mass(p), xp, vp, aff, &
                         apic, mass_row=0, momentum_row=1, vs=vs, fint_row=0, bf=bf, body_row=0, &
                         buf=buf)
                 end if
             end do
-            if (stress) call stress_block(particles, materials, stc, qlo, qhi, ldts, dt, dim, work)
+            if (stress) call stress_block(stc%order(qlo:qhi), particles%material, &
+                particles%stress, particles%state, particles%f, particles%volume, &
+                particles%volume0, particles%lp0, particles%lp, materials, ldts, dt, dim, work, &
+                strain=particles%strain)
             moved(k) = mine
             partial(:, k) = work
             partial_ke(k) = ke
@@ -659,7 +662,10 @@ contains
                 ldts(:, :, q - qlo + 1) = ldt
                 if (move) call move_particle(grid, particles, p, dt*v(1:dim), gravity, mine)
             end do
-            call stress_block(particles, materials, stc, qlo, qhi, ldts, dt, dim, work)
+            call stress_block(stc%order(qlo:qhi), particles%material, particles%stress, &
+                particles%state, particles%f, particles%volume, particles%volume0, &
+                particles%lp0, particles%lp, materials, ldts, dt, dim, work, &
+                strain=particles%strain)
             ! stored once per group (neighbouring entries share cache lines across threads)
             partial(:, k) = work
             moved(k) = mine
@@ -672,23 +678,37 @@ contains
         end do
     end subroutine update_stress
 
-    !> The stress update of the particles order(qlo : qhi) (a block of at most gather_block)
-    !> for the increments ldt(:, :, j) = dt L of their velocity gradients (ldt(i, k) =
-    !> dt d v_i / d x_k, particle order(qlo + j - 1)): strain increments D dt and spins W dt to
+    !> The stress update of the particles `order` (a block of at most gather_block) for the
+    !> increments ldt(:, :, j) = dt L of their velocity gradients (ldt(i, k) =
+    !> dt d v_i / d x_k, particle order(j)): strain increments D dt and spins W dt to
     !> the materials, one call per run of particles of the same material (update_stress_block:
     !> no call per particle for the simple ones), then F <- (I + ldt) F, V = det(F) V0,
     !> lp from F (domain_half_sizes); adds the work of the stresses over the step and the
     !> elastic energy the particles store at its end to `work` (by work kind of the materials,
-    !> see nstress_sums), particle by particle in order.
-    subroutine stress_block(particles, materials, stc, qlo, qhi, ldt, dt, dim, work)
-        type(particles_type), intent(inout) :: particles
-            !! particles
+    !> see nstress_sums), particle by particle in order. A kernel: it sees the particle arrays
+    !> it works on, the laws and the block, no particles_type, grid, case, I/O or coarrays.
+    subroutine stress_block(order, material, stress, state, f, volume, volume0, lp0, lp, &
+            materials, ldt, dt, dim, work, strain)
+        integer, intent(in) :: order(:)
+            !! the block's particles, in order (at most gather_block)
+        integer, intent(in) :: material(:)
+            !! material of each particle (all particles)
+        real(wp), contiguous, intent(inout) :: stress(:, :)
+            !! Cauchy stress (nstress, all particles) [Pa]
+        real(wp), contiguous, intent(inout) :: state(:, :)
+            !! material state (nstate, all particles) [-]
+        real(wp), contiguous, intent(inout) :: f(:, :, :)
+            !! deformation gradient (dim, dim, all particles) [-]
+        real(wp), intent(inout) :: volume(:)
+            !! current volume (all particles) [m3]
+        real(wp), intent(in) :: volume0(:)
+            !! initial volume (all particles) [m3]
+        real(wp), contiguous, intent(in) :: lp0(:, :)
+            !! half-sizes of the initial domain (dim, all particles) [m]
+        real(wp), contiguous, intent(inout) :: lp(:, :)
+            !! half-sizes of the current domain (dim, all particles) [m]
         type(material_holder_type), intent(in) :: materials(:)
             !! materials of the case
-        type(stencils_type), intent(in) :: stc
-            !! stencils (the particle order)
-        integer, intent(in) :: qlo, qhi
-            !! the block: order(qlo : qhi)
         real(wp), intent(in) :: ldt(3, 3, gather_block)
             !! dt times the velocity gradients (first dim rows and columns) [-]
         real(wp), intent(in) :: dt
@@ -698,17 +718,20 @@ contains
         real(wp), intent(inout) :: work(nstress_sums)
             !! sums of (V sigma)_mid : d_eps, then of the stored elastic energy V w(sigma),
             !! by work kind [J]
+        real(wp), contiguous, intent(inout), optional :: strain(:, :)
+            !! accumulated strain (nstress, all particles), when it is held [-]
 
-        integer :: n, ns, j, j0, j1, p, a, mat
+        integer :: n, ns, nstate, j, j0, j1, p, a, mat
         integer :: kind(gather_block)
         real(wp) :: s(6, gather_block), sold(6, gather_block), de(6, gather_block), &
             om(3, gather_block), vold, jac, density(gather_block), w
-        real(wp) :: st(particles%nstate, qhi - qlo + 1)
+        real(wp) :: st(size(state, 1), size(order))
 
-        n = qhi - qlo + 1
-        ns = particles%nstress
+        n = size(order)
+        ns = size(stress, 1)
+        nstate = size(state, 1)
         do j = 1, n
-            p = stc%order(qlo + j - 1)
+            p = order(j)
             de(1, j) = ldt(1, 1, j)
             de(2, j) = ldt(2, 2, j)
             de(4, j) = 0.5_wp*(ldt(1, 2, j) + ldt(2, 1, j))
@@ -725,20 +748,20 @@ contains
             end if
             ! copies of a size known here: a runtime-sized copy is a memcpy call per particle
             if (ns == 4) then
-                s(1:4, j) = particles%stress(1:4, p)
+                s(1:4, j) = stress(1:4, p)
             else
-                s(1:6, j) = particles%stress(1:6, p)
+                s(1:6, j) = stress(1:6, p)
             end if
             sold(:, j) = s(:, j)
-            if (particles%nstate > 0) st(:, j) = particles%state(:, p)
+            if (nstate > 0) st(:, j) = state(:, p)
         end do
         ! runs of particles of one material
         j0 = 1
         do while (j0 <= n)
-            mat = particles%material(stc%order(qlo + j0 - 1))
+            mat = material(order(j0))
             j1 = j0
             do while (j1 < n)
-                if (particles%material(stc%order(qlo + j1)) /= mat) exit
+                if (material(order(j1 + 1)) /= mat) exit
                 j1 = j1 + 1
             end do
             call materials(mat)%m%update_stress_block(j1 - j0 + 1, s(1:ns, j0:j1), &
@@ -749,39 +772,39 @@ contains
             j0 = j1 + 1
         end do
         do j = 1, n
-            p = stc%order(qlo + j - 1)
+            p = order(j)
             if (ns == 4) then
-                particles%stress(1:4, p) = s(1:4, j)
+                stress(1:4, p) = s(1:4, j)
             else
-                particles%stress(1:6, p) = s(1:6, j)
+                stress(1:6, p) = s(1:6, j)
             end if
-            if (particles%nstate > 0) particles%state(:, p) = st(:, j)
-            if (allocated(particles%strain)) then
-                particles%strain(:, p) = particles%strain(:, p) + de(1:ns, j)
+            if (nstate > 0) state(:, p) = st(:, j)
+            if (present(strain)) then
+                strain(:, p) = strain(:, p) + de(1:ns, j)
             end if
             ! deformation gradient F <- (I + ldt) F, volume and particle domain
             if (dim == 2) then
-                call deform_2d(particles%f(:, :, p), ldt(:, :, j), jac)
+                call deform_2d(f(:, :, p), ldt(:, :, j), jac)
             else
-                call deform_3d(particles%f(:, :, p), ldt(:, :, j), jac)
+                call deform_3d(f(:, :, p), ldt(:, :, j), jac)
             end if
-            vold = particles%volume(p)
-            particles%volume(p) = jac*particles%volume0(p)
-            call domain_half_sizes(particles%f(:, :, p), particles%lp0(:, p), dim, &
-                particles%lp(:, p))
+            vold = volume(p)
+            volume(p) = jac*volume0(p)
+            call domain_half_sizes(f(:, :, p), lp0(:, p), dim, &
+                lp(:, p))
             ! trapezoidal rule on V sigma (volume and stress at both ends of the step):
             ! second order in dt, also when the volume changes with the strain
             ! (V sigma)_mid : de, shear components twice (tensor components)
             w = 0.0_wp
             do a = 1, 3
-                w = w + 0.5_wp*(vold*sold(a, j) + particles%volume(p)*s(a, j))*de(a, j)
+                w = w + 0.5_wp*(vold*sold(a, j) + volume(p)*s(a, j))*de(a, j)
             end do
             do a = 4, ns
-                w = w + (vold*sold(a, j) + particles%volume(p)*s(a, j))*de(a, j)
+                w = w + (vold*sold(a, j) + volume(p)*s(a, j))*de(a, j)
             end do
             work(kind(j)) = work(kind(j)) + w
             work(nwork_kinds + kind(j)) = work(nwork_kinds + kind(j)) &
-                + density(j)*particles%volume(p)
+                + density(j)*volume(p)
         end do
     end subroutine stress_block
 

@@ -6,11 +6,10 @@
 !> width (`scatter_narrow` for the stencils of widths up to 3 on a grid with an axis of fewer
 !> nodes, `scatter_any` for wider ones). The variant is chosen by the width the shape function
 !> declares and every axis keeps (`stencils_type%width`), never by counting nodes. The kernel sees the
-!> stencils, the grid geometry (APIC: node positions), the particle's values and the buffer:
-!> no case, I/O or coarrays.
+!> stencils, the grid geometry as numbers (APIC: origin and cell size), the particle's values
+!> and the buffer: no grid, particles, case, I/O or coarrays.
 module mpm_kernel_scatter
     use mpm_kinds, only: wp
-    use mpm_grid, only: grid_type
     use mpm_stencil, only: stencils_type, axis_derivatives, fixed_width
     implicit none
     private
@@ -27,12 +26,14 @@ contains
     !> momentum m N_i (v_p + C_p (x_i - x_p)) from mass_row (or the momentum alone from
     !> momentum_row), the internal force - V_p sigma_p . grad N_i from fint_row, the extra body
     !> force m N_i b_p from body_row (a row 0: not scattered).
-    pure subroutine scatter_particle(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, &
+    pure subroutine scatter_particle(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, &
             momentum_row, vs, fint_row, bf, body_row, buf)
         type(stencils_type), intent(in) :: stc
             !! stencils of the step
-        type(grid_type), intent(in) :: grid
-            !! grid geometry
+        real(wp), intent(in) :: origin(3)
+            !! position of node (0, 0, 0) [m] (APIC)
+        real(wp), intent(in) :: dx
+            !! cell size [m] (APIC)
         integer, intent(in) :: p
             !! particle
         integer, intent(in) :: shift
@@ -66,24 +67,24 @@ contains
         ! the variant of the stencils' width (0: an axis keeps fewer nodes) and dimension
         select case (10*stc%width + stc%dim)
         case (33)
-            call scatter_w3_3d(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, vs, &
+            call scatter_w3_3d(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, vs, &
                 fint_row, bf, body_row, buf)
         case (32)
-            call scatter_w3_2d(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, vs, &
+            call scatter_w3_2d(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, vs, &
                 fint_row, bf, body_row, buf)
         case (23)
-            call scatter_w2_3d(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, vs, &
+            call scatter_w2_3d(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, vs, &
                 fint_row, bf, body_row, buf)
         case (22)
-            call scatter_w2_2d(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, vs, &
+            call scatter_w2_2d(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, vs, &
                 fint_row, bf, body_row, buf)
         case default
             if (stc%nps <= narrow_width) then
-                call scatter_narrow(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, &
+                call scatter_narrow(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, &
                     momentum_row, vs, fint_row, bf, body_row, buf, stc%nper(1), stc%nper(2), &
                     stc%nper(3))
             else
-                call scatter_any(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, &
+                call scatter_any(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, &
                     momentum_row, vs, fint_row, bf, body_row, buf, stc%nper(1), stc%nper(2), &
                     stc%nper(3), stc%nper(1), stc%nper(2), stc%nper(3))
             end if
@@ -91,7 +92,7 @@ contains
     end subroutine scatter_particle
 
     !> scatter_particle for full stencils of width 3 in 3D.
-    pure subroutine scatter_w3_3d(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
+    pure subroutine scatter_w3_3d(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
             vs, fint_row, bf, body_row, buf)
         integer, parameter :: n1 = 3, n2 = 3, n3 = 3
         integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
@@ -99,7 +100,7 @@ contains
     end subroutine scatter_w3_3d
 
     !> scatter_particle for full stencils of width 3 in 2D.
-    pure subroutine scatter_w3_2d(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
+    pure subroutine scatter_w3_2d(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
             vs, fint_row, bf, body_row, buf)
         integer, parameter :: n1 = 3, n2 = 3, n3 = 1
         integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
@@ -107,7 +108,7 @@ contains
     end subroutine scatter_w3_2d
 
     !> scatter_particle for full stencils of width 2 in 3D.
-    pure subroutine scatter_w2_3d(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
+    pure subroutine scatter_w2_3d(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
             vs, fint_row, bf, body_row, buf)
         integer, parameter :: n1 = 2, n2 = 2, n3 = 2
         integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
@@ -115,7 +116,7 @@ contains
     end subroutine scatter_w2_3d
 
     !> scatter_particle for full stencils of width 2 in 2D.
-    pure subroutine scatter_w2_2d(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
+    pure subroutine scatter_w2_2d(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
             vs, fint_row, bf, body_row, buf)
         integer, parameter :: n1 = 2, n2 = 2, n3 = 1
         integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
@@ -124,7 +125,7 @@ contains
 
     !> scatter_particle for the stencils of a shape function of width up to narrow_width on a
     !> grid with an axis of fewer nodes (n1, n2, n3 <= narrow_width; scratch of that width).
-    pure subroutine scatter_narrow(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, &
+    pure subroutine scatter_narrow(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, &
             momentum_row, vs, fint_row, bf, body_row, buf, n1, n2, n3)
         integer, intent(in) :: n1, n2, n3
         integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
@@ -133,7 +134,7 @@ contains
 
     !> scatter_particle for any stencil (a shape function wider than narrow_width without
     !> loops of its width here; scratch of the stencil's width, m = n).
-    pure subroutine scatter_any(stc, grid, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
+    pure subroutine scatter_any(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
             vs, fint_row, bf, body_row, buf, n1, n2, n3, m1, m2, m3)
         use mpm_stencil, only: axis_derivatives => axis_derivatives_any
         integer, intent(in) :: n1, n2, n3, m1, m2, m3
@@ -141,9 +142,9 @@ contains
     end subroutine scatter_any
 
     !> APIC: the parts C_p(:, a) (x_i,a - x_p,a) of the node velocity, per axis and node.
-    pure subroutine apic_terms(stc, grid, p, xp, aff, cx, cy, cz)
+    pure subroutine apic_terms(stc, origin, dx, p, xp, aff, cx, cy, cz)
         type(stencils_type), intent(in) :: stc
-        type(grid_type), intent(in) :: grid
+        real(wp), intent(in) :: origin(3), dx
         integer, intent(in) :: p
         real(wp), intent(in) :: xp(3), aff(3, 3)
         real(wp), intent(out) :: cx(:, :), cy(:, :), cz(:, :)
@@ -156,16 +157,16 @@ contains
         cy = 0.0_wp
         cz = 0.0_wp
         do i = 1, stc%nper(1)
-            r = grid%origin(1) + grid%dx*real(stc%first(1, p) + i - 1, wp) - xp(1)
+            r = origin(1) + dx*real(stc%first(1, p) + i - 1, wp) - xp(1)
             cx(:, i) = aff(:, 1)*r
         end do
         do i = 1, stc%nper(2)
-            r = grid%origin(2) + grid%dx*real(stc%first(2, p) + i - 1, wp) - xp(2)
+            r = origin(2) + dx*real(stc%first(2, p) + i - 1, wp) - xp(2)
             cy(:, i) = aff(:, 2)*r
         end do
         if (stc%dim == 3) then
             do i = 1, stc%nper(3)
-                r = grid%origin(3) + grid%dx*real(stc%first(3, p) + i - 1, wp) - xp(3)
+                r = origin(3) + dx*real(stc%first(3, p) + i - 1, wp) - xp(3)
                 cz(:, i) = aff(:, 3)*r
             end do
         end if
