@@ -6,7 +6,10 @@
 # cut-off its residual stays within 0.02 J to 2 s (docs/study/cantilever.md, item 4).
 # Unstable: the same beam at CFL 3 (time.allow_unstable) creates energy within a few steps; the
 # guard must stop it with exit code 3 and a message naming the step, the particle and the
-# quantity, never let it end with exit 0. About a minute on one thread.
+# quantity, never let it end with exit 0. Late onset: at CFL 1.7 (stable up to about 1.6) the
+# beam runs some 2 000 steps with a residual of 1-2 J of its 56 J of gravity work before the
+# energy runs away at about 0.7 s; the guard must stop that run too, not only one that blows up
+# in its first steps, and keep a healthy state from shortly before. About a minute on one thread.
 # Usage: tests/cli/test_guard_energy.sh path/to/mpm_geo   (run from the repository root)
 set -u
 if [ $# -ne 1 ]; then
@@ -44,6 +47,25 @@ if [ -n "$step_time" ] && awk -v t="$step_time" 'BEGIN { exit !(t > 0 && t < 0.0
     ok
 else
     bad "stopped at t = '$step_time' s, expected before 0.01 s"; cat "$tmp/out"
+fi
+
+# late onset: stopped with exit 3 after 0.3 s and before the end time, the copy kept from then
+beam 1.0 1.7 ', "allow_unstable": true'
+expect 3 "beam at CFL 1.7 (late onset) is stopped with exit code 3" -- \
+    "$exe" -q --output "$tmp/late" "$tmp/beam_1.0.json"
+contains "the run became unstable: it created energy" "the late-onset message names the quantity"
+step_time=$(sed -n 's/.*step [0-9]*, t = *\([0-9.E+-]*\) s.*/\1/p' "$tmp/out" | head -1)
+if [ -n "$step_time" ] && awk -v t="$step_time" 'BEGIN { exit !(t > 0.3 && t < 1.0) }'; then
+    ok
+else
+    bad "late onset stopped at t = '$step_time' s, expected between 0.3 and 1.0 s"; cat "$tmp/out"
+fi
+healthy_time=$(sed -n 's/.*the last healthy state (step [0-9]*, t = *\([0-9.E+-]*\) s).*/\1/p' "$tmp/out" | head -1)
+if [ -f "$tmp/late/last_healthy.h5" ] && [ -n "$healthy_time" ] \
+    && awk -v t="$healthy_time" 'BEGIN { exit !(t > 0.3) }'; then
+    ok
+else
+    bad "late onset: no last_healthy.h5 from after 0.3 s (t = '$healthy_time')"; cat "$tmp/out"
 fi
 
 echo "guard_energy: $passed checks passed, $failed failed"
