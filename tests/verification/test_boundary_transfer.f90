@@ -44,14 +44,19 @@ program test_boundary_transfer
 
 contains
 
-    !> The case of a block of 4 x 4 cells at the bottom of a domain of 4 x ny cells.
-    subroutine block_case(floor, top, ny, scheme, transfer, case, error)
-        character(len=*), intent(in) :: floor, top, ny, scheme, transfer
-            !! conditions of the faces ymin and ymax, cells along y, scheme, transfer keys
-        type(case_type), intent(out) :: case
-            !! the case read
-        type(error_type), allocatable, intent(out) :: error
-            !! set if the case is not valid
+    !> The simulation of a block of 4 x 4 cells at the bottom of a domain of 4 x ny cells;
+    !> `ok` false (and a failed check) when the case or the simulation cannot be made.
+    subroutine new_block(floor, top, ny, scheme, transfer, label, sim, ok)
+        character(len=*), intent(in) :: floor, top, ny, scheme, transfer, label
+            !! conditions of the faces ymin and ymax, cells along y, scheme, transfer keys,
+            !! label of the checks
+        type(simulation_type), intent(out) :: sim
+            !! the simulation
+        logical, intent(out) :: ok
+            !! the simulation was made
+
+        type(case_type) :: case
+        type(error_type), allocatable :: error
 
         call read_case_string('{"name": "block", "domain": {"nx": 4, "ny": '//ny//', "dx": 1, '// &
             '"boundaries": {"xmin": "free", "xmax": "free", "ymin": '//floor//', "ymax": '// &
@@ -60,7 +65,28 @@ contains
             '"m", "min": [0, 0], "max": [4, 4]}], "gravity": [0, 0], "solver": {"scheme": "'// &
             scheme//'", "shape_function": "cpgimp", '//transfer//'}, '// &
             '"time": {"tend": 1, "cfl": 0.2}}', case, error, "block")
-    end subroutine block_case
+        if (.not. allocated(error)) call new_simulation(sim, case, error)
+        ok = .not. allocated(error)
+        call check(suite, ok, label//": case and simulation are valid")
+        if (.not. ok) print "(a)", error%message
+    end subroutine new_block
+
+    !> Start the energy balance from the particles as set and advance one step.
+    subroutine first_step(sim, label, ok)
+        type(simulation_type), intent(inout) :: sim
+            !! the simulation, velocities set
+        character(len=*), intent(in) :: label
+            !! label of the checks
+        logical, intent(out) :: ok
+            !! the step ran
+
+        type(error_type), allocatable :: error
+
+        call start_energy_balance(sim)
+        call advance(sim, stable_time_step(sim), error)
+        ok = .not. allocated(error)
+        call check(suite, ok, label//": step runs")
+    end subroutine first_step
 
     !> The block moving down onto the floor: the boundary term after one step.
     subroutine impact(floor, scheme, transfer, label)
@@ -68,34 +94,25 @@ contains
             !! condition of the floor (ymin), scheme, transfer, label of the checks
 
         real(wp), parameter :: v0 = 0.1_wp
-        type(case_type) :: case
         type(simulation_type) :: sim
-        type(error_type), allocatable :: error
         real(wp) :: mass, expected
         integer :: p
+        logical :: ok
 
         if (transfer == "flip") then
-            call block_case(floor, '"free"', "8", scheme, '"transfer": "flip", "flip_fraction": 0', &
-                case, error)
+            call new_block(floor, '"free"', "8", scheme, '"transfer": "flip", "flip_fraction": 0', &
+                label, sim, ok)
         else
-            call block_case(floor, '"free"', "8", scheme, '"transfer": "'//transfer//'"', case, &
-                error)
+            call new_block(floor, '"free"', "8", scheme, '"transfer": "'//transfer//'"', label, &
+                sim, ok)
         end if
-        call check(suite, .not. allocated(error), label//": case is valid")
-        if (allocated(error)) then
-            print "(a)", error%message
-            return
-        end if
-        call new_simulation(sim, case, error)
-        if (allocated(error)) return
+        if (.not. ok) return
         do p = 1, sim%particles%n
             sim%particles%v(:, p) = [0.0_wp, -v0]
         end do
-        call start_energy_balance(sim)
         mass = sum(sim%particles%mass)
-        call advance(sim, stable_time_step(sim), error)
-        call check(suite, .not. allocated(error), label//": step runs")
-        if (allocated(error)) return
+        call first_step(sim, label, ok)
+        if (.not. ok) return
         expected = mass*v0**2/16.0_wp
         call check_close(suite, sim%energy%boundary, expected, 1.0e-12_wp*expected, &
             label//": boundary = 1/2 (M / 8) v0^2")
@@ -107,22 +124,17 @@ contains
     !> zero), nothing is booked.
     subroutine flip_keeps()
         real(wp), parameter :: v0 = 0.1_wp
-        type(case_type) :: case
         type(simulation_type) :: sim
-        type(error_type), allocatable :: error
         integer :: p
+        logical :: ok
 
-        call block_case('"fixed"', '"free"', "8", "MUSL", '"transfer": "flip"', case, error)
-        call check(suite, .not. allocated(error), "FLIP: case is valid")
-        if (allocated(error)) return
-        call new_simulation(sim, case, error)
-        if (allocated(error)) return
+        call new_block('"fixed"', '"free"', "8", "MUSL", '"transfer": "flip"', "FLIP", sim, ok)
+        if (.not. ok) return
         do p = 1, sim%particles%n
             sim%particles%v(:, p) = [0.0_wp, -v0]
         end do
-        call start_energy_balance(sim)
-        call advance(sim, stable_time_step(sim), error)
-        if (allocated(error)) return
+        call first_step(sim, "FLIP", ok)
+        if (.not. ok) return
         call check(suite, sim%energy%boundary == 0.0_wp .and. sim%energy%transfer == 0.0_wp, &
             "FLIP, fixed floor: no boundary or transfer term")
         ! no force acts in the first step (stress-free, no gravity): the velocities stay
@@ -140,33 +152,24 @@ contains
             !! scheme
 
         real(wp), parameter :: v0 = 0.1_wp, nb = 4.0_wp
-        type(case_type) :: case
         type(simulation_type) :: sim
-        type(error_type), allocatable :: error
         real(wp) :: mass, expected, offset
         integer :: p
+        logical :: ok
         character(len=:), allocatable :: label
 
         label = scheme//", PIC, alternating velocities"
         ! the block fills the domain in y: 4 cells between the sliding faces
-        call block_case('"sliding"', '"sliding"', "4", scheme, &
-            '"transfer": "flip", "flip_fraction": 0', case, error)
-        call check(suite, .not. allocated(error), label//": case is valid")
-        if (allocated(error)) then
-            print "(a)", error%message
-            return
-        end if
-        call new_simulation(sim, case, error)
-        if (allocated(error)) return
+        call new_block('"sliding"', '"sliding"', "4", scheme, &
+            '"transfer": "flip", "flip_fraction": 0', label, sim, ok)
+        if (.not. ok) return
         do p = 1, sim%particles%n
             offset = sim%particles%x(2, p) - real(floor(sim%particles%x(2, p)), wp)
             sim%particles%v(:, p) = [merge(v0, -v0, offset < 0.5_wp), 0.0_wp]
         end do
-        call start_energy_balance(sim)
         mass = sum(sim%particles%mass)
-        call advance(sim, stable_time_step(sim), error)
-        call check(suite, .not. allocated(error), label//": step runs")
-        if (allocated(error)) return
+        call first_step(sim, label, ok)
+        if (.not. ok) return
         expected = mass*v0**2*(0.5_wp - 5.0_wp/(64.0_wp*nb))
         call check_close(suite, sim%energy%transfer, expected, 1.0e-12_wp*expected, &
             label//": transfer = M v0^2 (1/2 - 5 / (64 nb))")
