@@ -22,6 +22,8 @@ ENERGY_TERMS = {
     "damping_work": "damping work",
     "friction_work": "friction work",
     "load_work": "work of loads",
+    "boundary_work": "stopped by fixed faces and contacts",
+    "transfer_loss": "lost in particle-grid transfers",
     "total": "total",
     "residual": "residual",
 }
@@ -29,7 +31,7 @@ ENERGY_TERMS = {
 # Where the energy of a run went (docs/output.md): stacked in plots of a history with a
 # ``residual`` column, against the energy the run was given.
 STACKED_TERMS = ("kinetic_energy", "elastic_energy", "plastic_work", "viscous_work",
-                 "damping_work", "friction_work")
+                 "damping_work", "friction_work", "boundary_work", "transfer_loss")
 
 
 # Columns of history.csv that are not energies.

@@ -8,7 +8,8 @@ particles_NNNNNN.h5
     ``volume`` (n) [m^3]; optional group ``/grid`` with ``position``, ``mass``, ``velocity``.
 history.csv
     header ``time,step,kinetic_energy,elastic_energy,potential_energy,plastic_work,viscous_work,
-    damping_work,friction_work,load_work,total,residual`` (before issue 19:
+    damping_work,friction_work,load_work,boundary_work,transfer_loss,total,residual`` (without
+    the boundary and transfer terms before issue 19, item 5; before issue 19:
     ``time,step,kinetic_energy,strain_energy,potential_energy,damping_work,total``).
 terrain.h5 (runs with a terrain_stl contact)
     ``/terrain/position`` (3 n, 3) [m], the 3 corners of each of the n triangles, and

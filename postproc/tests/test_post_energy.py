@@ -108,16 +108,18 @@ def test_plot_energy_without_energy_columns(tmp_path):
 
 
 def closed_history():
-    """A history of the closed balance (docs/output.md): 2 J of gravity work, 1.5 J stored
-    and dissipated, 0.5 J lost by the discretisation."""
+    """A history of the closed balance (docs/output.md): 2 J of gravity work, 1.75 J stored
+    and dissipated, 0.25 J lost by the discretisation."""
     t = np.linspace(0.0, 1.0, 5)
     history = {"time": t, "step": np.arange(5.0), "kinetic_energy": 0.5 * t,
                "elastic_energy": 0.5 * t, "potential_energy": -2.0 * t,
                "plastic_work": 0.25 * t, "viscous_work": 0 * t, "damping_work": 0 * t,
-               "friction_work": 0.25 * t, "load_work": 0 * t}
+               "friction_work": 0.25 * t, "load_work": 0 * t, "boundary_work": 0.125 * t,
+               "transfer_loss": 0.125 * t}
     history["total"] = (history["kinetic_energy"] + history["elastic_energy"]
                         + history["potential_energy"] + history["plastic_work"]
-                        + history["friction_work"])
+                        + history["friction_work"] + history["boundary_work"]
+                        + history["transfer_loss"])
     history["residual"] = history["total"] - history["total"][0]
     return history
 
@@ -127,6 +129,8 @@ def test_closed_balance_terms_have_their_names():
     assert labels["elastic_energy"] == "elastic (stored)"
     assert labels["plastic_work"] == "plastic dissipation"
     assert labels["friction_work"] == "friction work"
+    assert labels["boundary_work"] == "stopped by fixed faces and contacts"
+    assert labels["transfer_loss"] == "lost in particle-grid transfers"
     assert labels["residual"] == "residual"
 
 
@@ -141,5 +145,6 @@ def test_closed_balance_is_plotted_stacked_with_the_residual(tmp_path, monkeypat
     monkeypatch.setattr(energy, "_plot_stacked", spy)
     path = plot_energy(closed_history(), tmp_path / "e.png")
     assert calls == {"stacked": True}
+    assert {"boundary_work", "transfer_loss"} <= set(energy.STACKED_TERMS)
     image = imread(path)
     assert image.shape[0] > 100 and image.std() > 0.0

@@ -36,7 +36,7 @@ module mpm_state
         !! value of the root attribute "format" of a state file
     integer, parameter :: state_format_version = 1
         !! layout version written by this build (and the only one it reads)
-    integer, parameter :: state_energy_terms = 14
+    integer, parameter :: state_energy_terms = 16
         !! values of the `energy` attribute of a run record (mpm_solver energy_record); the
         !! run records of builds before the energy balance held 4 and no `energy_terms`
     real(wp), parameter :: grid_rtol = 1.0e-12_wp

@@ -9,13 +9,14 @@ module mpm_energy
     public :: energies_type, energy_total, energy_residual, energy_scale, energy_record, &
         energies_from_record, nenergy_record
 
-    integer, parameter :: nenergy_record = 11 + nwork_kinds
+    integer, parameter :: nenergy_record = 13 + nwork_kinds
         !! values of energy_record (the `energy` attribute of a checkpoint's run record)
 
     !> Energy terms of a run [J] (per metre of thickness in 2D [J/m]), since the start of the
     !> balance (start_energy_balance). They close: energy_residual, kinetic + elastic +
-    !> potential + plastic + viscous + damping + friction - loads - initial, is the
-    !> energy the discretisation created (> 0) or lost (< 0). docs/output.md defines each.
+    !> potential + plastic + viscous + damping + friction + boundary + transfer - loads -
+    !> initial, is the energy the time integration created (> 0) or lost (< 0).
+    !> docs/output.md defines each.
     type :: energies_type
         real(wp) :: kinetic = 0.0_wp
             !! sum 1/2 m v^2 [J]
@@ -43,6 +44,13 @@ module mpm_energy
             !! largest |work of gravity| + |work of loads| so far (energy_scale) [J]
         real(wp) :: stored(nwork_kinds) = 0.0_wp
             !! the elastic energy by work kind of the materials (`work_*` of mpm_material) [J]
+        real(wp) :: boundary = 0.0_wp
+            !! kinetic energy stopped by the fixed components of the faces and the normal
+            !! constraint of the contacts: 1/2 m v^2 of the normal velocity a node brings into
+            !! the step [J]
+        real(wp) :: transfer = 0.0_wp
+            !! kinetic energy lost in the particle-grid transfers: particles minus nodes after
+            !! P2G, nodes after the nodal update minus particles after G2P [J]
     end type energies_type
 
 contains
@@ -54,6 +62,7 @@ contains
             !! energy terms
         energy_total = e%kinetic + e%elastic + e%potential + e%plastic + e%viscous &
             + e%damping + e%friction - e%loads
+        energy_total = energy_total + e%boundary + e%transfer
     end function energy_total
 
     !> The energy the discretisation created since the start (> 0) or lost (< 0) [J].
@@ -81,7 +90,7 @@ contains
             !! energy terms
         real(wp) :: r(nenergy_record)
         r = [e%kinetic, e%strain, e%elastic, e%potential, e%plastic, e%viscous, e%damping, &
-            e%friction, e%loads, e%initial, e%supplied, e%stored]
+            e%friction, e%loads, e%initial, e%supplied, e%stored, e%boundary, e%transfer]
     end function energy_record
 
     !> The energy terms of an energy_record.
@@ -90,7 +99,9 @@ contains
             !! energy_record
         type(energies_type) :: e
         e = energies_type(r(1), r(2), r(3), r(4), r(5), r(6), r(7), r(8), r(9), r(10), &
-            r(11), r(12:))
+            r(11), r(12:11 + nwork_kinds))
+        e%boundary = r(12 + nwork_kinds)
+        e%transfer = r(13 + nwork_kinds)
     end function energies_from_record
 
 end module mpm_energy

@@ -676,7 +676,7 @@ contains
             call open_text_file(case%output%directory//"/history.csv", unit, error)
             if (.not. allocated(error)) call put_line(unit, "time,step,kinetic_energy,"// &
                 "elastic_energy,potential_energy,plastic_work,viscous_work,damping_work,"// &
-                "friction_work,load_work,total,residual")
+                "friction_work,load_work,boundary_work,transfer_loss,total,residual")
         end if
     end subroutine open_history
 
@@ -831,9 +831,9 @@ contains
         character(len=512) :: line
 
         associate (e => sim%energy)
-            write (line, "(es23.15e3,',',i0,10(',',es23.15e3))") sim%time, sim%step, e%kinetic, &
+            write (line, "(es23.15e3,',',i0,12(',',es23.15e3))") sim%time, sim%step, e%kinetic, &
                 e%elastic, e%potential, e%plastic, e%viscous, e%damping, e%friction, e%loads, &
-                energy_total(e), energy_residual(e)
+                e%boundary, e%transfer, energy_total(e), energy_residual(e)
         end associate
         call put_line(unit, trim(line))
     end subroutine write_history

@@ -34,7 +34,7 @@ module mpm_solver
     use mpm_transfer, only: p2g, p2g_options_type, g2p, motion_type, report_lost, update_stress, &
         nstress_sums
     use mpm_kernel_nodal, only: nodal_velocity, integrate_nodes, nnodal_sums, nodal_damping, &
-        nodal_friction
+        nodal_friction, nodal_boundary, nodal_kinetic
     use mpm_halo, only: halo_sum, halo_box, halo_contact_gaps
     use mpm_clock, only: wall_time
     use mpm_energy, only: energies_type, energy_total, energy_residual, energy_scale, &
@@ -621,13 +621,14 @@ contains
         type(error_type), allocatable, intent(out) :: error
             !! set on a numerical failure (exit_numerical)
 
-        real(wp) :: work(nstress_sums), nodal_work(nnodal_sums), clock, kinetic, &
-            sums(3 + nstress_sums + nnodal_sums)
+        real(wp) :: work(nstress_sums), nodal_work(nnodal_sums), clock, kinetic, stopped, &
+            grid_kinetic(2), sums(5 + nstress_sums + nnodal_sums)
         integer :: scheme
         type(motion_type) :: motion
         type(energies_type) :: next
 
         scheme = sim%case%solver%scheme
+        stopped = 0.0_wp
         clock = wall_time()
         call compute_stencils(sim%stencils, sim%grid, sim%particles, sim%shape, error, &
             cells=sim%case%solver%fbar)
@@ -637,8 +638,11 @@ contains
                    fbar => sim%case%solver%fbar)
             if (scheme == scheme_usf) then
                 call scatter_to_nodes(sim, p2g_options_type(mass=.true., fbar=fbar))
+                grid_kinetic(1) = nodal_kinetic(grid)
                 call lap(sim, phase_p2g, clock)
+                ! the constraints act on the momentum of the step here: what they stop
                 call nodal_velocity(grid, dt)
+                stopped = grid_kinetic(1) - nodal_kinetic(grid)
                 call lap(sim, phase_nodal, clock)
                 call update_stress(grid, particles, stc, sim%materials, dt, fbar, work, &
                     sim%case%gravity)
@@ -646,11 +650,14 @@ contains
                 call scatter_to_nodes(sim, p2g_options_type(fint=.true., fbar=fbar))
             else
                 call scatter_to_nodes(sim, p2g_options_type(mass=.true., fint=.true., fbar=fbar))
+                grid_kinetic(1) = nodal_kinetic(grid)
             end if
             call lap(sim, phase_p2g, clock)
             call integrate_nodes(grid, dt, sim%case%gravity, &
                 local_damping=sim%case%damping%type == damping_local, alpha=sim%case%damping%value, &
                 dissipated=nodal_work)
+            nodal_work(nodal_boundary) = nodal_work(nodal_boundary) + stopped
+            grid_kinetic(2) = nodal_kinetic(grid)
             call lap(sim, phase_nodal, clock)
             ! MUSL: the same pass maps the updated particle momentum back to the nodes, and the
             ! particles move in the stress update; USL, USF: they move here
@@ -687,9 +694,10 @@ contains
             call lap(sim, phase_stress, clock)
         end associate
         ! sums over the images, in one reduction
-        sums = [kinetic, motion%potential, motion%load_work, work, nodal_work]
+        sums = [kinetic, motion%potential, motion%load_work, work, nodal_work, grid_kinetic]
         call sum_over_images(sums)
-        next = step_energies(sim%energy, sums)
+        next = step_energies(sim%energy, sums, grid_velocities=sim%case%solver%apic .or. &
+            sim%case%solver%flip_fraction == 0.0_wp)
         ! the blow-up guard speaks first, so an unstable run is reported as such rather than
         ! as the particles it throws out of the grid
         call check_blow_up(sim, motion, next, error)
@@ -739,19 +747,28 @@ contains
 
     !> The energy terms after a step from those before and the sums of the step (over all
     !> images): kinetic energy, change of the potential, work of the loads, the stress sums
-    !> (nstress_sums) and the nodal sums (nnodal_sums).
-    pure function step_energies(before, sums) result(e)
+    !> (nstress_sums), the nodal sums (nnodal_sums) and the kinetic energy of the nodes after
+    !> P2G and after the nodal update.
+    pure function step_energies(before, sums, grid_velocities) result(e)
         type(energies_type), intent(in) :: before
             !! terms at the start of the step
         real(wp), intent(in) :: sums(:)
             !! the sums of the step [J]
+        logical, intent(in) :: grid_velocities
+            !! G2P gives the particles the nodal velocities (APIC, PIC): the kinetic energy
+            !! the nodes lose to the constraints and the transfers is theirs. FLIP adds the
+            !! nodal accelerations to the particle velocities instead: a held component (zero
+            !! acceleration) leaves them as they are, and the particles keep the velocity the
+            !! nodes do not hold; neither term is booked (the work of the contact impulses on
+            !! them stays in the residual)
         type(energies_type) :: e
 
-        real(wp) :: work(nwork_kinds), stored(nwork_kinds), nodal(nnodal_sums)
+        real(wp) :: work(nwork_kinds), stored(nwork_kinds), nodal(nnodal_sums), grid(2)
 
         work = sums(4:3 + nwork_kinds)
         stored = sums(4 + nwork_kinds:3 + nstress_sums)
         nodal = sums(4 + nstress_sums:3 + nstress_sums + nnodal_sums)
+        grid = sums(4 + nstress_sums + nnodal_sums:5 + nstress_sums + nnodal_sums)
         e = before
         ! the kinetic energy was summed in the G2P pass (nothing changes the velocities after)
         e%kinetic = sums(1)
@@ -768,6 +785,11 @@ contains
         e%supplied = max(before%supplied, abs(e%potential) + abs(e%loads))
         e%damping = e%damping + nodal(nodal_damping)
         e%friction = e%friction + nodal(nodal_friction)
+        if (.not. grid_velocities) return
+        e%boundary = e%boundary + nodal(nodal_boundary)
+        ! the particles' kinetic energy the P2G projection did not give the nodes, and the
+        ! nodes' that G2P did not give back to the particles
+        e%transfer = e%transfer + (before%kinetic - grid(1)) + (grid(2) - e%kinetic)
     end function step_energies
 
     !> Make a failure of any image the failure of all (collective): every image returns the

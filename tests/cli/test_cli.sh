@@ -72,7 +72,7 @@ for f in small.xdmf history.csv particles_000000.h5; do
     [ -s "$tmp/run/$f" ] && ok || bad "run did not write $f"
 done
 [ -s "$tmp/state/small.h5" ] && ok || bad "save_state did not write the state file"
-head -1 "$tmp/run/history.csv" | grep -q "^time,step,kinetic_energy,elastic_energy,potential_energy,plastic_work,viscous_work,damping_work,friction_work,load_work,total,residual$" \
+head -1 "$tmp/run/history.csv" | grep -q "^time,step,kinetic_energy,elastic_energy,potential_energy,plastic_work,viscous_work,damping_work,friction_work,load_work,boundary_work,transfer_loss,total,residual$" \
     && ok || bad "history.csv header"
 nhist=$(wc -l < "$tmp/run/history.csv")
 [ "$nhist" -ge 3 ] && ok || bad "history.csv has $nhist lines"

@@ -51,7 +51,7 @@ contains
     !> impulse kept (grid%contact_friction); with dt = 0 only the normal constraint is
     !> (velocities remapped within a step), and the work is that of the kept friction
     !> impulse at the remapped velocities, those the particles slide with (MUSL).
-    subroutine apply_contacts(grid, dt, step, work)
+    subroutine apply_contacts(grid, dt, step, work, stopped)
         type(grid_type), intent(inout) :: grid
             !! grid with mass and momentum set
         real(wp), intent(in) :: dt
@@ -63,6 +63,13 @@ contains
             !! the velocity with the normal part removed), times the velocity the node moves
             !! with (v_new, or the remapped one when dt = 0), mu N ds for a slide ds; a node
             !! that left the face in the remap does none
+        real(wp), intent(out) :: stopped
+            !! kinetic energy the normal constraint stops [J]: 1/2 m v_s^2 for the normal
+            !! velocity v_s into the obstacle (beyond gap / step) that the node brought into
+            !! the step, v - dt a (a: the acceleration of the step's forces), where the
+            !! constraint acts; the velocity the forces add within the step is stopped too, but
+            !! the particles never move with it, and the forces' work (at the velocity of the
+            !! moves) never counted it
 
         integer :: c, id, dim
         real(wp) :: v(3), vnew(3), vt(3), n(3), vn, vt_norm, factor, weight, v1(3)
@@ -70,6 +77,7 @@ contains
 
         dim = grid%dim
         work = 0.0_wp
+        stopped = 0.0_wp
         do c = 1, grid%ncontacts
             id = grid%contact_node(c)
             if (grid%mass(id) <= grid%small_mass) then
@@ -95,6 +103,8 @@ contains
             end if
             vnew(1:dim) = v(1:dim)
             if (vn > 0.0_wp) vnew(1:dim) = v(1:dim) - vn*n(1:dim)
+            if (vn > 0.0_wp .and. node_owned(grid, id)) stopped = stopped + 0.5_wp*grid%mass(id) &
+                *max(0.0_wp, vn - dt*dot_product(grid%acceleration(:, id), n(1:dim)))**2
             v1(1:dim) = vnew(1:dim)
             if (dt > 0.0_wp) then
                 ! running mean over a fixed time, so that the friction does not depend on dt

@@ -10,12 +10,14 @@ module mpm_kernel_nodal
     use mpm_kernel_contact, only: apply_contacts
     implicit none
     private
-    public :: nodal_velocity, integrate_nodes, box_middle, box_row
-    public :: nodal_damping, nodal_friction, nnodal_sums
+    public :: nodal_velocity, integrate_nodes, box_middle, box_row, nodal_kinetic
+    public :: nodal_damping, nodal_friction, nodal_boundary, nnodal_sums
 
-    integer, parameter :: nodal_damping = 1, nodal_friction = 2, nnodal_sums = 2
-        !! sums of the nodal update (integrate_nodes): work of local damping and of the
-        !! friction of frictional faces and the terrain (positive: energy removed)
+    integer, parameter :: nodal_damping = 1, nodal_friction = 2, nodal_boundary = 3, &
+        nnodal_sums = 3
+        !! sums of the nodal update (integrate_nodes): work of local damping, of the friction
+        !! of frictional faces and the terrain, and the kinetic energy the fixed components
+        !! and the normal constraint of the contacts stop (positive: energy removed)
 
 
 contains
@@ -31,9 +33,10 @@ contains
             !! (a remap: the velocities the particles move with) [J]
 
         integer :: i, layer, j, first, last, y, z
-        real(wp) :: work
+        real(wp) :: work, stopped
 
-        call apply_contacts(grid, 0.0_wp, step, work)
+        ! what the constraints stop here: the caller compares nodal_kinetic before and after
+        call apply_contacts(grid, 0.0_wp, step, work, stopped)
         if (present(friction_work)) friction_work = work
         !$omp parallel do default(none) schedule(static) shared(grid) &
         !$omp private(i, layer, j, first, last, y, z)
@@ -53,15 +56,64 @@ contains
         !$omp end parallel do
     end subroutine nodal_velocity
 
+    !> Kinetic energy of the nodal momentum, sum_i |p_i|^2 / (2 m_i) over the nodes of the
+    !> active box that are not empty (nodes shared with another image on one of them) [J]:
+    !> after P2G and after the nodal update, the two ends of the grid's part of the step.
+    real(wp) function nodal_kinetic(grid)
+        type(grid_type), intent(in) :: grid
+            !! grid with mass and momentum set
+
+        integer :: i, layer, j, first, last, y, z, lo, hi
+        real(wp) :: acc
+        real(wp), allocatable :: partial(:)
+
+        lo = grid%active_lo(grid%dim)
+        hi = grid%active_hi(grid%dim)
+        allocate (partial(lo:max(lo, hi)))
+        partial = 0.0_wp
+        !$omp parallel do default(none) schedule(static) shared(grid, partial, lo, hi) &
+        !$omp private(i, layer, j, first, last, y, z, acc)
+        do layer = lo, hi
+            acc = 0.0_wp
+            do j = box_middle(grid%active_lo, grid%dim), box_middle(grid%active_hi, grid%dim)
+                call box_row(grid, grid%active_lo, grid%active_hi, layer, j, first, last, y, z)
+                do i = first, last
+                    if (grid%mass(i) > grid%small_mass .and. node_owned(grid, i)) then
+                        acc = acc + 0.5_wp*sum(grid%momentum(:, i)**2)/grid%mass(i)
+                    end if
+                end do
+            end do
+            partial(layer) = acc
+        end do
+        !$omp end parallel do
+        nodal_kinetic = 0.0_wp
+        do layer = lo, hi
+            nodal_kinetic = nodal_kinetic + partial(layer)
+        end do
+    end function nodal_kinetic
+
+    !> Kinetic energy of the held (fixed) velocity components of node i, sum |p_c|^2 / (2 m) [J].
+    pure real(wp) function held_kinetic(grid, i)
+        type(grid_type), intent(in) :: grid
+            !! grid with mass and momentum set
+        integer, intent(in) :: i
+            !! node (not empty)
+        held_kinetic = 0.5_wp*sum(merge(grid%momentum(:, i), 0.0_wp, grid%constrained(:, i))**2) &
+            /grid%mass(i)
+    end function held_kinetic
+
     !> Advance the nodal momentum over dt with gravity, damping and boundary conditions.
     !>
     !> f = f_int + m_i g + f_ext (f_ext: extra body forces only). Local damping adds
     !> f_d = - alpha |f| sign(v) per component, f the unbalanced force and v the nodal velocity
     !> at the start of the step. Frictional faces then act on the updated velocities
-    !> (apply_contacts). Returns the work of damping and of friction in this step
-    !> (positive: energy removed), see nnodal_sums. The fixed components of the boundaries
-    !> and the normal constraint of the contacts do no work: their reaction acts where the
-    !> velocity of the end of the step, the one the particles move and strain with, is zero.
+    !> (apply_contacts). Returns the work of damping and of friction in this step and the
+    !> kinetic energy the constraints stop (positive: energy removed), see nnodal_sums. A
+    !> fixed component is zero at the start of the step as well as at its end (its force is
+    !> dropped too), so it stops the kinetic energy of the mapped start velocity, 1/2 m v^2;
+    !> a contact's normal constraint stops the start velocity into the obstacle (beyond
+    !> gap / dt) and the velocity the step's forces add, which the particles never move
+    !> with (its work, like a fixed component's, is zero at the end velocity).
     subroutine integrate_nodes(grid, dt, gravity, local_damping, alpha, dissipated)
         type(grid_type), intent(inout) :: grid
             !! grid with mass, momentum and forces set
@@ -77,21 +129,23 @@ contains
             !! energy removed in this step by local damping and by contact friction [J]
 
         integer :: i, dim, layer, j, first, last, y, z, lo, hi
-        real(wp) :: f(3), v0(3), fd(3), acc
-        real(wp), allocatable :: partial(:)
+        real(wp) :: f(3), v0(3), fd(3), acc, held
+        real(wp), allocatable :: partial(:), partial_held(:)
 
         dim = grid%dim
         ! one partial sum per layer of the box (slowest axis), added in layer order: the same
         ! sums with any number of threads
         lo = grid%active_lo(dim)
         hi = grid%active_hi(dim)
-        allocate (partial(lo:max(lo, hi)))
+        allocate (partial(lo:max(lo, hi)), partial_held(lo:max(lo, hi)))
         partial = 0.0_wp
+        partial_held = 0.0_wp
         !$omp parallel do default(none) schedule(static) &
-        !$omp shared(grid, dt, gravity, local_damping, alpha, dim, partial, lo, hi) &
-        !$omp private(layer, j, first, last, y, z, i, f, v0, fd, acc)
+        !$omp shared(grid, dt, gravity, local_damping, alpha, dim, partial, partial_held, lo, hi) &
+        !$omp private(layer, j, first, last, y, z, i, f, v0, fd, acc, held)
         do layer = lo, hi
             acc = 0.0_wp
+            held = 0.0_wp
             do j = box_middle(grid%active_lo, dim), box_middle(grid%active_hi, dim)
                 call box_row(grid, grid%active_lo, grid%active_hi, layer, j, first, last, y, z)
                 do i = first, last
@@ -111,6 +165,7 @@ contains
                     ! Uintah does). Putting the removed mapped velocity into the acceleration
                     ! instead makes the manufactured solution less accurate (cpGIMP MUSL, 64
                     ! cells: 9.4e-5 m against 3.5e-5 m).
+                    if (node_owned(grid, i)) held = held + held_kinetic(grid, i)
                     where (grid%constrained(:, i))
                         grid%momentum(:, i) = 0.0_wp
                         v0(1:dim) = 0.0_wp
@@ -131,14 +186,17 @@ contains
                 end do
             end do
             partial(layer) = acc
+            partial_held(layer) = held
         end do
         !$omp end parallel do
         dissipated = 0.0_wp
         do layer = lo, hi
             dissipated(nodal_damping) = dissipated(nodal_damping) + partial(layer)
+            dissipated(nodal_boundary) = dissipated(nodal_boundary) + partial_held(layer)
         end do
         if (grid%ncontacts > 0) then
-            call apply_contacts(grid, dt, dt, dissipated(nodal_friction))
+            call apply_contacts(grid, dt, dt, dissipated(nodal_friction), held)
+            dissipated(nodal_boundary) = dissipated(nodal_boundary) + held
             do i = 1, grid%ncontacts
                 associate (id => grid%contact_node(i))
                     if (grid%mass(id) > grid%small_mass) grid%velocity(:, id) = &
