@@ -3,17 +3,17 @@
 !> HDF5 objects, bitwise comparison of arrays, and the removal of a test's folder.
 module mpm_testing_output
     use, intrinsic :: iso_c_binding, only: c_char, c_int
-    use hdf5, only: hid_t, size_t, h5fget_obj_count_f, h5f_obj_all_f
+    use hdf5, only: hid_t, size_t, h5open_f, h5fget_obj_count_f, h5f_obj_all_f
     use mpm_kinds, only: wp, i8
     use mpm_error, only: error_type
     use mpm_case, only: case_type
     use mpm_particles, only: particles_type, new_particles
     use mpm_filesystem, only: remove_file, c_string
-    use mpm_testing, only: test_suite_type, check
+    use mpm_testing, only: test_suite_type, check, temporary_folder
     implicit none
     private
     public :: tiny_case, fill_particles, open_hdf5_objects, same_bits_1d, same_bits_2d, &
-        same_bits_3d, delete_tree
+        same_bits_3d, delete_tree, open_test_folder, close_test_folder
 
     ! allow(assumed-size, assumed-size-character-intent): C strings passed to libc
     interface
@@ -140,5 +140,48 @@ contains
             end if
         end do
     end subroutine delete_tree
+
+    !> Open the HDF5 library and make the test's temporary folder, $TMPDIR/PREFIX_XXXXXX;
+    !> keep it at the end when MPM_TEST_KEEP is set.
+    subroutine open_test_folder(suite, prefix, root, keep)
+        type(test_suite_type), intent(inout) :: suite
+            !! the suite that counts the check
+        character(len=*), intent(in) :: prefix
+            !! start of the folder's name
+        character(len=:), allocatable, intent(out) :: root
+            !! the folder made
+        logical, intent(out) :: keep
+            !! MPM_TEST_KEEP is set: close_test_folder leaves the folder
+
+        integer :: hdferr
+
+        call h5open_f(hdferr)
+        call check(suite, hdferr == 0, "h5open_f")
+        root = temporary_folder(prefix)
+        write (*, "(a)") "temporary folder: "//root
+        call get_environment_variable("MPM_TEST_KEEP", status=hdferr)
+        keep = hdferr == 0
+    end subroutine open_test_folder
+
+    !> Delete the test's files and folders (delete_tree) unless it keeps them.
+    subroutine close_test_folder(suite, root, keep, files, folders)
+        type(test_suite_type), intent(inout) :: suite
+            !! the suite that counts the check
+        character(len=*), intent(in) :: root
+            !! the test's temporary folder
+        logical, intent(in) :: keep
+            !! leave the folder (MPM_TEST_KEEP)
+        character(len=*), intent(in) :: files(:)
+            !! files written by the test, relative to root
+        character(len=*), intent(in) :: folders(:)
+            !! folders made by the test, relative to root, deepest first
+
+        type(error_type), allocatable :: error
+
+        if (keep) return
+        call delete_tree(root, files, folders, error)
+        call check(suite, .not. allocated(error), "temporary folder deleted")
+        if (allocated(error)) write (*, "(a)") error%message
+    end subroutine close_test_folder
 
 end module mpm_testing_output

@@ -5,7 +5,7 @@
 !> folder under $TMPDIR (default /tmp), deleted at the end unless MPM_TEST_KEEP is set.
 program test_mpm_output
     use, intrinsic :: iso_c_binding, only: c_char, c_ptr, c_null_char, c_loc
-    use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5fopen_f, h5fclose_f, h5f_acc_rdonly_f, &
+    use hdf5, only: hid_t, hsize_t, size_t, h5fopen_f, h5fclose_f, h5f_acc_rdonly_f, &
         h5dopen_f, h5dclose_f, h5dget_space_f, h5dread_f, h5sget_simple_extent_ndims_f, &
         h5sget_simple_extent_dims_f, h5sclose_f, h5aopen_by_name_f, h5aclose_f, h5aread_f, &
         h5aget_space_f, h5tcopy_f, h5tset_size_f, h5tset_strpad_f, h5tclose_f, h5t_fortran_s1, &
@@ -20,9 +20,9 @@ program test_mpm_output
     use mpm_output, only: output_writer_type, new_output_writer, write_output, remove_outputs
     use mpm_filesystem, only: make_directory, directory_exists, file_exists, rename_file, &
         remove_file, parent_directory
-    use mpm_testing, only: test_suite_type, new_suite, check, check_contains, finish, &
-        temporary_folder
-    use mpm_testing_output, only: tiny_case, fill_particles, open_hdf5_objects, delete_tree
+    use mpm_testing, only: test_suite_type, new_suite, check, check_contains, finish
+    use mpm_testing_output, only: tiny_case, fill_particles, open_hdf5_objects, open_test_folder, &
+        close_test_folder
     implicit none
 
     character(len=*), parameter :: files(*) = [character(len=32) :: &
@@ -36,27 +36,17 @@ program test_mpm_output
 
     type(test_suite_type) :: suite
     character(len=:), allocatable :: root
-    integer :: hdferr
     logical :: keep
-    type(error_type), allocatable :: error
 
     call new_suite(suite, "mpm_output")
-    call h5open_f(hdferr)
-    call check(suite, hdferr == 0, "h5open_f")
-    root = temporary_folder("mpm_output_test")
-    write (*, "(a)") "temporary folder: "//root
-    keep = .false.
-    call get_environment_variable("MPM_TEST_KEEP", status=hdferr)
-    keep = hdferr == 0
+    call open_test_folder(suite, "mpm_output_test", root, keep)
 
     call test_filesystem(suite, root)
     call test_output_2d(suite, root//"/out2d")
     call test_output_3d(suite, root//"/out3d")
     call test_output_parts(suite, root//"/parts")
 
-    if (.not. keep) call delete_tree(root, files, folders, error)
-    if (.not. keep) call check(suite, .not. allocated(error), "temporary folder deleted")
-    if (allocated(error)) write (*, "(a)") error%message
+    call close_test_folder(suite, root, keep, files, folders)
     call finish(suite)
 
 contains

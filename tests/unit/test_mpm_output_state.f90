@@ -4,7 +4,6 @@
 !> Files go to a fresh folder under $TMPDIR (default /tmp), deleted at the end unless
 !> MPM_TEST_KEEP is set.
 program test_mpm_output_state
-    use hdf5, only: h5open_f
     use mpm_kinds, only: wp
     use mpm_error, only: error_type, exit_input
     use mpm_case, only: case_type
@@ -14,10 +13,9 @@ program test_mpm_output_state
     use mpm_state, only: save_state, load_state
     use mpm_filesystem, only: make_directory, file_exists
     use mpm_hdf5, only: hdf5_location_type, hdf5_open_file, hdf5_write_attribute, hdf5_close
-    use mpm_testing, only: test_suite_type, new_suite, check, check_contains, finish, &
-        temporary_folder
+    use mpm_testing, only: test_suite_type, new_suite, check, check_contains, finish
     use mpm_testing_output, only: tiny_case, fill_particles, open_hdf5_objects, same_bits_1d, &
-        same_bits_2d, same_bits_3d, delete_tree
+        same_bits_2d, same_bits_3d, open_test_folder, close_test_folder
     implicit none
 
     character(len=*), parameter :: files(*) = [character(len=40) :: "states/d2/state.h5", &
@@ -31,25 +29,15 @@ program test_mpm_output_state
 
     type(test_suite_type) :: suite
     character(len=:), allocatable :: root
-    integer :: hdferr
     logical :: keep
-    type(error_type), allocatable :: error
 
     call new_suite(suite, "mpm_output_state")
-    call h5open_f(hdferr)
-    call check(suite, hdferr == 0, "h5open_f")
-    root = temporary_folder("mpm_output_state_test")
-    write (*, "(a)") "temporary folder: "//root
-    keep = .false.
-    call get_environment_variable("MPM_TEST_KEEP", status=hdferr)
-    keep = hdferr == 0
+    call open_test_folder(suite, "mpm_output_state_test", root, keep)
 
     call test_state_round_trip(suite, root)
     call test_state_refusals(suite, root)
 
-    if (.not. keep) call delete_tree(root, files, folders, error)
-    if (.not. keep) call check(suite, .not. allocated(error), "temporary folder deleted")
-    if (allocated(error)) write (*, "(a)") error%message
+    call close_test_folder(suite, root, keep, files, folders)
     call finish(suite)
 
 contains
