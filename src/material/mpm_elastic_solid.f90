@@ -8,10 +8,10 @@ module mpm_elastic_solid
     use mpm_strings, only: fmt_real
     use mpm_case_cursor, only: cursor_type
     use mpm_material, only: material_type, material_key_width, work_stored
-    use mpm_stress, only: isotropic_elastic_energy
+    use mpm_stress, only: isotropic_elastic_energy, add_jaumann_rotation
     implicit none
     private
-    public :: elastic_solid_type, elastic_keys
+    public :: elastic_solid_type, elastic_keys, add_elastic_trial
 
     character(len=*), parameter :: elastic_keys(*) = [character(len=material_key_width) :: &
         "name", "type", "E", "nu", "rho"]
@@ -47,6 +47,25 @@ module mpm_elastic_solid
     end type elastic_solid_type
 
 contains
+
+    !> The objective elastic trial stress of a step: sigma + (Omega sigma - sigma Omega)
+    !> + 2 G de + lambda tr(de) I, the elastic predictor the stress updates of
+    !> mpm_material_elastic, _drucker_prager and _mu_i start with (mpm_material_mohr_coulomb
+    !> writes the same lines out: with the call its 3D cases changed in the last bits).
+    pure subroutine add_elastic_trial(mat, stress, de, omega)
+        class(elastic_solid_type), intent(in) :: mat
+            !! the material (its G and lambda)
+        real(wp), intent(inout) :: stress(:)
+            !! Cauchy stress, 4 (2D) or 6 (3D) components, tension positive [Pa]
+        real(wp), intent(in) :: de(:)
+            !! strain increment, as many components as stress [-]
+        real(wp), intent(in) :: omega(3)
+            !! spin increment W dt (xy, yz, zx) [-]
+
+        call add_jaumann_rotation(stress, omega)
+        stress = stress + 2.0_wp*mat%shear*de
+        stress(1:3) = stress(1:3) + mat%lame*(de(1) + de(2) + de(3))
+    end subroutine add_elastic_trial
 
     !> Set E, nu and rho, and G = E / (2 (1 + nu)), lambda = E nu / ((1 + nu)(1 - 2 nu)).
     pure subroutine set_elasticity(self, young, poisson, density)

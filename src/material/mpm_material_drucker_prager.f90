@@ -30,10 +30,10 @@ module mpm_material_drucker_prager
     use mpm_softening, only: softened_strength
     use mpm_separation, only: close_opening
     use mpm_material, only: material_key_width, work_plastic
-    use mpm_elastic_solid, only: elastic_solid_type, elastic_keys
+    use mpm_elastic_solid, only: elastic_solid_type, elastic_keys, add_elastic_trial
     use mpm_strength, only: strength_type, read_strength, strength_keys, strength_section_keys, &
         strength_summary
-    use mpm_stress, only: add_jaumann_rotation, double_contraction
+    use mpm_stress, only: mean_and_deviator
     implicit none
     private
     public :: drucker_prager_material_type, new_drucker_prager_material, drucker_prager_cone
@@ -314,9 +314,7 @@ contains
             end if
         end if
         ! elastic trial stress from the rotated stress of the start of the step
-        call add_jaumann_rotation(stress, omega)
-        stress = stress + 2.0_wp*self%shear*de(1:n)
-        stress(1:3) = stress(1:3) + self%lame*(de(1) + de(2) + de(3))
+        call add_elastic_trial(self, stress, de(1:n), omega)
 
         ! tension limit on the mean stress (none for a cylinder without a given cut-off)
         cutoff = alpha > 0.0_wp .or. self%strength%tension_cutoff >= 0.0_wp
@@ -328,10 +326,7 @@ contains
             sigma_t = self%strength%tension_cutoff
         end if
 
-        m_tr = (stress(1) + stress(2) + stress(3))/3.0_wp
-        dev(1:n) = stress
-        dev(1:3) = dev(1:3) - m_tr
-        rho_tr = sqrt(0.5_wp*double_contraction(dev(1:n), dev(1:n)))
+        call mean_and_deviator(stress, m_tr, dev(1:n), rho_tr)
         f_tr = rho_tr + alpha*m_tr - k
         if (f_tr <= 0.0_wp .and. (.not. cutoff .or. m_tr <= sigma_t)) return
 

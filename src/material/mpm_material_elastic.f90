@@ -3,8 +3,7 @@
 module mpm_material_elastic
     use mpm_kinds, only: wp
     use mpm_material, only: material_key_width
-    use mpm_elastic_solid, only: elastic_solid_type, elastic_keys
-    use mpm_stress, only: add_jaumann_rotation
+    use mpm_elastic_solid, only: elastic_solid_type, elastic_keys, add_elastic_trial
     implicit none
     private
     public :: elastic_material_type, new_elastic_material
@@ -63,12 +62,7 @@ contains
         real(wp), intent(in) :: dt
         real(wp), intent(inout) :: state(:)
 
-        real(wp) :: dvol
-
-        dvol = dstrain(1) + dstrain(2) + dstrain(3)
-        call add_jaumann_rotation(stress, omega)
-        stress = stress + 2.0_wp*self%shear*dstrain
-        stress(1:3) = stress(1:3) + self%lame*dvol
+        call add_elastic_trial(self, stress, dstrain, omega)
     end subroutine elastic_update_stress
 
     !> elastic_update_stress of a block of particles, written out per dimension so that the

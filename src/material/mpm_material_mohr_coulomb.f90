@@ -430,6 +430,8 @@ contains
                 return
             end if
         end if
+        ! mpm_elastic_solid::add_elastic_trial written out: with the call, the optimiser
+        ! compiled the 3D update otherwise and its cases changed in the last bits
         dvol = de(1) + de(2) + de(3)
         call add_jaumann_rotation(stress, omega)
         stress = stress + 2.0_wp*self%shear*de(1:n)

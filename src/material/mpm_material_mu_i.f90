@@ -37,8 +37,8 @@ module mpm_material_mu_i
     use mpm_case_cursor, only: cursor_type
     use mpm_separation, only: close_opening
     use mpm_material, only: material_key_width, work_plastic
-    use mpm_elastic_solid, only: elastic_solid_type
-    use mpm_stress, only: add_jaumann_rotation, double_contraction
+    use mpm_elastic_solid, only: elastic_solid_type, add_elastic_trial
+    use mpm_stress, only: mean_and_deviator
     implicit none
     private
     public :: mu_i_material_type, new_mu_i_material, mu_i_friction, mu_i_inertial_number
@@ -371,15 +371,10 @@ contains
                 return
             end if
         end if
-        call add_jaumann_rotation(stress, omega)
-        stress = stress + 2.0_wp*self%shear*de(1:n)
-        stress(1:3) = stress(1:3) + self%lame*(de(1) + de(2) + de(3))
+        call add_elastic_trial(self, stress, de(1:n), omega)
 
-        m_tr = (stress(1) + stress(2) + stress(3))/3.0_wp
+        call mean_and_deviator(stress, m_tr, dev(1:n), tau_tr)
         p = -m_tr
-        dev(1:n) = stress
-        dev(1:3) = dev(1:3) - m_tr
-        tau_tr = sqrt(0.5_wp*double_contraction(dev(1:n), dev(1:n)))
         if (p <= 0.0_wp) then
             ! no contact between the grains: stress free, the shear is plastic, and with
             ! separation the volume taken beyond zero pressure is the opening

@@ -12,7 +12,7 @@ module mpm_stress
     implicit none
     private
     public :: jaumann_rotation, add_jaumann_rotation, trace, double_contraction, voigt_matrix
-    public :: isotropic_elastic_energy
+    public :: isotropic_elastic_energy, mean_and_deviator
 
 contains
 
@@ -135,5 +135,23 @@ contains
         isotropic_elastic_energy = ((1.0_wp + poisson)*double_contraction(stress, stress) &
             - poisson*tr*tr)/(2.0_wp*young)
     end function isotropic_elastic_energy
+
+    !> Mean stress m = tr(sigma)/3, deviator s = sigma - m I and its radius sqrt(J2) =
+    !> sqrt(s:s/2) of a stress.
+    pure subroutine mean_and_deviator(stress, mean, dev, radius)
+        real(wp), intent(in) :: stress(:)
+            !! Cauchy stress, 4 (2D) or 6 (3D) components, tension positive [Pa]
+        real(wp), intent(out) :: mean
+            !! mean stress m, tension positive [Pa]
+        real(wp), intent(out) :: dev(:)
+            !! deviator, as many components as stress [Pa]
+        real(wp), intent(out) :: radius
+            !! sqrt(J2) [Pa]
+
+        mean = (stress(1) + stress(2) + stress(3))/3.0_wp
+        dev = stress
+        dev(1:3) = dev(1:3) - mean
+        radius = sqrt(0.5_wp*double_contraction(dev, dev))
+    end subroutine mean_and_deviator
 
 end module mpm_stress

@@ -32,6 +32,11 @@ module mpm_shape_bspline2
         procedure :: weights_all => bspline2_weights_all
     end type bspline2_shape_type
 
+    !> The 1D routine under the name mpm_shape_spline_weights_all.inc calls.
+    interface spline_weights_1d
+        module procedure bspline2_weights_1d
+    end interface spline_weights_1d
+
 contains
 
     !> 1D quadratic B-spline weights of the three nodes nearest to xi (xi in cell units from
@@ -96,27 +101,11 @@ contains
         names = [character(len=shape_name_width) :: "bspline2", "quadratic_bspline"]
     end subroutine bspline2_names
 
+    !> The 1D weights of every particle along every axis (mpm_shape_spline_weights_all.inc).
     subroutine bspline2_weights_all(self, grid, x, lp, first, w, dw)
         class(bspline2_shape_type), intent(in) :: self
-        type(grid_type), intent(in) :: grid
-        real(wp), intent(in) :: x(:, :), lp(:, :)
-        integer, intent(out) :: first(:, :)
-        real(wp), intent(out) :: w(:, :, :), dw(:, :, :)
-
-        integer :: p, a
-        real(wp) :: xi, w3(width), dw3(width)
-
-        !$omp parallel do default(none) schedule(static) shared(grid, x, first, w, dw) &
-        !$omp private(p, a, xi, w3, dw3)
-        do p = 1, size(x, 2)
-            do a = 1, grid%dim
-                xi = (x(a, p) - grid%origin(a))/grid%dx
-                call bspline2_weights_1d(xi, grid%dx, grid%ncells(a), first(a, p), w3, dw3)
-                w(:, a, p) = w3
-                dw(:, a, p) = dw3(1:width - 1)
-            end do
-        end do
-        !$omp end parallel do
+            !! the shape function
+        include "mpm_shape_spline_weights_all.inc"
     end subroutine bspline2_weights_all
 
 end module mpm_shape_bspline2

@@ -32,6 +32,11 @@ module mpm_shape_bspline3
         procedure :: weights_all => bspline3_weights_all
     end type bspline3_shape_type
 
+    !> The 1D routine under the name mpm_shape_spline_weights_all.inc calls.
+    interface spline_weights_1d
+        module procedure bspline3_weights_1d
+    end interface spline_weights_1d
+
 contains
 
     !> 1D cubic B-spline weights of the four nodes nearest to xi (xi in cell units from the
@@ -105,27 +110,11 @@ contains
         names = [character(len=shape_name_width) :: "bspline3", "cubic_bspline"]
     end subroutine bspline3_names
 
+    !> The 1D weights of every particle along every axis (mpm_shape_spline_weights_all.inc).
     subroutine bspline3_weights_all(self, grid, x, lp, first, w, dw)
         class(bspline3_shape_type), intent(in) :: self
-        type(grid_type), intent(in) :: grid
-        real(wp), intent(in) :: x(:, :), lp(:, :)
-        integer, intent(out) :: first(:, :)
-        real(wp), intent(out) :: w(:, :, :), dw(:, :, :)
-
-        integer :: p, a
-        real(wp) :: xi, w4(width), dw4(width)
-
-        !$omp parallel do default(none) schedule(static) shared(grid, x, first, w, dw) &
-        !$omp private(p, a, xi, w4, dw4)
-        do p = 1, size(x, 2)
-            do a = 1, grid%dim
-                xi = (x(a, p) - grid%origin(a))/grid%dx
-                call bspline3_weights_1d(xi, grid%dx, grid%ncells(a), first(a, p), w4, dw4)
-                w(:, a, p) = w4
-                dw(:, a, p) = dw4(1:width - 1)
-            end do
-        end do
-        !$omp end parallel do
+            !! the shape function
+        include "mpm_shape_spline_weights_all.inc"
     end subroutine bspline3_weights_all
 
 end module mpm_shape_bspline3

@@ -378,7 +378,9 @@ contains
     end subroutine cut_chunks
 
     !> Nodes, weights and gradients of particle p (the tensor product of its 1D factors), in
-    !> the order x fastest.
+    !> the order x fastest: the nodes and weights of particle_weights, and the gradients of
+    !> the same products (in 2D the z factors are 1 and 0, so the one loop nest gives the
+    !> 2D products exactly and a zero third component).
     pure subroutine particle_nodes(stc, p, node, w, dw)
         type(stencils_type), intent(in) :: stc
             !! stencils of the step
@@ -391,46 +393,35 @@ contains
         real(wp), intent(out) :: dw(:, :)
             !! weight gradients (3, nodes) [1/m] (first dim components)
 
-        integer :: i, j, k, c, base, basej
-        real(wp) :: wjk, wx(max_nodes_per_axis), dwx(max_nodes_per_axis), &
-            wy(max_nodes_per_axis), dwy(max_nodes_per_axis), wz(max_nodes_per_axis), &
-            dwz(max_nodes_per_axis)
+        integer :: i, j, k, c
+        integer :: node_all(max_nodes_per_axis**3)
+        real(wp) :: w_all(max_nodes_per_axis**3), wjk, wx(max_nodes_per_axis), &
+            dwx(max_nodes_per_axis), wy(max_nodes_per_axis), dwy(max_nodes_per_axis), &
+            wz(max_nodes_per_axis), dwz(max_nodes_per_axis)
 
+        call particle_weights(stc, p, node_all, w_all)
+        node(1:stc%count) = node_all(1:stc%count)
+        w(1:stc%count) = w_all(1:stc%count)
         call axis_factors(stc, 1, p, stc%nper(1), wx, dwx)
         call axis_factors(stc, 2, p, stc%nper(2), wy, dwy)
-        if (stc%dim == 2) then
-            base = 1 + stc%first(1, p) + stc%stride(2)*stc%first(2, p)
-            c = 0
+        if (stc%dim == 3) then
+            call axis_factors(stc, 3, p, stc%nper(3), wz, dwz)
+        else
+            wz(1) = 1.0_wp
+            dwz(1) = 0.0_wp
+        end if
+        c = 0
+        do k = 1, stc%nper(3)
             do j = 1, stc%nper(2)
-                basej = base + stc%stride(2)*(j - 1)
+                wjk = wy(j)*wz(k)
                 do i = 1, stc%nper(1)
                     c = c + 1
-                    node(c) = basej + i - 1
-                    w(c) = wx(i)*wy(j)
-                    dw(1, c) = dwx(i)*wy(j)
-                    dw(2, c) = wx(i)*dwy(j)
+                    dw(1, c) = dwx(i)*wjk
+                    dw(2, c) = wx(i)*dwy(j)*wz(k)
+                    dw(3, c) = wx(i)*wy(j)*dwz(k)
                 end do
             end do
-        else
-            call axis_factors(stc, 3, p, stc%nper(3), wz, dwz)
-            base = 1 + stc%first(1, p) + stc%stride(2)*stc%first(2, p) &
-                + stc%stride(3)*stc%first(3, p)
-            c = 0
-            do k = 1, stc%nper(3)
-                do j = 1, stc%nper(2)
-                    wjk = wy(j)*wz(k)
-                    basej = base + stc%stride(2)*(j - 1) + stc%stride(3)*(k - 1)
-                    do i = 1, stc%nper(1)
-                        c = c + 1
-                        node(c) = basej + i - 1
-                        w(c) = wx(i)*wjk
-                        dw(1, c) = dwx(i)*wjk
-                        dw(2, c) = wx(i)*dwy(j)*wz(k)
-                        dw(3, c) = wx(i)*wy(j)*dwz(k)
-                    end do
-                end do
-            end do
-        end if
+        end do
     end subroutine particle_nodes
 
     !> The nodes and weights of particle p, without the gradients (the hot paths that only ask
@@ -496,16 +487,7 @@ contains
             !! nodes along the axis, stc%nper(a), at most fixed_width
         real(wp), intent(out) :: dw(fixed_width)
             !! derivatives (first n) [1/m]
-
-        integer :: k
-        real(wp) :: total
-
-        total = 0.0_wp
-        do k = 1, n - 1
-            dw(k) = stc%dw(k, a, p)
-            total = total + dw(k)
-        end do
-        dw(n) = merge(-total, 0.0_wp, stc%w(n, a, p) > 0.0_wp)
+        include "mpm_stencil_axis_derivatives.inc"
     end subroutine axis_derivatives
 
     !> axis_derivatives for any width (scratch of n nodes).
@@ -520,16 +502,7 @@ contains
             !! nodes along the axis, stc%nper(a)
         real(wp), intent(out) :: dw(n)
             !! derivatives [1/m]
-
-        integer :: k
-        real(wp) :: total
-
-        total = 0.0_wp
-        do k = 1, n - 1
-            dw(k) = stc%dw(k, a, p)
-            total = total + dw(k)
-        end do
-        dw(n) = merge(-total, 0.0_wp, stc%w(n, a, p) > 0.0_wp)
+        include "mpm_stencil_axis_derivatives.inc"
     end subroutine axis_derivatives_any
 
     !> The 1D weights and derivatives of particle p along axis a, nodes 1 .. n (n = nper(a)),

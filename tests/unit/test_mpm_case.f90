@@ -1,46 +1,27 @@
-!> Case reader: valid 2D and 3D cases resolve every value and default; every class of input
-!> error gives one message (code exit_input) that names the key path, the bad value and what
-!> is allowed; body particle counts agree with a brute-force count of the placement rule.
+!> Case reader, the values: valid 2D and 3D cases resolve every value and default (domain,
+!> faces, materials, bodies, time, output, checkpoint and guard), the summary says them, and
+!> body particle counts agree with a brute-force count of the placement rule. The messages
+!> for bad values are tested in test_mpm_case_errors.
 program test_mpm_case
     use mpm_kinds, only: wp
     use mpm_error, only: error_type, exit_input
-    use mpm_case, only: case_type, read_case_file, read_case_string, case_summary, &
-        bc_free, bc_sliding, bc_fixed, bc_frictional, &
-        scheme_musl, scheme_usl, damping_none, damping_local, &
-        dist_regular, dist_random, field_position, field_velocity, field_stress, &
-        material_spec_type
+    use mpm_case, only: case_type, read_case_file, read_case_string, case_summary, bc_free, &
+        bc_sliding, bc_fixed, bc_frictional, scheme_musl, scheme_usl, damping_none, damping_local, &
+        dist_regular, dist_random, field_position, field_velocity, field_stress
     use mpm_case_stability, only: critical_time_step, p_wave_speed
     use mpm_softening, only: softening_none, softening_linear, softening_exponential
     use mpm_strength, only: strength_type
-    use mpm_elastic_solid, only: elastic_solid_type
-    use mpm_material_mohr_coulomb, only: mohr_coulomb_material_type
-    use mpm_material_drucker_prager, only: drucker_prager_material_type, cone_plane_strain, &
-        cone_compression
-    use mpm_material_newtonian, only: newtonian_material_type
+    use mpm_material_drucker_prager, only: cone_plane_strain, cone_compression
     use mpm_testing, only: test_suite_type, new_suite, check, check_close, check_contains, finish
+    use mpm_testing_case, only: domain_2d, materials_1, materials_2, time_1, tol, degree, &
+        elastic_part, case_text, soil_case, faces_case, read_valid, expect_error, write_text, &
+        delete_file, young_of, poisson_of, strength_of, cone_of, fluid_of
     implicit none
 
-    ! Pieces of a small valid 2D case: 4 x 2 cells of 0.1 m, one body of 2 x 1 cells.
-    ! With E = 1e6 Pa, nu = 0, rho = 1000 kg/m3: c_p = sqrt(E/rho) = 31.6227766 m/s and the
-    ! critical time step is dx/c_p = 0.00316227766 s.
-    character(len=*), parameter :: domain_2d = '"domain": {"nx": 4, "ny": 2, "dx": 0.1}'
-    character(len=*), parameter :: materials_1 = '"materials": [{"name": "soil", ' &
-        //'"type": "linear_elastic", "E": 1e6, "nu": 0.0, "rho": 1000}]'
-    character(len=*), parameter :: materials_2 = '"materials": [{"name": "soil", ' &
-        //'"type": "linear_elastic", "E": 1e6, "nu": 0.0, "rho": 1000}, {"name": "rock", ' &
-        //'"type": "elastic", "E": 1e9, "nu": 0.25, "rho": 2500}]'
-    character(len=*), parameter :: bodies_1 = '"bodies": [{"name": "block", "material": ' &
-        //'"soil", "min": [0, 0], "max": [0.2, 0.1]}]'
-    character(len=*), parameter :: time_1 = '"time": {"tend": 0.1}'
     character(len=*), parameter :: state_file = "test_mpm_case_state.tmp"
+        !! a file whose existence load_state checks
     character(len=*), parameter :: case_file = "test_mpm_case_tmp.json"
-    real(wp), parameter :: tol = 10*epsilon(1.0_wp)
-        !! values pass through one decimal-to-binary conversion: round-off only
-    real(wp), parameter :: degree = acos(-1.0_wp)/180.0_wp
-        !! one degree [rad]; an angle read in degrees is stored as degrees * (pi / 180), so it
-        !! matches within a few ulps (tol relative to the angle)
-    character(len=*), parameter :: elastic_part = '"E": 1e7, "nu": 0.3, "rho": 1800'
-        !! elastic parameters of the soil materials of the plasticity tests
+        !! a case written to disk for read_case_file
 
     type(test_suite_type) :: suite
 
@@ -52,117 +33,21 @@ program test_mpm_case
     call test_read_file()
     call test_particle_counts()
     call test_summary()
-    call test_key_errors()
-    call test_value_errors()
-    call test_body_errors()
-    call test_stl_body_errors()
-    call test_time_errors()
-    call test_section_errors()
-    call test_document_errors()
     call test_material_types()
     call test_material_summary()
-    call test_strength_errors()
-    call test_softening_errors()
-    call test_material_key_errors()
-    call test_newtonian_errors()
     call test_frictional_faces()
     call test_checkpoint_and_guard()
+    call check_neo_hookean_and_unstable()
     call delete_file(state_file)
     call delete_file(case_file)
-    call check_neo_hookean_and_unstable()
     call finish(suite)
 
 contains
 
-    !> A 2D case made of the default pieces; a piece given as "" is left out.
-    function case_text(domain, materials, bodies, time, extra) result(text)
-        character(len=*), intent(in), optional :: domain, materials, bodies, time, extra
-        character(len=:), allocatable :: text
-
-        text = "{"//piece(domain, domain_2d)
-        text = text//piece(materials, materials_1)
-        text = text//piece(bodies, bodies_1)
-        text = text//piece(time, time_1)
-        if (present(extra)) text = text//piece(extra, "")
-        if (text(len(text):len(text)) == ",") text = text(1:len(text) - 1)
-        text = text//"}"
-    end function case_text
-
-    !> The default case with one material "soil" made of the given keys (all but the name).
-    function soil_case(keys) result(text)
-        character(len=*), intent(in) :: keys
-        character(len=:), allocatable :: text
-
-        text = case_text(materials='"materials": [{"name": "soil", '//keys//"}]")
-    end function soil_case
-
-    !> The default case with the given domain.boundaries object.
-    function faces_case(faces) result(text)
-        character(len=*), intent(in) :: faces
-        character(len=:), allocatable :: text
-
-        text = case_text(domain='"domain": {"nx": 4, "ny": 2, "dx": 0.1, "boundaries": ' &
-            //faces//"}")
-    end function faces_case
-
-    !> The given piece (or the default) followed by a comma; nothing for "".
-    function piece(given, default) result(text)
-        character(len=*), intent(in), optional :: given
-        character(len=*), intent(in) :: default
-        character(len=:), allocatable :: text
-
-        text = default
-        if (present(given)) text = given
-        if (len(text) > 0) text = text//","
-    end function piece
-
-    !> Read a case that must be valid.
-    subroutine read_valid(text, case, what)
-        character(len=*), intent(in) :: text
-        type(case_type), intent(out) :: case
-        character(len=*), intent(in) :: what
-
-        type(error_type), allocatable :: error
-
-        call read_case_string(text, case, error)
-        if (allocated(error)) then
-            call check(suite, .false., what//": unexpected error: "//error%message)
-        else
-            call check(suite, .true., what)
-        end if
-    end subroutine read_valid
-
-    !> Read a case that must fail with exit_input and a message holding every part.
-    subroutine expect_error(text, parts, what, source)
-        character(len=*), intent(in) :: text
-        character(len=*), intent(in) :: parts(:)
-        character(len=*), intent(in) :: what
-        character(len=*), intent(in), optional :: source
-
-        type(case_type) :: case
-        type(error_type), allocatable :: error
-        integer :: i
-
-        call read_case_string(text, case, error, source)
-        if (.not. allocated(error)) then
-            call check(suite, .false., what//": no error reported")
-            return
-        end if
-        call check(suite, error%code == exit_input, what//": error code is exit_input")
-        if (present(source)) then
-            call check_contains(suite, error%message, source//": ", what//": file name first")
-        else
-            call check_contains(suite, error%message, "<string>: ", what//": source first")
-        end if
-        do i = 1, size(parts)
-            call check_contains(suite, error%message, trim(parts(i)), what)
-        end do
-    end subroutine expect_error
-
     subroutine test_valid_2d()
         type(case_type) :: case
 
-        call read_valid('{"name": "column", "domain": {"nx": 4, "ny": 2, "dx": 0.1, ' &
+        call read_valid(suite, '{"name": "column", "domain": {"nx": 4, "ny": 2, "dx": 0.1, ' &
             //'"boundaries": {"xmin": "fixed", "xmax": "Sliding"}}, '//materials_1//", " &
             //'"bodies": [{"material": "soil", "min": [0, 0], "max": [0.2, 0.1], ' &
             //'"velocity": [1, 0]}], "gravity": [0, -9.81], ' &
@@ -210,14 +95,14 @@ contains
         call check_close(suite, critical_time_step(case%dim, case%domain%dx, case%materials, &
             case%bodies), 0.1_wp/(sqrt(1.0e3_wp) + 1), 1.0e-12_wp, &
             "2D: critical step dx/(c_p + |v|)")
-        call read_valid(case_text(), case, "default pieces")
+        call read_valid(suite, case_text(), case, "default pieces")
         call check(suite, case%name == "case", "name of a case without source is 'case'")
     end subroutine test_valid_2d
 
     subroutine test_valid_3d()
         type(case_type) :: case
 
-        call read_valid('{"name": "cube-3d.v1", "domain": {"nx": 2, "ny": 3, "nz": 4, ' &
+        call read_valid(suite, '{"name": "cube-3d.v1", "domain": {"nx": 2, "ny": 3, "nz": 4, ' &
             //'"dx": 0.5, "origin": [1, 2, 3], "boundaries": {"zmin": "fixed"}}, ' &
             //'"particles": {"ppc": 3, "distribution": "random", "seed": 7}, ' &
             //materials_2//', "bodies": [{"name": "b", "material": "rock", ' &
@@ -267,7 +152,7 @@ contains
         type(case_type) :: case
         type(error_type), allocatable :: error
 
-        call read_valid('{"dimension": 3, "domain": {"nx": 2, "ny": 2, "nz": 2, "dx": 1}, ' &
+        call read_valid(suite, '{"dimension": 3, "domain": {"nx": 2, "ny": 2, "nz": 2, "dx": 1}, ' &
             //'"particles": {"ppc": 2, "distribution": "regular"}, '//materials_1//", " &
             //'"contact": {"type": "none"}, "time": {"tend": 1, "dt": 1e-3}, ' &
             //'"damping": {"type": "local", "value": 0.1}, "save_state": "s.h5", ' &
@@ -344,7 +229,7 @@ contains
         real(wp) :: x
 
         do b = 1, size(boxes)
-            call read_valid(case_text(bodies='"bodies": [{"name": "box", "material": "soil", ' &
+            call read_valid(suite, case_text(bodies='"bodies": [{"name": "box", "material": "soil", ' &
                 //trim(boxes(b))//"}]"), case, "count box "//trim(boxes(b)))
             if (.not. allocated(case%bodies)) cycle
             do d = 1, 2
@@ -369,7 +254,7 @@ contains
         type(case_type) :: case
         character(len=:), allocatable :: text
 
-        call read_valid(case_text(extra='"damping": {"type": "local", "value": 0.05}'), case, &
+        call read_valid(suite, case_text(extra='"damping": {"type": "local", "value": 0.05}'), case, &
             "summary case")
         text = case_summary(case)
         call check_contains(suite, text, "dimension   2", "summary: dimension")
@@ -403,7 +288,7 @@ contains
         text = case_text(extra='"checkpoint": {"every_steps": 250, "every_minutes": 30, ' &
             //'"file": "ck/run.h5", "on_signal": false}, "guard": {"energy_factor": 50, ' &
             //'"snapshot_steps": 0}')
-        call read_valid(text, case, "checkpoint and guard")
+        call read_valid(suite, text, case, "checkpoint and guard")
         call check(suite, case%checkpoint%every_steps == 250, "checkpoint.every_steps")
         call check_close(suite, case%checkpoint%every_minutes, 30.0_wp, 0.0_wp, &
             "checkpoint.every_minutes")
@@ -415,317 +300,32 @@ contains
         call check_contains(suite, case_summary(case), "checkpoint  every 250 steps, every " &
             //"30 min, not on signals, file ck/run.h5", "summary: checkpoint")
         call check_contains(suite, case_summary(case), "no healthy copy", "summary: no copy")
-        call read_valid(case_text(), case, "defaults")
+        call read_valid(suite, case_text(), case, "defaults")
         call check(suite, case%checkpoint%every_steps == 0 .and. case%checkpoint%every_minutes == 0.0_wp &
             .and. case%checkpoint%on_signal .and. case%checkpoint%file == "", &
             "checkpoint defaults: none periodic, on signals, default file")
         call check(suite, case%guard%energy_factor == 1.0_wp .and. &
             case%guard%snapshot_steps == 100, "guard defaults")
-        call expect_error(case_text(extra='"checkpoint": {"every_steps": 0}'), &
+        call expect_error(suite, case_text(extra='"checkpoint": {"every_steps": 0}'), &
             [character(len=40) :: "checkpoint.every_steps", ">= 1"], "every_steps 0")
-        call expect_error(case_text(extra='"checkpoint": {"every_minutes": -1}'), &
+        call expect_error(suite, case_text(extra='"checkpoint": {"every_minutes": -1}'), &
             [character(len=40) :: "checkpoint.every_minutes", "> 0"], "every_minutes < 0")
-        call expect_error(case_text(extra='"checkpoint": {"every_step": 10}'), &
+        call expect_error(suite, case_text(extra='"checkpoint": {"every_step": 10}'), &
             [character(len=40) :: "every_step", "did you mean 'every_steps'"], "misspelt key")
-        call expect_error(case_text(extra='"checkpoint": {"on_signal": "yes"}'), &
+        call expect_error(suite, case_text(extra='"checkpoint": {"on_signal": "yes"}'), &
             [character(len=40) :: "checkpoint.on_signal"], "on_signal not a boolean")
-        call expect_error(case_text(extra='"guard": {"energy_factor": 0}'), &
+        call expect_error(suite, case_text(extra='"guard": {"energy_factor": 0}'), &
             [character(len=40) :: "guard.energy_factor", "> 0"], "energy_factor 0")
-        call expect_error(case_text(extra='"guard": {"snapshot_steps": -5}'), &
+        call expect_error(suite, case_text(extra='"guard": {"snapshot_steps": -5}'), &
             [character(len=40) :: "guard.snapshot_steps", ">= 0"], "snapshot_steps < 0")
     end subroutine test_checkpoint_and_guard
-
-    subroutine test_key_errors()
-        call expect_error(case_text(extra='"nmae": "x"'), &
-            [character(len=200) :: "unknown key 'nmae'", "did you mean 'name'?"], &
-            "unknown top-level key")
-        call expect_error(case_text(domain='"domain": {"nx": 4, "ny": 2, "dx": 0.1, ' &
-            //'"boundaries": {"xmn": "fixed"}}'), [character(len=200) :: &
-            "unknown key 'domain.boundaries.xmn'", "did you mean 'xmin'?"], "nested unknown key")
-        call expect_error(case_text(extra='"completely_unrelated": 1'), [character(len=200) :: &
-            "unknown key 'completely_unrelated'", "the keys allowed in the top level are:", &
-            "domain, particles, materials"], "unknown key far from any key")
-        call expect_error(case_text(materials='"materials": [{"name": "soil", "type": ' &
-            //'"elastic", "e": 1e6, "nu": 0, "rho": 1000}]'), [character(len=200) :: &
-            "unknown key 'materials[1].e'", "did you mean 'E'? (keys are case-sensitive)"], &
-            "key in the wrong case")
-        call expect_error(case_text(domain='"domain": {"nx": 4, "ny": 2, "dx": 0.1, ' &
-            //'"dx": 0.2}'), [character(len=200) :: "duplicate key 'domain.dx'"], "duplicate key")
-        call expect_error(case_text(domain='"domain": {"nx": 4, "ny": 2, "dx": "0.1"}'), &
-            [character(len=200) :: "domain.dx has the wrong type", "expected a number > 0 [m]", &
-            'found a string ("0.1")'], "wrong type")
-        call expect_error(case_text(domain='"domain": {"nx": 4, "ny": 2}'), &
-            [character(len=200) :: "missing required key 'domain.dx' (a number > 0 [m])"], &
-            "missing required key")
-        call expect_error(case_text(time='"time": {}'), &
-            [character(len=200) :: "missing required key 'time.tend'"], "missing tend")
-    end subroutine test_key_errors
-
-    subroutine test_value_errors()
-        type(case_type) :: case
-
-        call expect_error(case_text(materials='"materials": [{"name": "soil", "type": ' &
-            //'"elastic", "E": 0, "nu": 0, "rho": 1000}]'), [character(len=200) :: &
-            "materials[1].E = 0 is out of range: must be > 0 [Pa]"], "E = 0")
-        call expect_error(case_text(materials='"materials": [{"name": "soil", "type": ' &
-            //'"elastic", "E": -5e6, "nu": 0, "rho": 1000}]'), [character(len=200) :: &
-            "materials[1].E = -5000000 is out of range: must be > 0 [Pa]"], "E < 0")
-        call expect_error(case_text(materials='"materials": [{"name": "soil", "type": ' &
-            //'"elastic", "E": 1e6, "nu": 0.5, "rho": 1000}]'), [character(len=200) :: &
-            "materials[1].nu = 0.5 is out of range: must be >= 0 and < 0.5"], "nu = 0.5")
-        call expect_error(case_text(materials='"materials": [{"name": "soil", "type": ' &
-            //'"elastic", "E": 1e6, "nu": -0.1, "rho": 1000}]'), [character(len=200) :: &
-            "materials[1].nu = -0.1 is out of range: must be >= 0 and < 0.5"], "nu < 0")
-        call expect_error(case_text(materials='"materials": [{"name": "soil", "type": ' &
-            //'"elastic", "E": 1e6, "nu": 0.2, "rho": 0}]'), [character(len=200) :: &
-            "materials[1].rho = 0 is out of range: must be > 0 [kg/m3]"], "rho = 0")
-        call expect_error(case_text(materials='"materials": [{"name": "soil", "type": ' &
-            //'"plastic", "E": 1e6, "nu": 0.2, "rho": 1}]'), [character(len=200) :: &
-            'materials[1].type = "plastic" is not allowed', '"linear_elastic", "elastic"'], &
-            "unknown material type")
-        call expect_error(case_text(domain='"domain": {"nx": 4, "ny": 2, "dx": -0.1}'), &
-            [character(len=200) :: &
-            "inputs/bad.json: domain.dx = -0.1 is out of range: must be > 0 [m]"], "dx < 0", &
-            source="inputs/bad.json")
-        call expect_error(case_text(domain='"domain": {"nx": 4, "ny": 2, "dx": 0}'), &
-            [character(len=200) :: "domain.dx = 0 is out of range: must be > 0 [m]"], "dx = 0")
-        call expect_error(case_text(domain='"domain": {"nx": 2.5, "ny": 2, "dx": 0.1}'), &
-            [character(len=200) :: "domain.nx = 2.5 is not a whole number"], "nx = 2.5")
-        call expect_error(case_text(domain='"domain": {"nx": 100000, "ny": 100000, "dx": 1}'), &
-            [character(len=200) :: "100000 x 100000 cells", "nodes, more than the 2147483647"], &
-            "too many nodes")
-        call expect_error(case_text(extra='"particles": {"ppc": 0}'), [character(len=200) :: &
-            "particles.ppc = 0 is out of range: must be an integer >= 1 and <= 10"], "ppc = 0")
-        call expect_error(case_text(extra='"particles": {"ppc": 1.5}'), [character(len=200) :: &
-            "particles.ppc = 1.5 is not a whole number: must be an integer >= 1 and <= 10"], &
-            "ppc = 1.5")
-        call read_valid(case_text(extra='"particles": {"ppc": 3.0}'), case, "ppc = 3.0")
-        call check(suite, case%particles%ppc == 3, "ppc = 3.0 is the integer 3")
-        call expect_error(case_text(extra='"particles": {"seed": 3}'), [character(len=200) :: &
-            "particles.seed only applies to particles.distribution"], "seed without random")
-        call expect_error(case_text(extra='"name": "my case"'), [character(len=200) :: &
-            'name = "my case" is not allowed', "letters, digits"], "name with a blank")
-        call expect_error(case_text(extra='"gravity": [0, -9.81, 0]'), [character(len=200) :: &
-            "gravity must have 2 numbers", "found 3"], "gravity of the wrong length")
-        call expect_error(case_text(extra='"gravity": [0, "down"]'), [character(len=200) :: &
-            "gravity[2] has the wrong type: expected a number"], "gravity item type")
-        call expect_error(case_text(extra='"solver": {"scheme": "RK4"}'), [character(len=200) :: &
-            'solver.scheme = "RK4" is not allowed', '"USF", "USL", "MUSL"'], "unknown scheme")
-        call expect_error(case_text(extra='"output": {"fields": ["velocity", "pressure"]}'), &
-            [character(len=200) :: 'output.fields[2] = "pressure" is not a field', &
-            '"position", "displacement"'], "unknown output field")
-        call expect_error(case_text(extra='"output": {"fields": ["mass", "mass"]}'), &
-            [character(len=200) :: 'output.fields[2] = "mass" is listed twice'], "field twice")
-        call expect_error(case_text(extra='"output": {"grid": 1}'), [character(len=200) :: &
-            "output.grid has the wrong type: expected true or false, found a number (1)"], &
-            "boolean expected")
-        call expect_error(case_text(extra='"save_state": ""'), [character(len=200) :: &
-            'save_state = "" is not allowed: must be a non-empty string'], "empty save_state")
-    end subroutine test_value_errors
-
-    subroutine test_body_errors()
-        type(case_type) :: case
-
-        call expect_error(case_text(bodies='"bodies": [{"name": "block", "material": "soil", ' &
-            //'"min": [0, 0], "max": [0.5, 0.1]}]'), [character(len=200) :: 'bodies[1] "block"', &
-            "corner max = (0.5, 0.1)", "outside the domain [0, 0.4] x [0, 0.2] [m]"], &
-            "body outside the domain")
-        call expect_error(case_text(bodies='"bodies": [{"material": "soil", ' &
-            //'"min": [0, -0.1], "max": [0.1, 0.1]}]'), [character(len=200) :: &
-            'bodies[1] "body1": corner min = (0, -0.1)'], "body below the domain")
-        call expect_error(case_text(bodies='"bodies": [{"name": "a", "material": "soil", ' &
-            //'"min": [0, 0], "max": [0.2, 0.1]}, {"name": "b", "material": "soil", ' &
-            //'"min": [0.1, 0.05], "max": [0.3, 0.2]}]'), [character(len=200) :: &
-            'bodies[2] "b" overlaps bodies[1] "a"', "[0.1, 0.3] x [0.05, 0.2]"], &
-            "overlapping bodies")
-        call read_valid(case_text(bodies='"bodies": [{"name": "a", "material": "soil", ' &
-            //'"min": [0, 0], "max": [0.2, 0.1]}, {"name": "b", "material": "soil", ' &
-            //'"min": [0.2, 0], "max": [0.4, 0.3e-0]}]', &
-            domain='"domain": {"nx": 4, "ny": 3, "dx": 0.1}'), case, &
-            "bodies that touch do not overlap")
-        call expect_error(case_text(materials=materials_2, bodies='"bodies": [{"name": "a", ' &
-            //'"material": "sand", "min": [0, 0], "max": [0.2, 0.1]}]'), [character(len=200) :: &
-            'bodies[1].material = "sand" is not a material', '"soil", "rock"'], &
-            "unknown material name")
-        call expect_error(case_text(bodies='"bodies": [{"name": "thin", "material": "soil", ' &
-            //'"min": [0, 0], "max": [0.02, 0.1]}]'), [character(len=200) :: &
-            'bodies[1] "thin": the box [0, 0.02] x [0, 0.1] [m] holds no particle'], &
-            "body without particles")
-        call expect_error(case_text(bodies='"bodies": [{"name": "flat", "material": "soil", ' &
-            //'"min": [0, 0.1], "max": [0.2, 0.1]}]'), [character(len=200) :: &
-            'bodies[1] "flat": min[2] = 0.1 must be below max[2] = 0.1'], "empty box")
-        call expect_error(case_text(bodies='"bodies": [{"name": "a", "material": "soil", ' &
-            //'"min": [0, 0], "max": [0.1, 0.1]}, {"name": "a", "material": "soil", ' &
-            //'"min": [0.2, 0], "max": [0.3, 0.1]}]'), [character(len=200) :: &
-            'bodies[2].name = "a" is already the name of bodies[1]'], "body names unique")
-        call expect_error(case_text(materials='"materials": [{"name": "x", "type": ' &
-            //'"elastic", "E": 1, "nu": 0, "rho": 1}, {"name": "x", "type": "elastic", ' &
-            //'"E": 1, "nu": 0, "rho": 1}]'), [character(len=200) :: &
-            'materials[2].name = "x" is already the name of materials[1]'], &
-            "material names unique")
-        call expect_error(case_text(materials='"materials": []'), [character(len=200) :: &
-            "materials is an empty array"], "no material")
-        call expect_error(case_text(bodies=""), [character(len=200) :: &
-            "missing required key 'bodies'", "load_state"], "no bodies and no load_state")
-        call expect_error(case_text(extra='"load_state": "no/such/state.h5"'), &
-            [character(len=200) :: "load_state: file 'no/such/state.h5' not found"], &
-            "missing load_state file")
-        call expect_error(case_text(extra='"load_state": "'//state_file//'"'), &
-            [character(len=200) :: "bodies cannot be given together with load_state", &
-            "the particles come from the state file"], "bodies with load_state")
-    end subroutine test_body_errors
-
-    !> Bodies from closed STL surfaces (tests/data/stl): a valid one and every refusal.
-    subroutine test_stl_body_errors()
-        type(case_type) :: case
-        character(len=*), parameter :: cube = '"file": "tests/data/stl/unit_cube.stl"'
-
-        call read_valid(case_text(bodies='"bodies": [{"name": "s", "material": "soil", ' &
-            //cube//', "scale": 0.1, "offset": [0.1, 0.05, -0.05]}]'), case, "STL body valid")
-        call check(suite, allocated(case%bodies(1)%triangle), "STL body keeps its triangles")
-        if (allocated(case%bodies(1)%triangle)) then
-            call check(suite, size(case%bodies(1)%triangle, 3) == 12, "STL body: 12 triangles")
-            call check_close(suite, case%bodies(1)%xmax(1), 0.2_wp, tol, &
-                "STL body: max = bounding box of x*scale + offset")
-        end if
-        call expect_error(case_text(bodies='"bodies": [{"name": "s", "material": "soil", ' &
-            //cube//', "min": [0, 0], "max": [0.1, 0.1]}]'), [character(len=200) :: &
-            'bodies[1] "s"', "give either 'file'", "or 'min' and 'max'", "not both"], &
-            "STL body with min and max")
-        call expect_error(case_text(bodies='"bodies": [{"name": "s", "material": "soil"}]'), &
-            [character(len=200) :: 'bodies[1] "s"', "give either 'file'", "'min' and 'max'", &
-            "neither was given"], "body with neither file nor min/max")
-        call expect_error(case_text(bodies='"bodies": [{"name": "s", "material": "soil", ' &
-            //'"min": [0, 0], "max": [0.1, 0.1], "scale": 2}]'), [character(len=200) :: &
-            "bodies[1].scale only applies to a body given by 'file'"], "scale of a box")
-        call expect_error(case_text(bodies='"bodies": [{"name": "s", "material": "soil", ' &
-            //'"file": "tests/data/stl/open_cube.stl", "scale": 0.1, ' &
-            //'"offset": [0, 0, -0.05]}]'), [character(len=200) :: &
-            'bodies[1] "s": the surface ''tests/data/stl/open_cube.stl'' is not closed', &
-            "a body needs a closed surface"], "open STL surface")
-        call expect_error(case_text(bodies='"bodies": [{"name": "s", "material": "soil", ' &
-            //'"file": "tests/data/stl/prism.stl"}]'), [character(len=200) :: &
-            'bodies[1] "s": the bounding box of the surface', &
-            "surface 'tests/data/stl/prism.stl', corner max = (0.69", &
-            "outside the domain [0, 0.4] x [0, 0.2] [m]"], "STL body outside the domain")
-        call expect_error(case_text(bodies='"bodies": [{"name": "s", "material": "soil", ' &
-            //'"file": "no/such.stl"}]'), [character(len=200) :: &
-            "bodies[1].file: STL file 'no/such.stl' not found"], "missing STL file")
-        call expect_error(case_text(bodies='"bodies": [{"name": "s", "material": "soil", ' &
-            //cube//', "scale": 0.02, "offset": [0.1, 0.1, -0.01]}]'), [character(len=200) :: &
-            'bodies[1] "s": the closed surface', "holds no particle"], "STL body too thin")
-        call expect_error(case_text(bodies='"bodies": [{"name": "s", "material": "soil", ' &
-            //cube//', "scale": 0.1, "offset": [0, 0, 0.05]}]'), [character(len=200) :: &
-            'bodies[1] "s"', "section by the plane z = 0"], "2D STL body off z = 0")
-        call expect_error(case_text(bodies='"bodies": [{"name": "a", "material": "soil", ' &
-            //'"min": [0, 0], "max": [0.15, 0.1]}, {"name": "s", "material": "soil", ' &
-            //cube//', "scale": 0.1, "offset": [0.1, 0, -0.05]}]'), [character(len=200) :: &
-            'bodies[2] "s" overlaps bodies[1] "a"'], "STL bounding box overlaps a box")
-    end subroutine test_stl_body_errors
-
-    subroutine test_time_errors()
-        type(case_type) :: case
-
-        ! critical step dx/c_p = 0.1/31.6227766 = 0.00316228 s (6 digits)
-        call expect_error(case_text(time='"time": {"tend": 1, "dt": 0.01}'), &
-            [character(len=200) :: "time.dt = 0.01 s is above the critical time step " &
-            //"0.00316228 s of this case (dx / max(c_p + |v|)); use a smaller dt or set " &
-            //"time.cfl instead"], "dt above the critical step")
-        call read_valid(case_text(time='"time": {"tend": 1, "dt": 0.003}'), case, &
-            "dt below the critical step")
-        call check_close(suite, critical_time_step(case%dim, case%domain%dx, case%materials, &
-            case%bodies), 0.1_wp/p_wave_speed(case%materials(1)), 1.0e-15_wp, "critical step of the case")
-        call expect_error(case_text(time='"time": {"tend": 1, "dt": 1e-3, "cfl": 0.5}'), &
-            [character(len=200) :: "time.dt and time.cfl are alternatives"], "dt and cfl")
-        call expect_error(case_text(time='"time": {"tend": 1, "cfl": 1.5}'), &
-            [character(len=200) :: "time.cfl = 1.5 is out of range: must be > 0 and <= 1"], &
-            "cfl > 1")
-        call expect_error(case_text(time='"time": {"tend": 0}'), [character(len=200) :: &
-            "time.tend = 0 is out of range: must be > 0 [s]"], "tend = 0")
-        call expect_error(case_text(time='"time": {"tend": 1e9}'), [character(len=200) :: &
-            "time.tend = 1e9 s needs more than 1e9 steps"], "too many steps")
-        ! with load_state the critical step comes from the fastest material: rock has
-        ! c_p = sqrt((K + 4G/3)/rho) = sqrt(1.2e9/2500) = 692.82 m/s, dx/c_p = 0.000144338 s
-        call expect_error("{"//domain_2d//", "//materials_2//', "load_state": "' &
-            //state_file//'", "time": {"tend": 1, "dt": 2e-4}}', [character(len=200) :: &
-            "time.dt = 0.0002 s is above the critical time step 0.000144338 s"], &
-            "dt with load_state: fastest material")
-    end subroutine test_time_errors
-
-    subroutine test_section_errors()
-        call expect_error(case_text(extra='"contact": {"type": "terrain_stl", "mu": 0.4, ' &
-            //'"file": "data/no_such_terrain.stl"}'), [character(len=200) :: "contact.file", &
-            "data/no_such_terrain.stl' not found"], "terrain_stl: missing STL file")
-        call expect_error(case_text(extra='"contact": {"type": "terrain_stl", ' &
-            //'"file": "tests/data/stl/floor_2.stl"}'), [character(len=200) :: "contact.mu"], &
-            "terrain_stl: mu is required")
-        call expect_error(case_text(extra='"contact": {"type": "terrain_stl", "mu": -0.1, ' &
-            //'"file": "tests/data/stl/floor_2.stl"}'), [character(len=200) :: "contact.mu"], &
-            "terrain_stl: negative mu")
-        call expect_error(case_text(extra='"contact": {"type": "terrain_stl", "mu": 0.4, ' &
-            //'"file": "tests/data/stl/floor_2.stl", "scale": 0}'), [character(len=200) :: &
-            "contact.scale"], "terrain_stl: scale 0")
-        call expect_error(case_text(extra='"contact": {"type": "terrain_stl", "mu": 0.4, ' &
-            //'"file": "tests/data/stl/floor_2.stl", "offset": [0, 1]}'), &
-            [character(len=200) :: "contact.offset must have 3 numbers"], &
-            "terrain_stl: offset of 2 numbers")
-        call expect_error(case_text(extra='"contact": {"type": "terrain_stl", "mu": 0.4, ' &
-            //'"file": "tests/data/stl/floor_2.stl", "normal": [0, 1, 0]}'), &
-            [character(len=200) :: "contact.normal"], "terrain_stl: unknown key")
-        call expect_error(case_text(extra='"contact": {"type": "none", "mu": 0.4}'), &
-            [character(len=200) :: "contact.mu only applies", "terrain_stl"], "mu without STL")
-        call expect_error(case_text(domain='"domain": {"nx": 4, "ny": 2, "nz": 2, "dx": 0.1}', &
-            extra='"dimension": 2'), [character(len=200) :: &
-            "domain.nz is given but dimension = 2"], "nz with dimension 2")
-        call expect_error(case_text(extra='"dimension": 3'), [character(len=200) :: &
-            "missing required key 'domain.nz'", "dimension = 3"], "dimension 3 without nz")
-        call expect_error(case_text(extra='"dimension": 4'), [character(len=200) :: &
-            "dimension = 4 is out of range: must be an integer >= 2 and <= 3"], "dimension 4")
-        call expect_error(case_text(domain='"domain": {"nx": 4, "ny": 2, "dx": 0.1, ' &
-            //'"boundaries": {"zmin": "fixed"}}'), [character(len=200) :: &
-            "domain.boundaries.zmin is not allowed in a 2D case"], "z face in 2D")
-        call expect_error(case_text(domain='"domain": {"nx": 4, "ny": 2, "dx": 0.1, ' &
-            //'"boundaries": {"xmin": "clamped"}}'), [character(len=200) :: &
-            'domain.boundaries.xmin = "clamped" is not allowed', &
-            'must be one of "free", "sliding", "fixed"'], "unknown boundary condition")
-        call expect_error(case_text(extra='"damping": {"type": "none", "value": 0.1}'), &
-            [character(len=200) :: 'damping.value only applies to damping.type = "local"'], &
-            "damping value without local")
-        call expect_error(case_text(extra='"damping": {"type": "local"}'), &
-            [character(len=200) :: "missing required key 'damping.value'"], "local no value")
-        call expect_error(case_text(extra='"damping": {"type": "local", "value": 1}'), &
-            [character(len=200) :: "damping.value = 1 is out of range: must be >= 0 and < 1"], &
-            "damping value 1")
-        call expect_error(case_text(extra='"progress": {"interval": 0}'), [character(len=200) :: &
-            "progress.interval = 0 is out of range: must be > 0 [s]"], "progress 0")
-        call expect_error(case_text(extra='"output": {"interval": -1}'), [character(len=200) :: &
-            "output.interval = -1 is out of range: must be >= 0 [s]"], "output interval < 0")
-    end subroutine test_section_errors
-
-    subroutine test_document_errors()
-        character(len=*), parameter :: nl = new_line("a")
-
-        ! the comma after line 3 is missing: the parser stops at the start of line 4
-        call expect_error("{"//nl//domain_2d//","//nl//materials_1//nl//bodies_1//","//nl &
-            //time_1//"}", [character(len=200) :: "invalid JSON at line 4"], "JSON syntax error")
-        call expect_error("", [character(len=200) :: "empty"], "empty text")
-        call expect_error("   ", [character(len=200) :: "empty"], "blank text")
-        call expect_error("[1, 2]", [character(len=200) :: &
-            "the top level must be a JSON object", "found an array"], "top-level array")
-        call expect_error("42", [character(len=200) :: &
-            "the top level must be a JSON object", "found a number (42)"], "top-level number")
-        call expect_error(case_text(domain='"domain": [4, 2]'), [character(len=200) :: &
-            "domain has the wrong type: expected an object, found an array"], "domain array")
-        call expect_error(case_text(materials='"materials": [1]'), [character(len=200) :: &
-            "materials[1] has the wrong type: expected an object"], "material not an object")
-    end subroutine test_document_errors
 
     !> Each material type resolves with its values; angles are stored in radians.
     subroutine test_material_types()
         type(case_type) :: case
         type(strength_type) :: str
 
-        call read_valid(soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30, ' &
+        call read_valid(suite, soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30, ' &
             //'"c": 1000, "psi": 5, "tension_cutoff": 500, "softening": {"type": "linear", ' &
             //'"phi_residual": 25, "c_residual": 100, "strain": 0.1}'), case, "Mohr-Coulomb")
         if (allocated(case%materials)) then
@@ -746,7 +346,7 @@ contains
                 call check_close(suite, str%softening_strain, 0.1_wp, tol, "MC: strain")
             end associate
         end if
-        call read_valid(soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30'), &
+        call read_valid(suite, soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30'), &
             case, "Mohr-Coulomb defaults")
         if (allocated(case%materials)) then
             str = strength_of(case%materials(1))
@@ -762,17 +362,17 @@ contains
             end associate
         end if
         ! phi = 0 (Tresca): no apex, any tension cutoff >= 0 is accepted
-        call read_valid(soil_case('"type": "Mohr_Coulomb", '//elastic_part//', "phi": 0, ' &
+        call read_valid(suite, soil_case('"type": "Mohr_Coulomb", '//elastic_part//', "phi": 0, ' &
             //'"c": 1000, "tension_cutoff": 5000'), case, "Tresca with a tension cutoff")
-        call read_valid(soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30, ' &
+        call read_valid(suite, soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30, ' &
             //'"c": 0, "tension_cutoff": 0, "softening": {"type": "none"}'), case, &
             "cohesionless soil with zero tension cutoff at the apex")
         str = strength_of(case%materials(1))
         call check(suite, .not. str%separation, "MC: no separation by default")
-        call read_valid(soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30, ' &
+        call read_valid(suite, soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30, ' &
             //'"c": 2000, "tension_cutoff": 0, "separation": true'), case, &
             "separation with c > 0 and a zero tension cutoff")
-        call read_valid(soil_case('"type": "drucker_prager", '//elastic_part//', "phi": 30, ' &
+        call read_valid(suite, soil_case('"type": "drucker_prager", '//elastic_part//', "phi": 30, ' &
             //'"separation": true'), case, "cohesionless Drucker-Prager with separation")
         if (allocated(case%materials)) then
             str = strength_of(case%materials(1))
@@ -780,7 +380,7 @@ contains
             call check_contains(suite, case_summary(case), "cone plane_strain, separation", &
                 "summary: separation")
         end if
-        call read_valid(soil_case('"type": "Drucker_Prager", '//elastic_part//', "phi": 20, ' &
+        call read_valid(suite, soil_case('"type": "Drucker_Prager", '//elastic_part//', "phi": 20, ' &
             //'"c": 5000, "psi": 20, "cone": "Compression", "softening": {"type": ' &
             //'"exponential", "c_residual": 500, "psi_residual": 10, "strain": 0.05}'), case, &
             "Drucker-Prager")
@@ -799,13 +399,13 @@ contains
                 call check_close(suite, str%softening_strain, 0.05_wp, tol, "DP: strain scale")
             end associate
         end if
-        call read_valid(soil_case('"type": "drucker_prager", '//elastic_part//', "phi": 20'), &
+        call read_valid(suite, soil_case('"type": "drucker_prager", '//elastic_part//', "phi": 20'), &
             case, "Drucker-Prager defaults")
         if (allocated(case%materials)) then
             call check(suite, cone_of(case%materials(1)) == cone_plane_strain, &
                 "DP: plane strain cone by default")
         end if
-        call read_valid(soil_case('"type": "newtonian", "rho": 1000, "viscosity": 1e-3, ' &
+        call read_valid(suite, soil_case('"type": "newtonian", "rho": 1000, "viscosity": 1e-3, ' &
             //'"bulk_modulus": 2.2e9'), case, "Newtonian fluid")
         if (allocated(case%materials)) then
             associate (mat => case%materials(1))
@@ -818,7 +418,7 @@ contains
                     tol*sqrt(2.2e6_wp), "fluid: c_p = sqrt(K/rho)")
             end associate
         end if
-        call read_valid(soil_case('"type": "newtonian", "rho": 1000, "viscosity": 0, ' &
+        call read_valid(suite, soil_case('"type": "newtonian", "rho": 1000, "viscosity": 0, ' &
             //'"bulk_modulus": 1e5'), case, "inviscid fluid")
     end subroutine test_material_types
 
@@ -828,7 +428,7 @@ contains
         type(case_type) :: case
         character(len=:), allocatable :: text
 
-        call read_valid(soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30, ' &
+        call read_valid(suite, soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30, ' &
             //'"c": 1000, "psi": 5, "tension_cutoff": 500, "softening": {"type": "linear", ' &
             //'"phi_residual": 25, "c_residual": 100, "strain": 0.1}'), case, "MC summary case")
         text = case_summary(case)
@@ -838,7 +438,7 @@ contains
             //"cutoff 500 Pa", "summary: MC strength in degrees")
         call check_contains(suite, text, "softening linear to phi = 25 deg, c = 100 Pa, " &
             //"psi = 0 deg at plastic shear strain 0.1", "summary: MC softening")
-        call read_valid(soil_case('"type": "drucker_prager", '//elastic_part//', "phi": 20, ' &
+        call read_valid(suite, soil_case('"type": "drucker_prager", '//elastic_part//', "phi": 20, ' &
             //'"c": 5000, "cone": "extension"'), case, "DP summary case")
         text = case_summary(case)
         call check_contains(suite, text, "phi = 20 deg, c = 5000 Pa, psi = 0 deg, tension " &
@@ -846,202 +446,31 @@ contains
         call check_contains(suite, text, "no softening", "summary: DP without softening")
         ! viscous limit rho dx^2 / (2 dim mu) = 1000 * 0.01 / (4 * 1e6) = 2.5e-6 s, below
         ! dx / c_p = 0.1 / sqrt(2.2e6) = 6.7e-5 s
-        call read_valid(soil_case('"type": "newtonian", "rho": 1000, "viscosity": 1e6, ' &
+        call read_valid(suite, soil_case('"type": "newtonian", "rho": 1000, "viscosity": 1e6, ' &
             //'"bulk_modulus": 2.2e9'), case, "viscous fluid summary case")
         text = case_summary(case)
         call check_contains(suite, text, '"soil" newtonian: rho = 1000 kg/m3, viscosity = ' &
             //"1000000 Pa s, bulk modulus = 2.2e9 Pa, c_p = 1483.24 m/s", "summary: fluid")
         call check_contains(suite, text, "critical time step 2.5e-6 s at t = 0 (viscous " &
             //"limit)", "summary: viscous limit of the time step")
-        call expect_error(case_text(materials='"materials": [{"name": "soil", "type": ' &
+        call expect_error(suite, case_text(materials='"materials": [{"name": "soil", "type": ' &
             //'"newtonian", "rho": 1000, "viscosity": 1e6, "bulk_modulus": 2.2e9}]', &
             time='"time": {"tend": 0.1, "dt": 1e-5}'), [character(len=200) :: "time.dt = " &
             //"1e-5 s is above the critical time step 2.5e-6 s of this case (the viscous " &
             //"limit"], "dt above the viscous limit")
         ! from a state file the viscous limit of the materials applies as well
-        call expect_error("{"//domain_2d//', "materials": [{"name": "soil", "type": ' &
+        call expect_error(suite, "{"//domain_2d//', "materials": [{"name": "soil", "type": ' &
             //'"newtonian", "rho": 1000, "viscosity": 1e6, "bulk_modulus": 2.2e9}], ' &
             //'"load_state": "'//state_file//'", "time": {"tend": 0.1, "dt": 1e-5}}', &
             [character(len=200) :: "time.dt = 1e-5 s is above the critical time step " &
             //"2.5e-6 s of this case (the viscous limit"], "viscous limit with load_state")
     end subroutine test_material_summary
 
-    !> Strength parameters: ranges (in degrees), psi <= phi, the apex, phi = c = 0, the cone.
-    subroutine test_strength_errors()
-        character(len=*), parameter :: mc = '"type": "mohr_coulomb", '//elastic_part//", "
-
-        call expect_error(soil_case(mc//'"phi": 30, "c": 10, "separation": true'), &
-            [character(len=200) :: "materials[1].separation = true needs a stress-free apex: " &
-            //"c = 10 Pa here; give c = 0 or tension_cutoff = 0"], "separation with cohesion")
-        call expect_error(soil_case(mc//'"phi": 30, "separation": 1'), &
-            [character(len=200) :: "materials[1].separation"], "separation not a boolean")
-        call expect_error(case_text(extra='"solver": {"locking_correction": "bbar"}'), &
-            [character(len=200) :: 'solver.locking_correction = "bbar" is not allowed: must ' &
-            //'be one of "none", "fbar"'], "unknown locking correction")
-        call expect_error(case_text(extra='"solver": {"transfer": "apic", "flip_fraction": 0.9}'), &
-            [character(len=200) :: 'solver.flip_fraction applies to solver.transfer = "flip" ' &
-            //'only'], "flip_fraction with APIC")
-        call expect_error(case_text(extra='"solver": {"flip_fraction": 1.5}'), &
-            [character(len=200) :: "solver.flip_fraction = 1.5"], "flip_fraction above 1")
-        call expect_error(soil_case(mc//'"phi": 90'), [character(len=200) :: &
-            "materials[1].phi = 90 is out of range: must be >= 0 and < 90 [deg]"], "phi = 90")
-        call expect_error(soil_case(mc//'"phi": -1'), [character(len=200) :: &
-            "materials[1].phi = -1 is out of range: must be >= 0 and < 90 [deg]"], "phi < 0")
-        call expect_error(soil_case(mc//'"c": 1000'), [character(len=200) :: &
-            "missing required key 'materials[1].phi' (a number >= 0 and < 90 [deg])"], &
-            "phi missing")
-        call expect_error(soil_case(mc//'"phi": 30, "psi": 35'), [character(len=200) :: &
-            "materials[1].psi = 35 deg is above materials[1].phi = 30 deg", &
-            "must be >= 0 and <= phi = 30 [deg]"], "psi > phi")
-        call expect_error(soil_case(mc//'"phi": 30, "psi": -2'), [character(len=200) :: &
-            "materials[1].psi = -2 is out of range: must be >= 0 [deg]"], "psi < 0")
-        call expect_error(soil_case(mc//'"phi": 30, "c": -5'), [character(len=200) :: &
-            "materials[1].c = -5 is out of range: must be >= 0 [Pa]"], "c < 0")
-        ! apex c / tan(phi) = 1000 / tan(30 deg) = 1732.0508 Pa
-        call expect_error(soil_case(mc//'"phi": 30, "c": 1000, "tension_cutoff": 2000'), &
-            [character(len=200) :: "materials[1].tension_cutoff = 2000 Pa is above the apex " &
-            //"of the yield surface, c / tan(phi) = 1732.05 Pa", "c = 1000 Pa, phi = 30 deg", &
-            "must be >= 0 and <= 1732.05 [Pa]"], "tension cutoff above the apex")
-        call expect_error(soil_case(mc//'"phi": 30, "tension_cutoff": 1'), &
-            [character(len=200) :: "materials[1].tension_cutoff = 1 Pa is above the apex", &
-            "c / tan(phi) = 0 Pa"], "tension cutoff of a cohesionless soil")
-        call expect_error(soil_case(mc//'"phi": 30, "c": 1000, "tension_cutoff": -1'), &
-            [character(len=200) :: &
-            "materials[1].tension_cutoff = -1 is out of range: must be >= 0 [Pa]"], &
-            "negative tension cutoff")
-        call expect_error(soil_case(mc//'"phi": 0, "c": 0'), [character(len=200) :: &
-            "materials[1].phi = 0 and materials[1].c = 0", "a Mohr-Coulomb material with " &
-            //"phi = 0 and c = 0 has no strength; use a newtonian fluid"], "phi = c = 0")
-        call expect_error(soil_case(mc//'"phi": 0'), [character(len=200) :: &
-            "a Mohr-Coulomb material with phi = 0 and c = 0 has no strength"], &
-            "phi = 0 with c defaulting to 0")
-        call expect_error(soil_case('"type": "drucker_prager", '//elastic_part//', "phi": 0'), &
-            [character(len=200) :: "a Drucker-Prager material with phi = 0 and c = 0 has no " &
-            //"strength"], "Drucker-Prager phi = c = 0")
-        call expect_error(soil_case('"type": "drucker_prager", '//elastic_part//', "phi": 30, ' &
-            //'"cone": "outer"'), [character(len=200) :: 'materials[1].cone = "outer" is not ' &
-            //'allowed: must be one of "plane_strain", "compression", "extension"'], &
-            "unknown cone")
-        call expect_error(soil_case('"type": "drucker_prager", '//elastic_part//', "phi": 30, ' &
-            //'"cone": 1'), [character(len=200) :: "materials[1].cone has the wrong type"], &
-            "cone not a string")
-    end subroutine test_strength_errors
-
-    !> Softening: type, residual values not above peak, a positive strain.
-    subroutine test_softening_errors()
-        character(len=*), parameter :: mc = '"type": "mohr_coulomb", '//elastic_part &
-            //', "phi": 30, "c": 1000, "psi": 10, '
-
-        call expect_error(soil_case(mc//'"softening": {"type": "linear", "phi_residual": 35, ' &
-            //'"strain": 0.1}'), [character(len=200) :: "materials[1].softening.phi_residual " &
-            //"= 35 deg is above the peak value materials[1].phi = 30 deg: residual strength " &
-            //"above peak", "must be >= 0 and <= 30 [deg]"], "residual phi above peak")
-        call expect_error(soil_case(mc//'"softening": {"type": "linear", "c_residual": 2000, ' &
-            //'"strain": 0.1}'), [character(len=200) :: "materials[1].softening.c_residual " &
-            //"= 2000 Pa is above the peak value materials[1].c = 1000 Pa: residual strength " &
-            //"above peak"], "residual c above peak")
-        call expect_error(soil_case(mc//'"softening": {"type": "linear", "psi_residual": 12, ' &
-            //'"strain": 0.1}'), [character(len=200) :: "materials[1].softening.psi_residual " &
-            //"= 12 deg is above the peak value materials[1].psi = 10 deg"], &
-            "residual psi above peak")
-        call expect_error(soil_case(mc//'"softening": {"type": "linear", "phi_residual": 5, ' &
-            //'"psi_residual": 8, "strain": 0.1}'), [character(len=200) :: &
-            "materials[1].softening.psi_residual = 8 deg is above the residual friction " &
-            //"angle 5 deg"], &
-            "residual psi above residual phi")
-        call expect_error(soil_case(mc//'"softening": {"type": "linear", "phi_residual": 0, ' &
-            //'"c_residual": 0, "strain": 0.1}'), [character(len=200) :: &
-            "materials[1].softening: phi_residual = 0 and c_residual = 0 leave no strength"], &
-            "no residual strength")
-        call expect_error(soil_case(mc//'"softening": {"type": "linear", "phi_residual": -1, ' &
-            //'"strain": 0.1}'), [character(len=200) :: "materials[1].softening.phi_residual" &
-            //" = -1 is out of range: must be >= 0 [deg]"], "negative residual phi")
-        call expect_error(soil_case(mc//'"softening": {"type": "exponential", "strain": 0}'), &
-            [character(len=200) :: &
-            "materials[1].softening.strain = 0 is out of range: must be > 0"], "strain = 0")
-        call expect_error(soil_case(mc//'"softening": {"type": "linear", "strain": -0.1}'), &
-            [character(len=200) :: &
-            "materials[1].softening.strain = -0.1 is out of range: must be > 0"], "strain < 0")
-        call expect_error(soil_case(mc//'"softening": {"type": "linear", "c_residual": 0}'), &
-            [character(len=200) :: "missing required key 'materials[1].softening.strain' " &
-            //"(a number > 0)"], "softening without strain")
-        call expect_error(soil_case(mc//'"softening": {"type": "none", "strain": 0.1}'), &
-            [character(len=200) :: "materials[1].softening.strain only applies to " &
-            //'softening.type = "linear" or "exponential" (here "none")'], &
-            "strain with softening none")
-        call expect_error(soil_case(mc//'"softening": {"type": "cubic"}'), &
-            [character(len=200) :: 'materials[1].softening.type = "cubic" is not allowed: ' &
-            //'must be one of "none", "linear", "exponential"'], "unknown softening type")
-        call expect_error(soil_case(mc//'"softening": {"strain": 0.1}'), &
-            [character(len=200) :: "missing required key 'materials[1].softening.type'"], &
-            "softening without type")
-        call expect_error(soil_case(mc//'"softening": {"type": "linear", "strian": 0.1}'), &
-            [character(len=200) :: "unknown key 'materials[1].softening.strian'; did you " &
-            //"mean 'strain'?"], "misspelt softening key")
-        call expect_error(soil_case(mc//'"softening": "linear"'), [character(len=200) :: &
-            "materials[1].softening has the wrong type: expected an object"], &
-            "softening not an object")
-    end subroutine test_softening_errors
-
-    !> The keys allowed in a material depend on its type.
-    subroutine test_material_key_errors()
-        call expect_error(soil_case('"type": "newtonian", "E": 1e6, "rho": 1000, ' &
-            //'"viscosity": 1e-3, "bulk_modulus": 2.2e9'), [character(len=200) :: &
-            "unknown key 'materials[1].E'", "E is not a parameter of a newtonian material", &
-            "the keys of a newtonian material are: name, type, rho, viscosity, bulk_modulus"], &
-            "E in a newtonian material")
-        call expect_error(soil_case('"type": "linear_elastic", '//elastic_part//', "phi": 30'), &
-            [character(len=200) :: "unknown key 'materials[1].phi'", "phi is not a parameter " &
-            //"of a linear_elastic material; the keys of a linear_elastic material are: " &
-            //"name, type, E, nu, rho"], "phi in an elastic material")
-        call expect_error(soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30, ' &
-            //'"cone": "compression"'), [character(len=200) :: "unknown key " &
-            //"'materials[1].cone'", "cone is not a parameter of a mohr_coulomb material", &
-            "name, type, E, nu, rho, phi, c, psi, tension_cutoff, softening"], &
-            "cone in a Mohr-Coulomb material")
-        call expect_error(soil_case('"type": "mohr_coulomb", '//elastic_part//', "phy": 30'), &
-            [character(len=200) :: "unknown key 'materials[1].phy'; did you mean 'phi'? The " &
-            //"keys of a mohr_coulomb material are: name, type, E"], "misspelt phi")
-        call expect_error(soil_case('"type": "drucker_prager", '//elastic_part//', "phi": 30, ' &
-            //'"Cone": "compression"'), [character(len=200) :: "unknown key " &
-            //"'materials[1].Cone'; did you mean 'cone'? (keys are case-sensitive)"], &
-            "cone in the wrong case")
-        call expect_error(soil_case('"tpye": "elastic", '//elastic_part), &
-            [character(len=200) :: "unknown key 'materials[1].tpye'; did you mean 'type'?"], &
-            "misspelt type")
-        call expect_error(soil_case(elastic_part), [character(len=200) :: "missing required " &
-            //"key 'materials[1].type' (one of ""linear_elastic"", ""elastic"", " &
-            //"""mohr_coulomb"", ""drucker_prager"", ""newtonian"", ""neo_hookean"", ""mu_i"")"], &
-            "type missing")
-        call expect_error(soil_case('"type": "mohr-coulomb", '//elastic_part//', "phi": 30'), &
-            [character(len=200) :: 'materials[1].type = "mohr-coulomb" is not allowed'], &
-            "mohr-coulomb with a hyphen")
-    end subroutine test_material_key_errors
-
-    subroutine test_newtonian_errors()
-        character(len=*), parameter :: fluid = '"type": "newtonian", "rho": 1000, '
-
-        call expect_error(soil_case(fluid//'"viscosity": -1, "bulk_modulus": 2.2e9'), &
-            [character(len=200) :: &
-            "materials[1].viscosity = -1 is out of range: must be >= 0 [Pa s]"], &
-            "viscosity < 0")
-        call expect_error(soil_case(fluid//'"viscosity": 1e-3, "bulk_modulus": 0'), &
-            [character(len=200) :: &
-            "materials[1].bulk_modulus = 0 is out of range: must be > 0 [Pa]"], &
-            "bulk_modulus = 0")
-        call expect_error(soil_case(fluid//'"bulk_modulus": 2.2e9'), [character(len=200) :: &
-            "missing required key 'materials[1].viscosity' (a number >= 0 [Pa s])"], &
-            "viscosity missing")
-        call expect_error(soil_case(fluid//'"viscosity": 1e-3'), [character(len=200) :: &
-            "missing required key 'materials[1].bulk_modulus' (a number > 0 [Pa])"], &
-            "bulk_modulus missing")
-    end subroutine test_newtonian_errors
-
     !> Frictional faces are objects with a coefficient mu >= 0; other faces take no mu.
     subroutine test_frictional_faces()
         type(case_type) :: case
 
-        call read_valid(faces_case('{"ymin": {"type": "Frictional", "mu": 0.4}, ' &
+        call read_valid(suite, faces_case('{"ymin": {"type": "Frictional", "mu": 0.4}, ' &
             //'"xmin": {"type": "fixed"}, "xmax": "sliding", "ymax": {"type": "frictional", ' &
             //'"mu": 0}}'), case, "frictional faces")
         call check(suite, case%domain%bc(1, 2) == bc_frictional, "ymin is frictional")
@@ -1053,141 +482,60 @@ contains
         call check(suite, all(case%domain%bc_friction(:, 1) == 0.0_wp), "no mu on other faces")
         call check_contains(suite, case_summary(case), "boundaries  xmin fixed, xmax sliding, " &
             //"ymin frictional (mu = 0.4), ymax frictional (mu = 0)", "summary: frictional faces")
-        call expect_error(faces_case('{"ymin": {"type": "frictional"}}'), &
+        call expect_error(suite, faces_case('{"ymin": {"type": "frictional"}}'), &
             [character(len=200) :: "missing required key 'domain.boundaries.ymin.mu' " &
             //"(a number >= 0)"], "frictional face without mu")
-        call expect_error(faces_case('{"ymin": {"type": "frictional", "mu": -0.1}}'), &
+        call expect_error(suite, faces_case('{"ymin": {"type": "frictional", "mu": -0.1}}'), &
             [character(len=200) :: &
             "domain.boundaries.ymin.mu = -0.1 is out of range: must be >= 0"], "mu < 0")
-        call expect_error(faces_case('{"ymin": {"type": "frictional", "mu": 1e999}}'), &
+        call expect_error(suite, faces_case('{"ymin": {"type": "frictional", "mu": 1e999}}'), &
             [character(len=200) :: "domain.boundaries.ymin.mu is not a finite number"], &
             "mu not finite")
-        call expect_error(faces_case('{"ymin": {"type": "fixed", "mu": 0.4}}'), &
+        call expect_error(suite, faces_case('{"ymin": {"type": "fixed", "mu": 0.4}}'), &
             [character(len=200) :: "domain.boundaries.ymin.mu applies to frictional faces " &
             //'only (here domain.boundaries.ymin.type = "fixed")'], "mu on a fixed face")
-        call expect_error(faces_case('{"ymin": "frictional"}'), [character(len=200) :: &
+        call expect_error(suite, faces_case('{"ymin": "frictional"}'), [character(len=200) :: &
             'domain.boundaries.ymin = "frictional" needs a friction coefficient', &
             '{"type": "frictional", "mu": 0.4}'], "frictional as a string")
-        call expect_error(faces_case('{"ymin": {"mu": 0.4}}'), [character(len=200) :: &
+        call expect_error(suite, faces_case('{"ymin": {"mu": 0.4}}'), [character(len=200) :: &
             "missing required key 'domain.boundaries.ymin.type'"], "face object without type")
-        call expect_error(faces_case('{"ymin": {"type": "glued"}}'), [character(len=200) :: &
+        call expect_error(suite, faces_case('{"ymin": {"type": "glued"}}'), [character(len=200) :: &
             'domain.boundaries.ymin.type = "glued" is not allowed: must be one of "free", ' &
             //'"sliding", "fixed", "frictional"'], "unknown face type in an object")
-        call expect_error(faces_case('{"ymin": {"type": "frictional", "mu": 0.4, ' &
+        call expect_error(suite, faces_case('{"ymin": {"type": "frictional", "mu": 0.4, ' &
             //'"friction": 1}}'), [character(len=200) :: "unknown key " &
             //"'domain.boundaries.ymin.friction'", "are: type, mu"], "unknown key of a face")
-        call expect_error(faces_case('{"ymin": 0.4}'), [character(len=200) :: &
+        call expect_error(suite, faces_case('{"ymin": 0.4}'), [character(len=200) :: &
             "domain.boundaries.ymin has the wrong type", "found a number (0.4)"], &
             "face given as a number")
     end subroutine test_frictional_faces
-
-    subroutine write_text(path, text)
-        character(len=*), intent(in) :: path
-        character(len=*), intent(in) :: text
-
-        integer :: unit
-
-        open (newunit=unit, file=path, status="replace", action="write")
-        write (unit, "(a)") text
-        close (unit)
-    end subroutine write_text
-
-    subroutine delete_file(path)
-        character(len=*), intent(in) :: path
-
-        integer :: unit, stat
-        character(len=256) :: msg
-
-        ! a missing file is fine: there is nothing to delete
-        open (newunit=unit, file=path, status="old", iostat=stat, iomsg=msg)
-        if (stat == 0) close (unit, status="delete")
-    end subroutine delete_file
 
     !> The neo-Hookean type and the explicit override of the stability checks.
     subroutine check_neo_hookean_and_unstable()
         type(case_type) :: case
 
-        call read_valid(soil_case('"type": "neo_hookean", '//elastic_part), case, &
+        call read_valid(suite, soil_case('"type": "neo_hookean", '//elastic_part), case, &
             "neo_hookean material")
         if (allocated(case%materials)) then
             call check(suite, case%materials(1)%type == "neo_hookean", "neo_hookean type kept")
             call check_close(suite, young_of(case%materials(1)), 1.0e7_wp, tol*1.0e7_wp, &
                 "neo_hookean E")
         end if
-        call expect_error(soil_case('"type": "neo_hookean", '//elastic_part//', "phi": 30'), &
+        call expect_error(suite, soil_case('"type": "neo_hookean", '//elastic_part//', "phi": 30'), &
             [character(len=60) :: "unknown key 'materials[1].phi'"], "phi of a neo_hookean")
-        call expect_error(case_text(time='"time": {"tend": 0.1, "cfl": 2}'), &
+        call expect_error(suite, case_text(time='"time": {"tend": 0.1, "cfl": 2}'), &
             [character(len=60) :: "time.cfl", "2"], "cfl above 1 without override")
-        call read_valid(case_text(time='"time": {"tend": 0.1, "cfl": 2, "allow_unstable": true}'), &
+        call read_valid(suite, case_text(time='"time": {"tend": 0.1, "cfl": 2, "allow_unstable": true}'), &
             case, "cfl above 1 with allow_unstable")
         call check(suite, case%time%allow_unstable .and. abs(case%time%cfl - 2.0_wp) < tol, &
             "allow_unstable and cfl resolved")
-        call expect_error(case_text(time='"time": {"tend": 0.1, "dt": 0.01}'), &
+        call expect_error(suite, case_text(time='"time": {"tend": 0.1, "dt": 0.01}'), &
             [character(len=60) :: "time.dt", "critical time step", "allow_unstable"], &
             "dt above critical names the override")
-        call read_valid(case_text(time='"time": {"tend": 0.1, "dt": 0.01, '// &
+        call read_valid(suite, case_text(time='"time": {"tend": 0.1, "dt": 0.01, '// &
             '"allow_unstable": true}'), case, "dt above critical with allow_unstable")
-        call expect_error(case_text(time='"time": {"tend": 0.1, "allow_unstable": 1}'), &
+        call expect_error(suite, case_text(time='"time": {"tend": 0.1, "allow_unstable": 1}'), &
             [character(len=60) :: "time.allow_unstable"], "allow_unstable must be a boolean")
     end subroutine check_neo_hookean_and_unstable
-
-    !> Young's modulus of a material's law, 0 when it is not an elastic solid [Pa].
-    real(wp) function young_of(mat)
-        type(material_spec_type), intent(in) :: mat
-        select type (law => mat%law)
-        class is (elastic_solid_type)
-            young_of = law%young
-        class default
-            young_of = 0.0_wp
-        end select
-    end function young_of
-
-    !> Poisson's ratio of a material's law, -1 when it is not an elastic solid [-].
-    real(wp) function poisson_of(mat)
-        type(material_spec_type), intent(in) :: mat
-        select type (law => mat%law)
-        class is (elastic_solid_type)
-            poisson_of = law%poisson
-        class default
-            poisson_of = -1.0_wp
-        end select
-    end function poisson_of
-
-    !> Strength of a Mohr-Coulomb or Drucker-Prager material (defaults for any other).
-    type(strength_type) function strength_of(mat)
-        type(material_spec_type), intent(in) :: mat
-        select type (law => mat%law)
-        type is (mohr_coulomb_material_type)
-            strength_of = law%strength
-        type is (drucker_prager_material_type)
-            strength_of = law%strength
-        class default
-            strength_of = strength_type()
-        end select
-    end function strength_of
-
-    !> Cone of a Drucker-Prager material, 0 for any other.
-    integer function cone_of(mat)
-        type(material_spec_type), intent(in) :: mat
-        select type (law => mat%law)
-        type is (drucker_prager_material_type)
-            cone_of = law%cone
-        class default
-            cone_of = 0
-        end select
-    end function cone_of
-
-    !> Viscosity (which = 1) [Pa s] or bulk modulus (2) [Pa] of a Newtonian fluid, -1 for
-    !> any other material.
-    real(wp) function fluid_of(mat, which)
-        type(material_spec_type), intent(in) :: mat
-        integer, intent(in) :: which
-        select type (law => mat%law)
-        type is (newtonian_material_type)
-            fluid_of = merge(law%viscosity, law%bulk_modulus, which == 1)
-        class default
-            fluid_of = -1.0_wp
-        end select
-    end function fluid_of
 
 end program test_mpm_case

@@ -1,125 +1,55 @@
-!> Tests of mpm_output (HDF5 + XDMF particle output), mpm_state (save/load) and mpm_filesystem.
+!> Tests of mpm_output (HDF5 + XDMF particle output) and mpm_filesystem (state files: test_mpm_output_state).
 !>
 !> The files written are read back with the plain HDF5 Fortran API (not with mpm_hdf5, the
 !> helpers under test), so a mistake in the helpers cannot hide itself. Files go to a fresh
 !> folder under $TMPDIR (default /tmp), deleted at the end unless MPM_TEST_KEEP is set.
 program test_mpm_output
-    use, intrinsic :: iso_c_binding, only: c_char, c_ptr, c_null_char, c_int, c_loc
-    use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5fopen_f, h5fclose_f, h5f_acc_rdonly_f, &
+    use, intrinsic :: iso_c_binding, only: c_char, c_ptr, c_null_char, c_loc
+    use hdf5, only: hid_t, hsize_t, size_t, h5fopen_f, h5fclose_f, h5f_acc_rdonly_f, &
         h5dopen_f, h5dclose_f, h5dget_space_f, h5dread_f, h5sget_simple_extent_ndims_f, &
         h5sget_simple_extent_dims_f, h5sclose_f, h5aopen_by_name_f, h5aclose_f, h5aread_f, &
-        h5aget_space_f, h5tcopy_f, h5tset_size_f, h5tset_strpad_f, h5tclose_f, &
-        h5t_fortran_s1, h5t_str_nullpad_f, h5lexists_f, h5kind_to_type, h5_real_kind, &
-        h5_integer_kind, h5fget_obj_count_f, h5f_obj_all_f, h5aexists_f, h5dget_create_plist_f, &
-        h5pget_layout_f, h5pclose_f, h5d_virtual_f
+        h5aget_space_f, h5tcopy_f, h5tset_size_f, h5tset_strpad_f, h5tclose_f, h5t_fortran_s1, &
+        h5t_str_nullpad_f, h5lexists_f, h5kind_to_type, h5_real_kind, h5_integer_kind, &
+        h5aexists_f, h5dget_create_plist_f, h5pget_layout_f, h5pclose_f, h5d_virtual_f
     use mpm_kinds, only: wp, i8
-    use mpm_error, only: error_type, exit_input
+    use mpm_error, only: error_type
     use mpm_strings, only: int_text
     use mpm_case, only: case_type, field_displacement, field_strain
-    use mpm_particles, only: particles_type, new_particles
+    use mpm_particles, only: particles_type
     use mpm_grid, only: grid_type, new_grid
     use mpm_output, only: output_writer_type, new_output_writer, write_output, remove_outputs
-    use mpm_state, only: save_state, load_state
     use mpm_filesystem, only: make_directory, directory_exists, file_exists, rename_file, &
-        remove_file, parent_directory, c_string
-    use mpm_hdf5, only: hdf5_location_type, hdf5_open_file, hdf5_write_attribute, hdf5_close
-    use mpm_testing, only: test_suite_type, new_suite, check, check_close, check_contains, &
-        finish, temporary_folder
+        remove_file, parent_directory
+    use mpm_testing, only: test_suite_type, new_suite, check, check_contains, finish
+    use mpm_testing_output, only: tiny_case, fill_particles, open_hdf5_objects, open_test_folder, &
+        close_test_folder
     implicit none
 
-    ! allow(assumed-size, assumed-size-character-intent): C strings passed to libc
-    interface
-        function c_rmdir(path) bind(c, name="rmdir") result(status)
-            import :: c_char, c_int
-            character(kind=c_char), intent(in) :: path(*)
-            integer(c_int) :: status
-        end function c_rmdir
-    end interface
+    character(len=*), parameter :: files(*) = [character(len=32) :: &
+        "out2d/particles_000000.h5", "out2d/particles_000001.h5", "out2d/tiny.xdmf", &
+        "out3d/particles_000000.h5", "out3d/cube.xdmf", "out3d_grid/particles_000000.h5", &
+        "out3d_grid/cube.xdmf", "parts/notes.txt"]
+        !! the files this test leaves, deleted at the end
+    character(len=*), parameter :: folders(*) = [character(len=16) :: "a b/c/d", "a b/c", &
+        "a b", "out2d", "out3d", "out3d_grid", "parts", ""]
+        !! the folders it makes, deepest first
 
     type(test_suite_type) :: suite
     character(len=:), allocatable :: root
-    integer :: hdferr
     logical :: keep
-    type(error_type), allocatable :: error
 
     call new_suite(suite, "mpm_output")
-    call h5open_f(hdferr)
-    call check(suite, hdferr == 0, "h5open_f")
-    root = temporary_folder("mpm_output_test")
-    write (*, "(a)") "temporary folder: "//root
-    keep = .false.
-    call get_environment_variable("MPM_TEST_KEEP", status=hdferr)
-    keep = hdferr == 0
+    call open_test_folder(suite, "mpm_output_test", root, keep)
 
     call test_filesystem(suite, root)
     call test_output_2d(suite, root//"/out2d")
     call test_output_3d(suite, root//"/out3d")
     call test_output_parts(suite, root//"/parts")
-    call test_state_round_trip(suite, root)
-    call test_state_refusals(suite, root)
 
-    if (.not. keep) call delete_tree(root, error)
-    if (.not. keep) call check(suite, .not. allocated(error), "temporary folder deleted")
-    if (allocated(error)) write (*, "(a)") error%message
+    call close_test_folder(suite, root, keep, files, folders)
     call finish(suite)
 
 contains
-
-    ! ----------------------------------------------------------------------------------------
-    ! Fixtures
-    ! ----------------------------------------------------------------------------------------
-
-    !> A 2D case of 4 x 3 cells of 0.5 m from (1, -1), materials sand and clay.
-    subroutine tiny_case(case)
-        type(case_type), intent(out) :: case
-
-        case%name = "tiny"
-        case%dim = 2
-        case%domain%ncells = [4, 3, 1]
-        case%domain%dx = 0.5_wp
-        case%domain%origin = [1.0_wp, -1.0_wp, 0.0_wp]
-        allocate (case%materials(2))
-        case%materials(1)%name = "sand"
-        case%materials(2)%name = "clay"
-        case%output%fields = .true.
-        case%output%grid = .true.
-    end subroutine tiny_case
-
-    !> n particles inside the case domain with a distinct value in every array element.
-    subroutine fill_particles(case, n, particles)
-        type(case_type), intent(in) :: case
-        integer, intent(in) :: n
-        type(particles_type), intent(out) :: particles
-
-        integer :: p, d, c, nmat
-        type(error_type), allocatable :: error
-
-        call new_particles(particles, case%dim, n, error)
-        call check(suite, .not. allocated(error), "new_particles")
-        nmat = size(case%materials)
-        do p = 1, n
-            do d = 1, case%dim
-                ! strictly inside the domain
-                particles%x(d, p) = case%domain%origin(d) + case%domain%ncells(d)*case%domain%dx* &
-                    modulo(0.1_wp + 0.13_wp*p + 0.37_wp*d, 1.0_wp)
-                particles%u(d, p) = 1.0e-3_wp*(10*p + d)
-                particles%v(d, p) = -0.5_wp*p + 0.01_wp*d
-                particles%lp0(d, p) = 0.125_wp + 1.0e-3_wp*(p + d)
-                particles%lp(d, p) = 0.126_wp + 1.0e-3_wp*(p + d)
-                do c = 1, case%dim
-                    particles%f(c, d, p) = merge(1.0_wp, 0.0_wp, c == d) + 1.0e-4_wp*(p + 3*c + d)
-                end do
-            end do
-            do c = 1, particles%nstress
-                particles%stress(c, p) = -1000.0_wp*c - p/3.0_wp
-                particles%strain(c, p) = 1.0e-4_wp*(c + 10*p)/7.0_wp
-            end do
-            particles%mass(p) = 2.0_wp + p/9.0_wp
-            particles%volume(p) = 0.0625_wp*p/11.0_wp
-            particles%volume0(p) = 0.0625_wp*p/13.0_wp
-            particles%material(p) = 1 + mod(p + 1, nmat)
-        end do
-    end subroutine fill_particles
 
     ! ----------------------------------------------------------------------------------------
     ! Tests
@@ -178,7 +108,7 @@ contains
         character(len=:), allocatable :: xdmf
 
         call tiny_case(case)
-        call fill_particles(case, n, particles)
+        call fill_particles(suite, case, n, particles)
         call new_grid(grid, case, error)
         call check(suite, .not. allocated(error), "new_grid")
         do id = 1, grid%nnodes
@@ -350,7 +280,7 @@ contains
         case%output%fields(field_displacement) = .false.
         case%output%fields(field_strain) = .false.
         case%output%grid = .false.
-        call fill_particles(case, n, particles)
+        call fill_particles(suite, case, n, particles)
         call make_directory(dir, error)
         call new_output_writer(writer, case, dir, error)
         call check(suite, .not. allocated(error), "3D new_output_writer")
@@ -427,7 +357,7 @@ contains
 
         integer :: p
 
-        call fill_particles(case, n, particles)
+        call fill_particles(suite, case, n, particles)
         particles%id = [(first + p - 1, p = 1, n)]
     end subroutine image_particles
 
@@ -652,187 +582,6 @@ contains
         call check(suite, file_exists(dir//"/notes.txt"), "remove_outputs: other files stay")
     end subroutine test_output_parts
 
-    subroutine test_state_round_trip(suite, root)
-        type(test_suite_type), intent(inout) :: suite
-        character(len=*), intent(in) :: root
-
-        type(case_type) :: case, other
-        type(particles_type) :: saved, loaded
-        type(error_type), allocatable :: error
-        real(wp) :: time
-        integer :: step, dim
-        character(len=:), allocatable :: path
-
-        do dim = 2, 3
-            call tiny_case(case)
-            if (dim == 3) then
-                case%dim = 3
-                case%domain%ncells = [4, 3, 2]
-                case%domain%origin(3) = 7.0_wp
-            end if
-            call fill_particles(case, 6, saved)
-            path = root//"/states/d"//achar(iachar("0") + dim)//"/state.h5"
-            call save_state(path, case, saved, 1.5_wp, 42, error)
-            call check(suite, .not. allocated(error), "save_state creates its folder")
-            if (allocated(error)) write (*, "(a)") error%message
-            call check(suite, .not. file_exists(path//".tmp"), "no state .tmp left")
-
-            call load_state(path, case, loaded, time, step, error)
-            call check(suite, .not. allocated(error), "load_state")
-            if (allocated(error)) then
-                write (*, "(a)") error%message
-                cycle
-            end if
-            call check(suite, time == 1.5_wp .and. step == 42, "time and step")
-            call check(suite, loaded%n == saved%n .and. loaded%dim == saved%dim .and. &
-                loaded%nstress == saved%nstress, "sizes")
-            call check(suite, same_bits_2d(loaded%x, saved%x), "x bit for bit")
-            call check(suite, same_bits_2d(loaded%u, saved%u), "u bit for bit")
-            call check(suite, same_bits_2d(loaded%v, saved%v), "v bit for bit")
-            call check(suite, same_bits_1d(loaded%mass, saved%mass), "mass bit for bit")
-            call check(suite, same_bits_1d(loaded%volume, saved%volume), "volume bit for bit")
-            call check(suite, same_bits_1d(loaded%volume0, saved%volume0), "volume0 bit for bit")
-            call check(suite, same_bits_2d(loaded%stress, saved%stress), "stress bit for bit")
-            call check(suite, same_bits_2d(loaded%strain, saved%strain), "strain bit for bit")
-            call check(suite, same_bits_3d(loaded%f, saved%f), "f bit for bit")
-            call check(suite, same_bits_2d(loaded%lp0, saved%lp0), "lp0 bit for bit")
-            call check(suite, same_bits_2d(loaded%lp, saved%lp), "lp bit for bit")
-            call check(suite, all(loaded%material == saved%material), "material indices")
-        end do
-
-        ! No particles: empty datasets round-trip too
-        call tiny_case(case)
-        call new_particles(saved, 2, 0, error)
-        path = root//"/states/empty.h5"
-        call save_state(path, case, saved, 0.5_wp, 3, error)
-        call check(suite, .not. allocated(error), "save_state with no particles")
-        call load_state(path, case, loaded, time, step, error)
-        call check(suite, .not. allocated(error), "load_state with no particles")
-        if (.not. allocated(error)) then
-            call check(suite, loaded%n == 0 .and. size(loaded%x, 2) == 0 .and. &
-                time == 0.5_wp .and. step == 3, "empty state")
-        end if
-
-        ! Same grid, materials listed in another order plus a new one: indices follow names
-        call tiny_case(case)
-        call fill_particles(case, 6, saved)
-        path = root//"/states/remap.h5"
-        call save_state(path, case, saved, 0.0_wp, 0, error)
-        call check(suite, .not. allocated(error), "save_state for remap")
-        call tiny_case(other)
-        deallocate (other%materials)
-        allocate (other%materials(3))
-        other%materials(1)%name = "clay"
-        other%materials(2)%name = "rock"
-        other%materials(3)%name = "sand"
-        call load_state(path, other, loaded, time, step, error)
-        call check(suite, .not. allocated(error), "load_state with reordered materials")
-        if (.not. allocated(error)) then
-            call check(suite, all(pack(loaded%material, saved%material == 1) == 3), &
-                "sand remapped to 3")
-            call check(suite, all(pack(loaded%material, saved%material == 2) == 1), &
-                "clay remapped to 1")
-        end if
-    end subroutine test_state_round_trip
-
-    subroutine test_state_refusals(suite, root)
-        type(test_suite_type), intent(inout) :: suite
-        character(len=*), intent(in) :: root
-
-        type(case_type) :: case, other
-        type(particles_type) :: saved, loaded
-        type(error_type), allocatable :: error
-        type(hdf5_location_type) :: file
-        real(wp) :: time
-        integer :: step, unit
-        character(len=:), allocatable :: path
-
-        call tiny_case(case)
-        call fill_particles(case, 3, saved)
-        path = root//"/states/refuse.h5"
-        call save_state(path, case, saved, 2.0_wp, 7, error)
-        call check(suite, .not. allocated(error), "save_state for refusals")
-
-        other = case
-        other%domain%dx = 0.25_wp
-        call expect_refusal(path, other, ["dx = 0.5 m ", "dx = 0.25 m"], "different dx")
-
-        other = case
-        other%domain%dx = 0.5_wp*(1.0_wp + 1.0e-14_wp)
-        call load_state(path, other, loaded, time, step, error)
-        call check(suite, .not. allocated(error), "dx within 1e-12 relative is accepted")
-
-        other = case
-        other%dim = 3
-        call expect_refusal(path, other, ["state has dimension 2", "case has dimension 3 "], &
-            "different dimension")
-
-        other = case
-        other%domain%ncells = [4, 6, 1]
-        call expect_refusal(path, other, ["ncells = 4 3", "ncells = 4 6"], "different ncells")
-
-        other = case
-        other%domain%origin(2) = -2.0_wp
-        call expect_refusal(path, other, ["origin = (1, -1)", "origin = (1, -2)"], &
-            "different origin")
-
-        other = case
-        other%materials(2)%name = "rock"
-        call expect_refusal(path, other, [character(len=36) :: "material 'clay'", &
-            "the case has: 'sand', 'rock'"], "missing material")
-
-        ! not HDF5
-        open (newunit=unit, file=root//"/states/text.h5", status="replace", action="write")
-        write (unit, "(a)") "this is not HDF5"
-        close (unit)
-        call expect_refusal(root//"/states/text.h5", case, ["not an HDF5 file"], "text file")
-        call expect_refusal(root//"/states/none.h5", case, ["does not exist"], "missing file")
-        ! an output file is HDF5 but not a state
-        call expect_refusal(root//"/out2d/particles_000000.h5", case, &
-            ["not an mpm-geo state file"], "output file")
-
-        ! a future format_version
-        call save_state(root//"/states/v2.h5", case, saved, 2.0_wp, 7, error)
-        call hdf5_open_file(root//"/states/v2.h5", file, error, writable=.true.)
-        call check(suite, .not. allocated(error), "reopen state for writing")
-        if (.not. allocated(error)) then
-            call hdf5_write_attribute(file, "format_version", 2, error)
-            call hdf5_close(file, error)
-        end if
-        call expect_refusal(root//"/states/v2.h5", case, ["format_version 2 is not"], &
-            "format_version 2")
-
-        ! a particle outside the domain (x max is 1 + 4 * 0.5 = 3)
-        saved%x(1, 2) = 3.25_wp
-        call save_state(root//"/states/outside.h5", case, saved, 2.0_wp, 7, error)
-        call expect_refusal(root//"/states/outside.h5", case, [character(len=26) :: &
-            "particle 2 at (3.25,", "outside the case domain"], "particle outside")
-        call check(suite, open_hdf5_objects() == 0, &
-            "save_state and load_state (also refusing) leave no HDF5 object open")
-    end subroutine test_state_refusals
-
-    !> load_state must fail with exit_input, a message naming the file and each part.
-    subroutine expect_refusal(path, case, parts, what)
-        character(len=*), intent(in) :: path
-        type(case_type), intent(in) :: case
-        character(len=*), intent(in) :: parts(:)
-        character(len=*), intent(in) :: what
-
-        type(particles_type) :: loaded
-        type(error_type), allocatable :: error
-        real(wp) :: time
-        integer :: step, i
-
-        call load_state(path, case, loaded, time, step, error)
-        call check(suite, allocated(error), "load_state refuses: "//what)
-        if (.not. allocated(error)) return
-        call check(suite, error%code == exit_input, "exit_input code: "//what)
-        call check_contains(suite, error%message, "'"//path//"'", "message names the file: "//what)
-        do i = 1, size(parts)
-            call check_contains(suite, error%message, trim(parts(i)), what)
-        end do
-    end subroutine expect_refusal
-
     ! ----------------------------------------------------------------------------------------
     ! Independent readers (plain HDF5 API)
     ! ----------------------------------------------------------------------------------------
@@ -979,17 +728,6 @@ contains
         value = buffer(i)(1:cut - 1)
     end function attribute_text
 
-    !> Number of HDF5 files, groups, datasets, types and attributes open in the process
-    !> (h5open_f itself leaves none).
-    integer function open_hdf5_objects() result(count)
-        integer(size_t) :: objects
-        integer :: hdferr
-
-        call h5fget_obj_count_f(int(h5f_obj_all_f, hid_t), h5f_obj_all_f, objects, hdferr)
-        count = int(objects)
-        if (hdferr /= 0) count = -1
-    end function open_hdf5_objects
-
     !> Whether a dataset has the Fortran shape `expected` (HDF5 lists it reversed).
     logical function has_dims(file, name, expected)
         integer(hid_t), intent(in) :: file
@@ -1051,31 +789,6 @@ contains
         has_link = exists
     end function has_link
 
-    ! ----------------------------------------------------------------------------------------
-    ! Small helpers
-    ! ----------------------------------------------------------------------------------------
-
-    logical function same_bits_1d(a, b)
-        real(wp), intent(in) :: a(:), b(:)
-        same_bits_1d = size(a) == size(b)
-        if (same_bits_1d) same_bits_1d = all(transfer(a, 0_i8, size(a)) == &
-            transfer(b, 0_i8, size(b)))
-    end function same_bits_1d
-
-    logical function same_bits_2d(a, b)
-        real(wp), intent(in) :: a(:, :), b(:, :)
-        same_bits_2d = all(shape(a) == shape(b))
-        if (same_bits_2d) same_bits_2d = all(transfer(a, 0_i8, size(a)) == &
-            transfer(b, 0_i8, size(b)))
-    end function same_bits_2d
-
-    logical function same_bits_3d(a, b)
-        real(wp), intent(in) :: a(:, :, :), b(:, :, :)
-        same_bits_3d = all(shape(a) == shape(b))
-        if (same_bits_3d) same_bits_3d = all(transfer(a, 0_i8, size(a)) == &
-            transfer(b, 0_i8, size(b)))
-    end function same_bits_3d
-
     !> Whole text file as one string, lines joined by new_line.
     function read_text(path) result(text)
         character(len=*), intent(in) :: path
@@ -1127,38 +840,5 @@ contains
             start = start + found + len(part) - 1
         end do
     end function count_of
-
-    !> Delete the files this test writes, then the folders, deepest first.
-    subroutine delete_tree(root, error)
-        character(len=*), intent(in) :: root
-        type(error_type), allocatable, intent(out) :: error
-
-        character(len=*), parameter :: files(*) = [character(len=32) :: &
-            "out2d/particles_000000.h5", "out2d/particles_000001.h5", "out2d/tiny.xdmf", &
-            "out3d/particles_000000.h5", "out3d/cube.xdmf", "out3d_grid/particles_000000.h5", &
-            "out3d_grid/cube.xdmf", "parts/notes.txt", "states/d2/state.h5", &
-            "states/d3/state.h5", "states/empty.h5", "states/remap.h5", "states/refuse.h5", &
-            "states/text.h5", &
-            "states/v2.h5", "states/outside.h5"]
-        character(len=*), parameter :: folders(*) = [character(len=16) :: "a b/c/d", "a b/c", &
-            "a b", "out2d", "out3d", "out3d_grid", "parts", "states/d2", "states/d3", "states", &
-            ""]
-        integer :: i
-        character(len=:), allocatable :: path
-
-        do i = 1, size(files)
-            call remove_file(root//"/"//trim(files(i)), error)
-            if (allocated(error)) return
-        end do
-        do i = 1, size(folders)
-            path = root
-            if (len_trim(folders(i)) > 0) path = root//"/"//trim(folders(i))
-            if (c_rmdir(c_string(path)) /= 0) then
-                allocate (error)
-                error%message = "cannot remove the folder "//path
-                return
-            end if
-        end do
-    end subroutine delete_tree
 
 end program test_mpm_output
