@@ -22,6 +22,7 @@ python=.venv/bin/python
 # the Bui case with its regression band, check.py --coarse).
 declare -A extra_runs=(
     [bui2008]="--refined --floors --numerics"
+    [cantilever]="--two-per-cell"
 )
 
 failed=()
@@ -160,8 +161,11 @@ for case_dir in sorted(p for p in root.glob("validation/*") if (p / "check.py").
         report = json.loads(path.read_text())
         reports.append((case_dir, path, report))
         wall = report.get("wall_time_s")
+        # "reported": an informational run, whose miss is a result, not a failed target
+        result = "pass" if report["passed"] else (
+            "goal not met (reported)" if report.get("reported") else "**FAIL**")
         lines.append(f"| [{report['case']}](#{report['case']}) | {report['resolution']} | "
-                     f"{'pass' if report['passed'] else '**FAIL**'} | "
+                     f"{result} | "
                      f"{'n/a' if wall is None else f'{wall:.0f} s'} |")
 lines.append("")
 
@@ -183,6 +187,8 @@ for case_dir in sorted({c for c, _, _ in reports}):
         heading = report.get("heading") or (f"{report['resolution']} resolution "
                                             f"({report['setup']['dx_m'] * 1e3:g} mm cells)")
         lines += [f"### {name}, {heading}", ""]
+        if report.get("headline"):   # the agreement with the reference, in one sentence
+            lines += [f"**{report['headline']}**", ""]
         lines += setup_table(report["setup"]) + [""]
         if "experiment" in report:
             exp = report["experiment"]
