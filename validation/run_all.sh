@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs every validation case (validation/*/check.py), collects their results/*.json and writes
-# docs/validation.md. Called by `make validate` (after make build). About 7 minutes on 2 cores.
+# docs/validation.md. Called by `make validate` (after make build). About 13 minutes on 2 cores
+# (751 s on 2026-12-02, machine shared; the cantilever ladder about 1 min of it).
 # Usage: validation/run_all.sh [--no-run] [path/to/mpm_geo]
 #   --no-run  analyse the outputs of the last runs again (no wall times) and rewrite the page
 # Exit code: 0 when every case meets its targets, 1 when one misses a target or fails to run
