@@ -35,36 +35,12 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "postproc"))
 
-import numpy as np  # noqa: E402
+from mpm_post.cantilever import PUBLISHED_PEAK, cantilever_case, measure  # noqa: E402
 
-from mpm_post import list_outputs, load_history, load_particles  # noqa: E402
-
-PUBLISHED_PEAK = 3.31     # [m] Sadeghirad et al. (2011), CPDI
-CORNER = (4.0, 4.0)       # [m] bottom corner of the free end
 FIELDS = ["cells_m", "shape", "scheme", "transfer", "ppc", "particles", "peak_m", "peak_rel",
           "residual_rel", "end_s", "exit", "note"]
 RUN_TIMEOUT = 7200.0      # [s]
-
-
-def cantilever_case(dx, shape, scheme, transfer, ppc):
-    """The case file (a dict) of one run."""
-    name = f"cantilever_{dx:g}_{shape}_{scheme}_{transfer}_{ppc}".replace(".", "p")
-    return {
-        "name": name,
-        "domain": {"nx": round(4.5 / dx), "ny": round(5.5 / dx), "dx": dx,
-                   "origin": [0.0, 0.0],
-                   "boundaries": {"xmin": "fixed", "xmax": "free", "ymin": "free",
-                                  "ymax": "free"}},
-        "particles": {"ppc": ppc, "distribution": "regular"},
-        "materials": [{"name": "beam", "type": "neo_hookean", "E": 1.0e6, "nu": 0.3,
-                       "rho": 1050.0}],
-        "bodies": [{"name": "beam", "material": "beam", "min": [0.0, 4.0], "max": [4.0, 5.0]}],
-        "gravity": [0.0, -10.0],
-        "solver": {"scheme": scheme, "shape_function": shape, "transfer": transfer},
-        "time": {"tend": 3.0, "cfl": 0.5},
-        "damping": {"type": "none"},
-        "output": {"interval": 0.01, "fields": ["position", "displacement"]},
-    }
+__all__ = ["cantilever_case", "main", "parse_run", "run_one"]
 
 
 def run_one(exe, dx, shape, scheme, transfer, ppc, workdir):
@@ -86,20 +62,12 @@ def run_one(exe, dx, shape, scheme, transfer, ppc, workdir):
         row["exit"] = "timeout"
         row["note"] = f"longer than {RUN_TIMEOUT:g} s"
     try:
-        outputs = list_outputs(output)
-        first = load_particles(outputs[0][1])
-        start = first["position"] - first["displacement"]
-        tip = int(np.argmin(np.hypot(start[:, 0] - CORNER[0], start[:, 1] - CORNER[1])))
-        peak = 0.0
-        for _, path in outputs:
-            peak = max(peak, -float(load_particles(path)["displacement"][tip, 1]))
-        history = load_history(output)
-        drop = float(np.max(history["potential_energy"][0] - history["potential_energy"]))
-        row["particles"] = len(start)
-        row["peak_m"] = f"{peak:.4f}"
-        row["peak_rel"] = f"{peak / PUBLISHED_PEAK - 1.0:+.4f}"
-        row["residual_rel"] = f"{float(history['residual'][-1]) / drop:+.4f}"
-        row["end_s"] = f"{float(history['time'][-1]):.2f}"
+        measured = measure(output)
+        row["particles"] = measured["particles"]
+        row["peak_m"] = f"{measured['peak_m']:.4f}"
+        row["peak_rel"] = f"{measured['peak_m'] / PUBLISHED_PEAK - 1.0:+.4f}"
+        row["residual_rel"] = f"{measured['residual_rel']:+.4f}"
+        row["end_s"] = f"{measured['end_s']:.2f}"
     except (OSError, KeyError, IndexError, ValueError) as exc:
         row["note"] = (row.get("note", "") + f" analysis failed: {exc}")[:200]
     return row

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs every validation case (validation/*/check.py), collects their results/*.json and writes
-# docs/validation.md. Called by `make validate` (after make build). About 7 minutes on 2 cores.
+# docs/validation.md. Called by `make validate` (after make build). About 13 minutes on 2 cores
+# (751 s on 2026-12-02, machine shared; the cantilever ladder about 1 min of it).
 # Usage: validation/run_all.sh [--no-run] [path/to/mpm_geo]
 #   --no-run  analyse the outputs of the last runs again (no wall times) and rewrite the page
 # Exit code: 0 when every case meets its targets, 1 when one misses a target or fails to run
@@ -22,6 +23,7 @@ python=.venv/bin/python
 # the Bui case with its regression band, check.py --coarse).
 declare -A extra_runs=(
     [bui2008]="--refined --floors --numerics"
+    [cantilever]="--two-per-cell"
 )
 
 failed=()
@@ -160,8 +162,11 @@ for case_dir in sorted(p for p in root.glob("validation/*") if (p / "check.py").
         report = json.loads(path.read_text())
         reports.append((case_dir, path, report))
         wall = report.get("wall_time_s")
+        # "reported": an informational run, whose miss is a result, not a failed target
+        result = "pass" if report["passed"] else (
+            "goal not met (reported)" if report.get("reported") else "**FAIL**")
         lines.append(f"| [{report['case']}](#{report['case']}) | {report['resolution']} | "
-                     f"{'pass' if report['passed'] else '**FAIL**'} | "
+                     f"{result} | "
                      f"{'n/a' if wall is None else f'{wall:.0f} s'} |")
 lines.append("")
 
@@ -183,6 +188,8 @@ for case_dir in sorted({c for c, _, _ in reports}):
         heading = report.get("heading") or (f"{report['resolution']} resolution "
                                             f"({report['setup']['dx_m'] * 1e3:g} mm cells)")
         lines += [f"### {name}, {heading}", ""]
+        if report.get("headline"):   # the agreement with the reference, in one sentence
+            lines += [f"**{report['headline']}**", ""]
         lines += setup_table(report["setup"]) + [""]
         if "experiment" in report:
             exp = report["experiment"]

@@ -4,11 +4,11 @@ import subprocess
 import time
 
 
-def run_mpm_geo(exe, case_path, output, overwrite=False, quiet=False, cwd=None):
-    """Run ``exe case_path --output output`` and return its wall time [s].
+def run_mpm_geo_status(exe, case_path, output, overwrite=False, quiet=False, cwd=None):
+    """Run ``exe case_path --output output`` and return (wall time [s], exit code).
 
     ``overwrite`` adds ``--overwrite`` (only for a script's own output folder), ``quiet`` adds
-    ``--quiet``. Raises RuntimeError naming the exit code when mpm_geo fails.
+    ``--quiet``. For a run whose failure is itself a result (a reported run that may stop).
     """
     command = [str(exe), str(case_path), "--output", str(output)]
     if overwrite:
@@ -18,8 +18,17 @@ def run_mpm_geo(exe, case_path, output, overwrite=False, quiet=False, cwd=None):
     print("running:", " ".join(command), flush=True)
     start = time.perf_counter()
     result = subprocess.run(command, cwd=cwd, check=False)
-    wall = time.perf_counter() - start
-    if result.returncode != 0:
-        raise RuntimeError(f"mpm_geo exited with code {result.returncode} on {case_path} "
+    return time.perf_counter() - start, result.returncode
+
+
+def run_mpm_geo(exe, case_path, output, overwrite=False, quiet=False, cwd=None):
+    """Run ``exe case_path --output output`` and return its wall time [s].
+
+    The options as for ``run_mpm_geo_status``. Raises RuntimeError naming the exit code when
+    mpm_geo fails.
+    """
+    wall, code = run_mpm_geo_status(exe, case_path, output, overwrite, quiet, cwd)
+    if code != 0:
+        raise RuntimeError(f"mpm_geo exited with code {code} on {case_path} "
                            f"(output in {output})")
     return wall

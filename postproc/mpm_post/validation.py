@@ -26,6 +26,9 @@ DEFAULT_EXE = REPO / "build" / "mpm_geo"
 EXE_HELP = "mpm_geo executable (default: build/mpm_geo)"
 NO_RUN_HELP = "analyse the existing outputs instead of running"
 QUIET_HELP = "no progress lines from mpm_geo"
+PARENT_OUTPUT_HELP = ("parent folder of the runs' output folders (default: outputs/, each run "
+                      "overwriting outputs/<case name>); folders under a parent given here must "
+                      "not exist")
 
 
 def relative(path, repo=REPO):
