@@ -5,7 +5,8 @@
 module mpm_grid
     use mpm_kinds, only: wp
     use mpm_error, only: error_type, fatal_error, exit_other
-    use mpm_case, only: case_type, bc_sliding, bc_fixed, bc_frictional
+    use mpm_case, only: case_type
+    use mpm_boundary, only: face_nodes_type
     use mpm_terrain, only: terrain_type, new_terrain, terrain_distance
     implicit none
     private
@@ -27,8 +28,9 @@ module mpm_grid
             !! cell size [m]
         real(wp) :: origin(3) = 0.0_wp
             !! position of node (0, 0, 0) [m]
-        integer :: bc(2, 3) = 0
-            !! boundary condition of each face, as case%domain%bc
+        logical :: clamped(2, 3) = .false.
+            !! a particle moved past the face (side, axis) is put back on it: the face is a
+            !! wall (its condition's keeps_particles)
         real(wp), allocatable :: mass(:)
             !! nodal mass (nnodes) [kg]
         real(wp), allocatable :: momentum(:, :)
@@ -138,6 +140,7 @@ contains
 
         integer :: stat, i, j, k, a, id, d, side, face, c, lo(3), hi(3)
         character(len=256) :: msg
+        type(face_nodes_type) :: nodes(2, 3)
 
         grid%dim = case%dim
         grid%ncells = 1
@@ -147,8 +150,13 @@ contains
         grid%nnodes = product(grid%nn)
         grid%dx = case%domain%dx
         grid%origin = case%domain%origin
-        grid%bc = case%domain%bc
         d = case%dim
+        do a = 1, d
+            do side = 1, 2
+                nodes(side, a) = case%domain%nodes(side, a, d)
+                grid%clamped(side, a) = nodes(side, a)%keeps_particles
+            end do
+        end do
         allocate (grid%mass(grid%nnodes), grid%momentum(d, grid%nnodes), &
             grid%fint(d, grid%nnodes), grid%fext(d, grid%nnodes), &
             grid%velocity(d, grid%nnodes), grid%acceleration(d, grid%nnodes), &
@@ -164,12 +172,13 @@ contains
         grid%velocity = 0.0_wp
         grid%acceleration = 0.0_wp
         grid%constrained = .false.
-        ! sliding faces hold the normal component, fixed faces all components; frictional
-        ! faces are applied during the nodal update (contact with friction, lift-off allowed)
+        ! each face's condition holds velocity components of its nodes (sliding: the normal
+        ! one, fixed: all) or makes them contact pairs, applied during the nodal update
+        ! (frictional: contact with friction, lift-off allowed)
         grid%ncontacts = 0
         do a = 1, d
             do side = 1, 2
-                if (grid%bc(side, a) == bc_frictional) grid%ncontacts = grid%ncontacts &
+                if (nodes(side, a)%contact) grid%ncontacts = grid%ncontacts &
                     + grid%nnodes/grid%nn(a)
             end do
         end do
@@ -189,7 +198,7 @@ contains
         do a = 1, d
             do side = 1, 2
                 face = merge(0, grid%nn(a) - 1, side == 1)
-                if (grid%bc(side, a) == bc_frictional) grid%contact_offset(side, a) = c
+                if (nodes(side, a)%contact) grid%contact_offset(side, a) = c
                 lo = 0
                 hi = grid%nn - 1
                 lo(a) = face
@@ -198,22 +207,17 @@ contains
                     do j = lo(2), hi(2)
                         do i = lo(1), hi(1)
                             id = node_index(grid, [i, j, k])
-                            select case (grid%bc(side, a))
-                            case (bc_sliding)
-                                grid%constrained(a, id) = .true.
-                            case (bc_fixed)
-                                grid%constrained(:, id) = .true.
-                            case (bc_frictional)
+                            grid%constrained(:, id) = grid%constrained(:, id) &
+                                .or. nodes(side, a)%held(1:d)
+                            if (nodes(side, a)%contact) then
                                 c = c + 1
                                 grid%contact_node(c) = id
                                 grid%contact_axis(c) = a
                                 grid%contact_normal(c) = merge(-1.0_wp, 1.0_wp, side == 1)
                                 grid%contact_dir(:, c) = 0.0_wp
                                 grid%contact_dir(a, c) = grid%contact_normal(c)
-                                grid%contact_mu(c) = case%domain%bc_friction(side, a)
-                            case default
-                                continue
-                            end select
+                                grid%contact_mu(c) = nodes(side, a)%mu
+                            end if
                         end do
                     end do
                 end do
