@@ -25,6 +25,9 @@ module mpm_boundary
             !! velocity components the face holds at `velocity` (only 1..dim are used)
         real(wp) :: velocity(3) = 0.0_wp
             !! value of the held components [m/s]
+        logical :: prescribed = .false.
+            !! the face moves its nodes at `velocity`: the impulse that takes (its reaction)
+            !! is summed per face, and its work is work of the loads
         logical :: contact = .false.
             !! the face's nodes are frictional contact pairs (no penetration, Coulomb friction,
             !! lift-off), applied by the contact kernel

@@ -48,6 +48,17 @@ module mpm_grid
             !! allocation per pass costs page faults and the zeroing of new pages
         logical, allocatable :: constrained(:, :)
             !! velocity component held at zero by a boundary condition (dim, nnodes)
+        integer :: nprescribed = 0
+            !! number of (node, velocity face) pairs: nodes whose velocity a face prescribes
+        integer, allocatable :: prescribed_node(:)
+            !! node of each pair (nprescribed)
+        integer, allocatable :: prescribed_face(:, :)
+            !! face (side, axis) of each pair (2, nprescribed)
+        real(wp), allocatable :: prescribed_velocity(:, :)
+            !! velocity the face gives the node (dim, nprescribed) [m/s]
+        real(wp) :: face_impulse(3, 2, 3) = 0.0_wp
+            !! impulse each face (side, axis) gave the material in the last nodal update, over
+            !! this image's nodes (node_owned); zero but at velocity faces [N s]
         integer :: ncontacts = 0
             !! number of (node, frictional face) pairs
         integer, allocatable :: contact_node(:)
@@ -138,7 +149,7 @@ contains
         type(error_type), allocatable, intent(out) :: error
             !! set when memory cannot be allocated
 
-        integer :: stat, i, j, k, a, id, d, side, face, c, lo(3), hi(3)
+        integer :: stat, i, j, k, a, id, d, side, face, c, n, lo(3), hi(3)
         character(len=256) :: msg
         type(face_nodes_type) :: nodes(2, 3)
 
@@ -173,16 +184,22 @@ contains
         grid%acceleration = 0.0_wp
         grid%constrained = .false.
         ! each face's condition holds velocity components of its nodes (sliding: the normal
-        ! one, fixed: all) or makes them contact pairs, applied during the nodal update
-        ! (frictional: contact with friction, lift-off allowed)
+        ! one, fixed: all; velocity: all, at its velocity) or makes them contact pairs, applied
+        ! during the nodal update (frictional: contact with friction, lift-off allowed)
         grid%ncontacts = 0
+        grid%nprescribed = 0
         do a = 1, d
             do side = 1, 2
                 if (nodes(side, a)%contact) grid%ncontacts = grid%ncontacts &
                     + grid%nnodes/grid%nn(a)
+                if (nodes(side, a)%prescribed) grid%nprescribed = grid%nprescribed &
+                    + grid%nnodes/grid%nn(a)
             end do
         end do
-        allocate (grid%contact_node(grid%ncontacts), grid%contact_axis(grid%ncontacts), &
+        allocate (grid%prescribed_node(grid%nprescribed), &
+            grid%prescribed_face(2, grid%nprescribed), &
+            grid%prescribed_velocity(d, grid%nprescribed), &
+            grid%contact_node(grid%ncontacts), grid%contact_axis(grid%ncontacts), &
             grid%contact_normal(grid%ncontacts), grid%contact_dir(d, grid%ncontacts), &
             grid%contact_mu(grid%ncontacts), &
             grid%contact_gap(grid%ncontacts), grid%contact_load(grid%ncontacts), &
@@ -195,6 +212,7 @@ contains
         grid%contact_friction = 0.0_wp
         grid%contact_gap = huge(1.0_wp)
         c = 0
+        n = 0
         do a = 1, d
             do side = 1, 2
                 face = merge(0, grid%nn(a) - 1, side == 1)
@@ -209,6 +227,12 @@ contains
                             id = node_index(grid, [i, j, k])
                             grid%constrained(:, id) = grid%constrained(:, id) &
                                 .or. nodes(side, a)%held(1:d)
+                            if (nodes(side, a)%prescribed) then
+                                n = n + 1
+                                grid%prescribed_node(n) = id
+                                grid%prescribed_face(:, n) = [side, a]
+                                grid%prescribed_velocity(:, n) = nodes(side, a)%velocity(1:d)
+                            end if
                             if (nodes(side, a)%contact) then
                                 c = c + 1
                                 grid%contact_node(c) = id
