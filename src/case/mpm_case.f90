@@ -10,8 +10,7 @@
 module mpm_case
     use mpm_kinds, only: wp
     use mpm_error, only: error_type
-    use mpm_case_domain, only: domain_section_type, bc_free, bc_sliding, bc_fixed, &
-        bc_frictional, bc_names
+    use mpm_case_domain, only: domain_section_type
     use mpm_case_particles, only: particles_section_type, dist_regular, dist_random, &
         distribution_names
     use mpm_case_materials, only: material_spec_type
@@ -36,7 +35,6 @@ module mpm_case
     public :: solver_section_type, time_section_type, damping_section_type
     public :: contact_section_type, output_section_type, progress_section_type
     public :: checkpoint_section_type, guard_section_type
-    public :: bc_free, bc_sliding, bc_fixed, bc_frictional, bc_names
     public :: scheme_usf, scheme_usl, scheme_musl, scheme_names
     public :: damping_none, damping_local, damping_kinetic, damping_names
     public :: dist_regular, dist_random, distribution_names

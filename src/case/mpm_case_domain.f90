@@ -2,23 +2,16 @@
 module mpm_case_domain
     use mpm_kinds, only: wp
     use mpm_error, only: error_type
-    use mpm_strings, only: lower, int_text, fmt_real, int_list, same
+    use mpm_strings, only: lower, int_text, fmt_real, int_list, same, any_same
     use mpm_json, only: json_is_valid, json_type_name, json_string
     use mpm_case_cursor, only: cursor_type, describe
+    use mpm_boundary, only: boundary_holder_type, face_nodes_type, boundary_key_width
+    use mpm_boundary_free, only: free_boundary_type
+    use mpm_boundary_registry, only: boundary_models, boundary_choices, boundary_choice_codes, &
+        all_boundary_keys, boundary_allowed, keys_of
     implicit none
     private
-    public :: domain_section_type, read_domain, domain_keys, face_keys, face_object_keys
-    public :: bc_free, bc_sliding, bc_fixed, bc_frictional, bc_names, axis_names
-
-    ! Boundary condition of a domain face
-    integer, parameter :: bc_free = 0     !! no constraint
-    integer, parameter :: bc_sliding = 1  !! normal velocity zero, tangential free
-    integer, parameter :: bc_fixed = 2    !! all velocity components zero (no slip, sticking)
-    integer, parameter :: bc_frictional = 3
-        !! Coulomb friction with coefficient mu; the material may separate from the face
-    character(len=*), parameter :: bc_names(0:3) = [character(len=10) :: "free", "sliding", &
-        "fixed", "frictional"]
-        !! name of each boundary condition in the case file
+    public :: domain_section_type, read_domain, domain_keys, face_keys, axis_names
 
     character(len=*), parameter :: domain_keys(*) = [character(len=10) :: "nx", "ny", "nz", &
         "dx", "origin", "boundaries"]
@@ -26,8 +19,6 @@ module mpm_case_domain
     character(len=*), parameter :: face_keys(*) = [character(len=4) :: "xmin", "xmax", &
         "ymin", "ymax", "zmin", "zmax"]
         !! keys of `domain.boundaries`
-    character(len=*), parameter :: face_object_keys(*) = [character(len=4) :: "type", "mu"]
-        !! keys of a face given as an object
     character(len=*), parameter :: axis_names = "xyz"
         !! letter of each axis
 
@@ -39,10 +30,16 @@ module mpm_case_domain
             !! cell size, equal in every direction [m]
         real(wp) :: origin(3) = 0.0_wp
             !! coordinates of the lowest domain corner [m]
-        integer :: bc(2, 3) = bc_free
-            !! boundary condition of each face: bc(1, axis) at the min face, bc(2, axis) at max
-        real(wp) :: bc_friction(2, 3) = 0.0_wp
-            !! Coulomb friction coefficient mu of each frictional face [-]
+        type(boundary_holder_type) :: face(2, 3)
+            !! boundary condition of each face (src/boundary/): face(1, axis) at the min face,
+            !! face(2, axis) at the max one; a face not given (unallocated) is free
+    contains
+        !> What the condition of a face does to its nodes.
+        procedure :: nodes => domain_face_nodes
+        !> The condition of a face in the --check summary: "fixed", "frictional (mu = 0.4)".
+        procedure :: face_text => domain_face_text
+        !> Make a face free (a cut between images).
+        procedure :: set_free => domain_set_free
     end type domain_section_type
 
 contains
@@ -127,66 +124,152 @@ contains
                 end if
                 cycle
             end if
-            call read_face(faces%child(trim(face_keys(k))), domain%bc(side, axis), &
-                domain%bc_friction(side, axis), error)
+            call read_face(faces%child(trim(face_keys(k))), dim, domain%face(side, axis), error)
             if (allocated(error)) return
         end do
     end subroutine read_boundaries
 
     !> One face of `domain.boundaries`: a name ("free", "sliding", "fixed") or an object
-    !> {"type": ..., "mu": ...}; a frictional face is only written as an object, with its mu.
-    subroutine read_face(face, bc, mu, error)
+    !> {"type": ..., <its keys>}; a condition with keys (frictional: mu) is only written as an
+    !> object. Each condition reads its own keys (src/boundary/, mpm_boundary_registry).
+    subroutine read_face(face, dim, holder, error)
         type(cursor_type), intent(in) :: face
             !! the face's value (invalid when the face is not given)
-        integer, intent(inout) :: bc
+        integer, intent(in) :: dim
+            !! space dimensions
+        type(boundary_holder_type), intent(inout) :: holder
             !! condition of the face (unchanged when the face is not given)
-        real(wp), intent(inout) :: mu
-            !! Coulomb friction coefficient of a frictional face [-]
         type(error_type), allocatable, intent(out) :: error
             !! first error found
 
-        character(len=*), parameter :: frictional_form = '{"type": "frictional", "mu": 0.4}'
-        character(len=*), parameter :: allowed = 'one of "free", "sliding", "fixed", or an ' &
-            //"object "//frictional_form//" for a face with Coulomb friction"
+        type(boundary_holder_type), allocatable :: models(:)
+        character(len=boundary_key_width), allocatable :: choices(:), keys(:)
+        integer, allocatable :: codes(:)
         character(len=:), allocatable :: path, name
-        integer :: i
+        integer :: i, m
 
         path = face%path
         if (.not. json_is_valid(face%obj)) return
+        models = boundary_models()
+        choices = boundary_choices()
+        codes = boundary_choice_codes()
         if (json_type_name(face%obj) == "string") then
             name = json_string(face%obj)
-            do i = bc_free, bc_fixed
-                if (same(lower(name), trim(bc_names(i)))) then
-                    bc = i
-                    return
-                end if
+            do i = 1, size(choices)
+                if (.not. same(lower(name), lower(trim(choices(i))))) cycle
+                associate (model => models(codes(i))%b)
+                    if (len(model%example()) > 0) then
+                        call face%fail(error, path//' = "'//name//'" needs ' &
+                            //model%needs()//": write the face as an object, "//model%example())
+                        return
+                    end if
+                    if (allocated(holder%b)) deallocate (holder%b)
+                    allocate (holder%b, source=model)
+                end associate
+                return
             end do
-            if (same(lower(name), trim(bc_names(bc_frictional)))) then
-                call face%fail(error, path//' = "'//name//'" needs a friction ' &
-                    //"coefficient: write the face as an object, "//frictional_form)
-            else
-                call face%fail(error, path//' = "'//name//'" is not allowed: must be ' &
-                    //allowed)
-            end if
+            call face%fail(error, path//' = "'//name//'" is not allowed: must be ' &
+                //boundary_allowed())
             return
         end if
         if (json_type_name(face%obj) /= "object") then
-            call face%fail(error, path//" has the wrong type: expected "//allowed &
+            call face%fail(error, path//" has the wrong type: expected "//boundary_allowed() &
                 //", found "//describe(face%obj))
             return
         end if
-        call face%check_keys(face_object_keys, error)
+        call face%check_keys(all_boundary_keys(), error)
         if (allocated(error)) return
-        call face%get_choice("type", bc_names, [bc_free, bc_sliding, bc_fixed, bc_frictional], &
-            bc, error, required=.true.)
+        m = 0
+        call face%get_choice("type", choices, codes, m, error, required=.true.)
         if (allocated(error)) return
-        if (bc == bc_frictional) then
-            call face%get_real("mu", mu, error, required=.true., at_least=0.0_wp)
-        else if (face%has("mu")) then
-            call face%fail(error, path//".mu applies to frictional faces only (here " &
-                //path//'.type = "'//trim(bc_names(bc))//'"); remove mu or set "type": ' &
-                //'"frictional"')
-        end if
+        call refuse_other_keys(face, models, m, error)
+        if (allocated(error)) return
+        if (allocated(holder%b)) deallocate (holder%b)
+        allocate (holder%b, source=models(m)%b)
+        call holder%b%read(face, dim, error)
     end subroutine read_face
+
+    !> A key of another condition in a face object: "mu applies to frictional faces only".
+    subroutine refuse_other_keys(face, models, m, error)
+        type(cursor_type), intent(in) :: face
+            !! the face object, its keys checked
+        type(boundary_holder_type), intent(in) :: models(:)
+            !! the registry's conditions
+        integer, intent(in) :: m
+            !! the face's condition in models
+        type(error_type), allocatable, intent(out) :: error
+            !! set on the first key of another condition
+
+        character(len=boundary_key_width), allocatable :: own(:), other(:)
+        integer :: j, k
+
+        own = keys_of(models(m)%b)
+        do j = 1, size(models)
+            other = keys_of(models(j)%b)
+            do k = 1, size(other)
+                if (any_same(own, trim(other(k))) .or. .not. face%has(trim(other(k)))) cycle
+                call face%fail(error, face%key_path(trim(other(k)))//" applies to " &
+                    //models(j)%b%name()//" faces only (here "//face%key_path("type") &
+                    //' = "'//models(m)%b%name()//'"); remove '//trim(other(k)) &
+                    //' or set "type": "'//models(j)%b%name()//'"')
+                return
+            end do
+        end do
+    end subroutine refuse_other_keys
+
+    !> What the condition of a face does to its nodes (a face not given is free).
+    pure function domain_face_nodes(domain, side, axis, dim) result(nodes)
+        class(domain_section_type), intent(in) :: domain
+            !! the domain section
+        integer, intent(in) :: side
+            !! 1: min face, 2: max face
+        integer, intent(in) :: axis
+            !! axis normal to the face
+        integer, intent(in) :: dim
+            !! space dimensions
+        type(face_nodes_type) :: nodes
+            !! the condition's action on the face's nodes
+
+        type(free_boundary_type) :: free
+
+        if (allocated(domain%face(side, axis)%b)) then
+            nodes = domain%face(side, axis)%b%nodes(axis, dim)
+        else
+            nodes = free%nodes(axis, dim)
+        end if
+    end function domain_face_nodes
+
+    !> The condition of a face for the --check summary: its name and its words.
+    pure function domain_face_text(domain, side, axis) result(text)
+        class(domain_section_type), intent(in) :: domain
+            !! the domain section
+        integer, intent(in) :: side
+            !! 1: min face, 2: max face
+        integer, intent(in) :: axis
+            !! axis normal to the face
+        character(len=:), allocatable :: text
+            !! "fixed", "frictional (mu = 0.4)"
+
+        type(free_boundary_type) :: free
+
+        if (allocated(domain%face(side, axis)%b)) then
+            text = domain%face(side, axis)%b%name()//domain%face(side, axis)%b%summary()
+        else
+            text = free%name()//free%summary()
+        end if
+    end function domain_face_text
+
+    !> Make a face free.
+    pure subroutine domain_set_free(domain, side, axis)
+        class(domain_section_type), intent(inout) :: domain
+            !! the domain section
+        integer, intent(in) :: side
+            !! 1: min face, 2: max face
+        integer, intent(in) :: axis
+            !! axis normal to the face
+
+        if (allocated(domain%face(side, axis)%b)) deallocate (domain%face(side, axis)%b)
+        allocate (free_boundary_type :: domain%face(side, axis)%b)
+    end subroutine domain_set_free
 
 end module mpm_case_domain

@@ -10,7 +10,8 @@ submodule (mpm_case) mpm_case_reader
     use mpm_json, only: json_document_type, json_value_type, json_parse_file, &
         json_parse_string, json_free, json_root, json_is_object
     use mpm_case_cursor, only: cursor_type, new_cursor, input_error, describe
-    use mpm_case_domain, only: read_domain, domain_keys, face_keys, face_object_keys
+    use mpm_case_domain, only: read_domain, domain_keys, face_keys
+    use mpm_boundary_registry, only: all_boundary_keys
     use mpm_case_particles, only: read_particles, particle_keys
     use mpm_case_materials, only: read_materials
     use mpm_material, only: material_holder_type, material_key_width, key_path_width
@@ -88,7 +89,8 @@ contains
         call add_key_paths(list, "domain", domain_keys)
         call add_key_paths(list, "domain.boundaries", face_keys)
         do i = 1, size(face_keys)
-            call add_key_paths(list, "domain.boundaries."//trim(face_keys(i)), face_object_keys)
+            call add_key_paths(list, "domain.boundaries."//trim(face_keys(i)), &
+                all_boundary_keys())
         end do
         call add_key_paths(list, "particles", particle_keys)
         models = material_models()

@@ -215,10 +215,7 @@ contains
         character(len=:), allocatable :: text
 
         text = axis_names(axis:axis)//trim(merge("min", "max", side == 1))//" " &
-            //trim(bc_names(case%domain%bc(side, axis)))
-        if (case%domain%bc(side, axis) == bc_frictional) then
-            text = text//" (mu = "//fmt_real(case%domain%bc_friction(side, axis))//")"
-        end if
+            //case%domain%face_text(side, axis)
     end function face_text
 
 end submodule mpm_case_summary

@@ -5,7 +5,8 @@
 module mpm_grid
     use mpm_kinds, only: wp
     use mpm_error, only: error_type, fatal_error, exit_other
-    use mpm_case, only: case_type, bc_sliding, bc_fixed, bc_frictional
+    use mpm_case, only: case_type
+    use mpm_boundary, only: face_nodes_type
     use mpm_terrain, only: terrain_type, new_terrain, terrain_distance
     implicit none
     private
@@ -27,8 +28,9 @@ module mpm_grid
             !! cell size [m]
         real(wp) :: origin(3) = 0.0_wp
             !! position of node (0, 0, 0) [m]
-        integer :: bc(2, 3) = 0
-            !! boundary condition of each face, as case%domain%bc
+        logical :: clamped(2, 3) = .false.
+            !! a particle moved past the face (side, axis) is put back on it: the face is a
+            !! wall (its condition's keeps_particles)
         real(wp), allocatable :: mass(:)
             !! nodal mass (nnodes) [kg]
         real(wp), allocatable :: momentum(:, :)
@@ -46,6 +48,17 @@ module mpm_grid
             !! allocation per pass costs page faults and the zeroing of new pages
         logical, allocatable :: constrained(:, :)
             !! velocity component held at zero by a boundary condition (dim, nnodes)
+        integer :: nprescribed = 0
+            !! number of (node, velocity face) pairs: nodes whose velocity a face prescribes
+        integer, allocatable :: prescribed_node(:)
+            !! node of each pair (nprescribed)
+        integer, allocatable :: prescribed_face(:, :)
+            !! face (side, axis) of each pair (2, nprescribed)
+        real(wp), allocatable :: prescribed_velocity(:, :)
+            !! velocity the face gives the node (dim, nprescribed) [m/s]
+        real(wp) :: face_impulse(3, 2, 3) = 0.0_wp
+            !! impulse each face (side, axis) gave the material in the last nodal update, over
+            !! this image's nodes (node_owned); zero but at velocity faces [N s]
         integer :: ncontacts = 0
             !! number of (node, frictional face) pairs
         integer, allocatable :: contact_node(:)
@@ -136,8 +149,9 @@ contains
         type(error_type), allocatable, intent(out) :: error
             !! set when memory cannot be allocated
 
-        integer :: stat, i, j, k, a, id, d, side, face, c, lo(3), hi(3)
+        integer :: stat, i, j, k, a, id, d, side, face, c, n, lo(3), hi(3)
         character(len=256) :: msg
+        type(face_nodes_type) :: nodes(2, 3)
 
         grid%dim = case%dim
         grid%ncells = 1
@@ -147,8 +161,13 @@ contains
         grid%nnodes = product(grid%nn)
         grid%dx = case%domain%dx
         grid%origin = case%domain%origin
-        grid%bc = case%domain%bc
         d = case%dim
+        do a = 1, d
+            do side = 1, 2
+                nodes(side, a) = case%domain%nodes(side, a, d)
+                grid%clamped(side, a) = nodes(side, a)%keeps_particles
+            end do
+        end do
         allocate (grid%mass(grid%nnodes), grid%momentum(d, grid%nnodes), &
             grid%fint(d, grid%nnodes), grid%fext(d, grid%nnodes), &
             grid%velocity(d, grid%nnodes), grid%acceleration(d, grid%nnodes), &
@@ -164,16 +183,23 @@ contains
         grid%velocity = 0.0_wp
         grid%acceleration = 0.0_wp
         grid%constrained = .false.
-        ! sliding faces hold the normal component, fixed faces all components; frictional
-        ! faces are applied during the nodal update (contact with friction, lift-off allowed)
+        ! each face's condition holds velocity components of its nodes (sliding: the normal
+        ! one, fixed: all; velocity: all, at its velocity) or makes them contact pairs, applied
+        ! during the nodal update (frictional: contact with friction, lift-off allowed)
         grid%ncontacts = 0
+        grid%nprescribed = 0
         do a = 1, d
             do side = 1, 2
-                if (grid%bc(side, a) == bc_frictional) grid%ncontacts = grid%ncontacts &
+                if (nodes(side, a)%contact) grid%ncontacts = grid%ncontacts &
+                    + grid%nnodes/grid%nn(a)
+                if (nodes(side, a)%prescribed) grid%nprescribed = grid%nprescribed &
                     + grid%nnodes/grid%nn(a)
             end do
         end do
-        allocate (grid%contact_node(grid%ncontacts), grid%contact_axis(grid%ncontacts), &
+        allocate (grid%prescribed_node(grid%nprescribed), &
+            grid%prescribed_face(2, grid%nprescribed), &
+            grid%prescribed_velocity(d, grid%nprescribed), &
+            grid%contact_node(grid%ncontacts), grid%contact_axis(grid%ncontacts), &
             grid%contact_normal(grid%ncontacts), grid%contact_dir(d, grid%ncontacts), &
             grid%contact_mu(grid%ncontacts), &
             grid%contact_gap(grid%ncontacts), grid%contact_load(grid%ncontacts), &
@@ -186,10 +212,11 @@ contains
         grid%contact_friction = 0.0_wp
         grid%contact_gap = huge(1.0_wp)
         c = 0
+        n = 0
         do a = 1, d
             do side = 1, 2
                 face = merge(0, grid%nn(a) - 1, side == 1)
-                if (grid%bc(side, a) == bc_frictional) grid%contact_offset(side, a) = c
+                if (nodes(side, a)%contact) grid%contact_offset(side, a) = c
                 lo = 0
                 hi = grid%nn - 1
                 lo(a) = face
@@ -198,22 +225,23 @@ contains
                     do j = lo(2), hi(2)
                         do i = lo(1), hi(1)
                             id = node_index(grid, [i, j, k])
-                            select case (grid%bc(side, a))
-                            case (bc_sliding)
-                                grid%constrained(a, id) = .true.
-                            case (bc_fixed)
-                                grid%constrained(:, id) = .true.
-                            case (bc_frictional)
+                            grid%constrained(:, id) = grid%constrained(:, id) &
+                                .or. nodes(side, a)%held(1:d)
+                            if (nodes(side, a)%prescribed) then
+                                n = n + 1
+                                grid%prescribed_node(n) = id
+                                grid%prescribed_face(:, n) = [side, a]
+                                grid%prescribed_velocity(:, n) = nodes(side, a)%velocity(1:d)
+                            end if
+                            if (nodes(side, a)%contact) then
                                 c = c + 1
                                 grid%contact_node(c) = id
                                 grid%contact_axis(c) = a
                                 grid%contact_normal(c) = merge(-1.0_wp, 1.0_wp, side == 1)
                                 grid%contact_dir(:, c) = 0.0_wp
                                 grid%contact_dir(a, c) = grid%contact_normal(c)
-                                grid%contact_mu(c) = case%domain%bc_friction(side, a)
-                            case default
-                                continue
-                            end select
+                                grid%contact_mu(c) = nodes(side, a)%mu
+                            end if
                         end do
                     end do
                 end do

@@ -11,7 +11,7 @@ module mpm_decomposition
     use mpm_kinds, only: wp, i8
     use mpm_strings, only: int_text
     use mpm_error, only: error_type, fatal_error, exit_input
-    use mpm_case, only: case_type, bc_free
+    use mpm_case, only: case_type
     implicit none
     private
     public :: decomposition_type, cut_axis, new_decomposition, local_case, global_cell, &
@@ -165,8 +165,8 @@ contains
         node_hi = min(case%domain%ncells(a), dec%cell_hi + 1)
         local%domain%origin(a) = case%domain%origin(a) + real(dec%node_lo, wp)*case%domain%dx
         local%domain%ncells(a) = node_hi - dec%node_lo
-        if (dec%left > 0) local%domain%bc(1, a) = bc_free
-        if (dec%right > 0) local%domain%bc(2, a) = bc_free
+        if (dec%left > 0) call local%domain%set_free(1, a)
+        if (dec%right > 0) call local%domain%set_free(2, a)
     end function local_case
 
     !> Origin and nodes per axis of the grid of every image (output index).

@@ -10,7 +10,8 @@
 !> nodal sums). Every procedure that gathers is collective.
 module mpm_contact_loads
     use mpm_kinds, only: wp, i8
-    use mpm_case, only: case_type, bc_frictional
+    use mpm_case, only: case_type
+    use mpm_boundary, only: face_nodes_type
     use mpm_grid, only: grid_type, node_owned, node_layer
     use mpm_decomposition, only: decomposition_type
     use mpm_parallel, only: sum_over_images, counts_of_images, image_id
@@ -71,13 +72,15 @@ contains
             !! resolved case (the whole grid)
 
         integer :: a, side, nn(3)
+        type(face_nodes_type) :: nodes
 
         nn = 1
         nn(1:case%dim) = case%domain%ncells(1:case%dim) + 1
         face_node_count = 0
         do a = 1, case%dim
             do side = 1, 2
-                if (case%domain%bc(side, a) == bc_frictional) face_node_count = &
+                nodes = case%domain%nodes(side, a, case%dim)
+                if (nodes%contact) face_node_count = &
                     face_node_count + product(nn)/nn(a)
             end do
         end do
@@ -93,6 +96,7 @@ contains
             !! contact pair
 
         integer :: a, side, b, nn(3), ijk(3), stride, face, s
+        type(face_nodes_type) :: nodes
 
         nn = 1
         nn(1:case%dim) = case%domain%ncells(1:case%dim) + 1
@@ -104,7 +108,8 @@ contains
         do b = 1, case%dim
             do s = 1, 2
                 if (b == a .and. s == side) exit
-                if (case%domain%bc(s, b) == bc_frictional) face_node = face_node + product(nn)/nn(b)
+                nodes = case%domain%nodes(s, b, case%dim)
+                if (nodes%contact) face_node = face_node + product(nn)/nn(b)
             end do
             if (b == a) exit
         end do

@@ -11,6 +11,7 @@ module mpm_run
     use mpm_particles, only: particles_type, particle_bytes, pack_particles, rebuild_particles, &
         record_length, created_particle_bytes
     use mpm_case, only: case_type
+    use mpm_boundary, only: face_nodes_type
     use mpm_setup, only: start_simulation
     use mpm_solver, only: simulation_type, advance, stable_time_step, &
         compute_energies, has_text, nphases, phase_names, phase_other, phase_output, agree, &
@@ -676,7 +677,8 @@ contains
             call open_text_file(case%output%directory//"/history.csv", unit, error)
             if (.not. allocated(error)) call put_line(unit, "time,step,kinetic_energy,"// &
                 "elastic_energy,potential_energy,plastic_work,viscous_work,damping_work,"// &
-                "friction_work,load_work,boundary_work,transfer_loss,total,residual")
+                "friction_work,load_work,boundary_work,transfer_loss,total,residual"// &
+                reaction_header(case))
         end if
     end subroutine open_history
 
@@ -830,13 +832,65 @@ contains
 
         character(len=512) :: line
 
+        character(len=24) :: value
+        integer :: side, axis, d
+
         associate (e => sim%energy)
             write (line, "(es23.15e3,',',i0,12(',',es23.15e3))") sim%time, sim%step, e%kinetic, &
                 e%elastic, e%potential, e%plastic, e%viscous, e%damping, e%friction, e%loads, &
                 e%boundary, e%transfer, energy_total(e), energy_residual(e)
         end associate
+        if (len(reaction_header(sim%case)) == 0) then
+            call put_line(unit, trim(line))
+            return
+        end if
+        ! the reaction of each velocity face, after the energies
+        do axis = 1, sim%case%dim
+            do side = 1, 2
+                if (.not. is_velocity_face(sim%case, side, axis)) cycle
+                do d = 1, sim%case%dim
+                    write (value, "(',',es23.15e3)") sim%face_reaction(d, side, axis)
+                    line = trim(line)//value
+                end do
+            end do
+        end do
         call put_line(unit, trim(line))
     end subroutine write_history
+
+    !> The columns of the reactions of the velocity faces in history.csv:
+    !> ",reaction_ymax_x,reaction_ymax_y" (empty without velocity faces).
+    function reaction_header(case) result(text)
+        type(case_type), intent(in) :: case
+            !! resolved case
+        character(len=:), allocatable :: text
+
+        character(len=*), parameter :: axes = "xyz"
+        integer :: side, axis, d
+
+        text = ""
+        do axis = 1, case%dim
+            do side = 1, 2
+                if (.not. is_velocity_face(case, side, axis)) cycle
+                do d = 1, case%dim
+                    text = text//",reaction_"//axes(axis:axis)//trim(merge("min", "max", &
+                        side == 1))//"_"//axes(d:d)
+                end do
+            end do
+        end do
+    end function reaction_header
+
+    !> Whether a face prescribes the velocity of its nodes (its reaction is a history column).
+    logical function is_velocity_face(case, side, axis)
+        type(case_type), intent(in) :: case
+            !! resolved case
+        integer, intent(in) :: side, axis
+            !! the face: 1 min, 2 max; its axis
+
+        type(face_nodes_type) :: nodes
+
+        nodes = case%domain%nodes(side, axis, case%dim)
+        is_velocity_face = nodes%prescribed
+    end function is_velocity_face
 
     subroutine print_progress(sim, tend, elapsed, imbalance, first_step, first_time)
         type(simulation_type), intent(in) :: sim

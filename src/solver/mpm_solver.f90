@@ -34,7 +34,7 @@ module mpm_solver
     use mpm_transfer, only: p2g, p2g_options_type, g2p, motion_type, report_lost, update_stress, &
         nstress_sums
     use mpm_kernel_nodal, only: nodal_velocity, integrate_nodes, nnodal_sums, nodal_damping, &
-        nodal_friction, nodal_boundary, nodal_kinetic
+        nodal_friction, nodal_boundary, nodal_kinetic, nodal_faces
     use mpm_halo, only: halo_sum, halo_box, halo_contact_gaps
     use mpm_clock, only: wall_time
     use mpm_energy, only: energies_type, energy_total, energy_residual, energy_scale, &
@@ -88,6 +88,10 @@ module mpm_solver
             !! shape function
         real(wp), allocatable :: wave_speed(:)
             !! P-wave speed of each material [m/s]
+        real(wp) :: face_reaction(3, 2, 3) = 0.0_wp
+            !! force each face (side, axis) applied on the material over the last step, over
+            !! the whole grid: the impulse of a velocity face / dt, zero for the others [N; N/m
+            !! in 2D]
         real(wp), allocatable :: time_step_limit(:)
             !! other stable-step limit of each material (viscosity), huge when none [s]
         type(stencils_type) :: stencils
@@ -621,8 +625,11 @@ contains
         type(error_type), allocatable, intent(out) :: error
             !! set on a numerical failure (exit_numerical)
 
+        integer, parameter :: nsums = 5 + nstress_sums + nnodal_sums
+            !! energy sums of a step (the grid's kinetic energies last); the faces' impulses
+            !! follow them
         real(wp) :: work(nstress_sums), nodal_work(nnodal_sums), clock, kinetic, stopped, &
-            grid_kinetic(2), sums(5 + nstress_sums + nnodal_sums)
+            grid_kinetic(2), sums(nsums + size(sim%grid%face_impulse))
         integer :: scheme
         type(motion_type) :: motion
         type(energies_type) :: next
@@ -694,10 +701,12 @@ contains
             call lap(sim, phase_stress, clock)
         end associate
         ! sums over the images, in one reduction
-        sums = [kinetic, motion%potential, motion%load_work, work, nodal_work, grid_kinetic]
+        sums = [kinetic, motion%potential, motion%load_work, work, nodal_work, grid_kinetic, &
+            reshape(sim%grid%face_impulse, [size(sim%grid%face_impulse)])]
         call sum_over_images(sums)
-        next = step_energies(sim%energy, sums, grid_velocities=sim%case%solver%apic .or. &
-            sim%case%solver%flip_fraction == 0.0_wp)
+        next = step_energies(sim%energy, sums(1:nsums), grid_velocities=sim%case%solver%apic &
+            .or. sim%case%solver%flip_fraction == 0.0_wp)
+        sim%face_reaction = reshape(sums(nsums + 1:), shape(sim%face_reaction))/dt
         ! the blow-up guard speaks first, so an unstable run is reported as such rather than
         ! as the particles it throws out of the grid
         call check_blow_up(sim, motion, next, error)
@@ -773,7 +782,8 @@ contains
         ! the kinetic energy was summed in the G2P pass (nothing changes the velocities after)
         e%kinetic = sums(1)
         e%potential = e%potential + sums(2)
-        e%loads = e%loads + sums(3)
+        ! the work of the loads: prescribed forces, then the velocity faces
+        e%loads = e%loads + sums(3) + nodal(nodal_faces)
         e%strain = e%strain + sum(work)
         ! the work of a plastic or viscous material that its elastic energy did not take
         e%plastic = e%plastic + work(work_plastic) &

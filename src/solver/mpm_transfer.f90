@@ -26,7 +26,6 @@ module mpm_transfer
     use mpm_stencil, only: stencils_type
     use mpm_material, only: material_holder_type
     use mpm_kernel_stress, only: stress_block, determinant, gather_block, nstress_sums
-    use mpm_case, only: bc_free
     use mpm_kernel_scatter, only: scatter_particle
     use mpm_kernel_gather, only: gather_particle
     use mpm_kernel_nodal, only: box_middle, box_row
@@ -494,8 +493,8 @@ contains
         do a = 1, dim
             lo = grid%origin(a)
             hi = grid%origin(a) + grid%dx*real(grid%nn(a) - 1, wp)
-            if (grid%bc(1, a) /= bc_free .and. x(a) < lo) x(a) = lo
-            if (grid%bc(2, a) /= bc_free .and. x(a) > hi) x(a) = hi
+            if (grid%clamped(1, a) .and. x(a) < lo) x(a) = lo
+            if (grid%clamped(2, a) .and. x(a) > hi) x(a) = hi
             if (.not. (x(a) >= lo .and. x(a) <= hi) .and. motion%lost == 0) motion%lost = p
         end do
         motion%potential = motion%potential - particles%mass(p) &

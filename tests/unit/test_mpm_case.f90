@@ -5,10 +5,11 @@
 program test_mpm_case
     use mpm_kinds, only: wp
     use mpm_error, only: error_type, exit_input
-    use mpm_case, only: case_type, read_case_file, read_case_string, case_summary, bc_free, &
-        bc_sliding, bc_fixed, bc_frictional, scheme_musl, scheme_usl, damping_none, damping_local, &
+    use mpm_case, only: case_type, read_case_file, read_case_string, case_summary, &
+        scheme_musl, scheme_usl, damping_none, damping_local, &
         dist_regular, dist_random, field_position, field_velocity, field_stress
     use mpm_case_stability, only: critical_time_step, p_wave_speed
+    use mpm_boundary, only: face_nodes_type
     use mpm_softening, only: softening_none, softening_linear, softening_exponential
     use mpm_strength, only: strength_type
     use mpm_material_drucker_prager, only: cone_plane_strain, cone_compression
@@ -61,9 +62,10 @@ contains
         call check(suite, all(case%domain%ncells == [4, 2, 1]), "2D: ncells with nz = 1")
         call check_close(suite, case%domain%dx, 0.1_wp, tol, "2D: dx")
         call check(suite, all(case%domain%origin == 0.0_wp), "2D: origin defaults to zero")
-        call check(suite, case%domain%bc(1, 1) == bc_fixed .and. case%domain%bc(2, 1) == bc_sliding, &
-            "2D: x boundaries (any case)")
-        call check(suite, all(case%domain%bc(:, 2:3) == bc_free), "2D: other faces free")
+        call check(suite, case%domain%face_text(1, 1) == "fixed" &
+            .and. case%domain%face_text(2, 1) == "sliding", "2D: x boundaries (any case)")
+        call check(suite, case%domain%face_text(1, 2) == "free" &
+            .and. case%domain%face_text(2, 2) == "free", "2D: other faces free")
         call check(suite, case%particles%ppc == 2 .and. case%particles%distribution == dist_regular, &
             "2D: particles default to ppc 2, regular")
         call check(suite, case%materials(1)%name == "soil" .and. &
@@ -117,8 +119,8 @@ contains
         call check(suite, case%dim == 3, "3D: dimension 3 from nz")
         call check(suite, all(case%domain%ncells == [2, 3, 4]), "3D: ncells")
         call check(suite, all(abs(case%domain%origin - [1, 2, 3]) <= tol*3), "3D: origin")
-        call check(suite, case%domain%bc(1, 3) == bc_fixed .and. case%domain%bc(2, 3) == bc_free, &
-            "3D: z faces")
+        call check(suite, case%domain%face_text(1, 3) == "fixed" &
+            .and. case%domain%face_text(2, 3) == "free", "3D: z faces")
         call check(suite, case%particles%ppc == 3 .and. case%particles%distribution == dist_random .and. &
             case%particles%seed == 7, "3D: random particles with seed")
         call check(suite, case%materials(2)%type == "linear_elastic", &
@@ -469,17 +471,25 @@ contains
     !> Frictional faces are objects with a coefficient mu >= 0; other faces take no mu.
     subroutine test_frictional_faces()
         type(case_type) :: case
+        type(face_nodes_type) :: nodes
 
         call read_valid(suite, faces_case('{"ymin": {"type": "Frictional", "mu": 0.4}, ' &
             //'"xmin": {"type": "fixed"}, "xmax": "sliding", "ymax": {"type": "frictional", ' &
             //'"mu": 0}}'), case, "frictional faces")
-        call check(suite, case%domain%bc(1, 2) == bc_frictional, "ymin is frictional")
-        call check_close(suite, case%domain%bc_friction(1, 2), 0.4_wp, tol, "ymin mu")
-        call check(suite, case%domain%bc(2, 2) == bc_frictional .and. case%domain%bc_friction(2, 2) == 0, &
-            "mu = 0 is allowed")
-        call check(suite, case%domain%bc(1, 1) == bc_fixed, "object form of a fixed face")
-        call check(suite, case%domain%bc(2, 1) == bc_sliding, "string form beside object forms")
-        call check(suite, all(case%domain%bc_friction(:, 1) == 0.0_wp), "no mu on other faces")
+        nodes = case%domain%nodes(1, 2, 2)
+        call check(suite, nodes%contact, "ymin is frictional")
+        call check_close(suite, nodes%mu, 0.4_wp, tol, "ymin mu")
+        nodes = case%domain%nodes(2, 2, 2)
+        call check(suite, nodes%contact .and. nodes%mu == 0, "mu = 0 is allowed")
+        call check(suite, case%domain%face_text(1, 1) == "fixed", "object form of a fixed face")
+        call check(suite, case%domain%face_text(2, 1) == "sliding", &
+            "string form beside object forms")
+        nodes = case%domain%nodes(1, 1, 2)
+        call check(suite, .not. nodes%contact .and. nodes%held(1) .and. nodes%held(2), &
+            "fixed: no contact, every component held")
+        nodes = case%domain%nodes(2, 1, 2)
+        call check(suite, .not. nodes%contact .and. nodes%held(1) .and. .not. nodes%held(2), &
+            "sliding: no contact, the normal component held")
         call check_contains(suite, case_summary(case), "boundaries  xmin fixed, xmax sliding, " &
             //"ymin frictional (mu = 0.4), ymax frictional (mu = 0)", "summary: frictional faces")
         call expect_error(suite, faces_case('{"ymin": {"type": "frictional"}}'), &

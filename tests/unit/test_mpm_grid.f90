@@ -7,7 +7,10 @@ program test_mpm_grid
     use mpm_testing, only: test_suite_type, new_suite, check, check_close, finish
     use mpm_error, only: error_type
     use mpm_strings, only: int_text
-    use mpm_case, only: case_type, bc_free, bc_sliding, bc_fixed, bc_frictional
+    use mpm_case, only: case_type
+    use mpm_boundary_sliding, only: sliding_boundary_type
+    use mpm_boundary_fixed, only: fixed_boundary_type
+    use mpm_boundary_frictional, only: frictional_boundary_type
     use mpm_grid, only: grid_type, new_grid, node_index, node_layer, node_position, &
         contact_index, grid_bytes
     implicit none
@@ -32,7 +35,6 @@ contains
         case%domain%ncells = [4, 3, 1]
         case%domain%dx = 0.5_wp
         case%domain%origin = [1.0_wp, -1.0_wp, 0.0_wp]
-        case%domain%bc = bc_free
     end subroutine small_case_2d
 
     !> A 3D case of 2 x 3 x 4 cells of 0.25 m from (0, 1, 2), every face free.
@@ -43,7 +45,6 @@ contains
         case%domain%ncells = [2, 3, 4]
         case%domain%dx = 0.25_wp
         case%domain%origin = [0.0_wp, 1.0_wp, 2.0_wp]
-        case%domain%bc = bc_free
     end subroutine small_case_3d
 
     subroutine test_counts_2d()
@@ -154,10 +155,9 @@ contains
         logical :: ok_fixed, ok_sliding, ok_inner, ok_pairs, ok_index
 
         call small_case_2d(case)
-        case%domain%bc(1, 1) = bc_fixed
-        case%domain%bc(2, 1) = bc_sliding
-        case%domain%bc(1, 2) = bc_frictional
-        case%domain%bc_friction(1, 2) = 0.3_wp
+        allocate (fixed_boundary_type :: case%domain%face(1, 1)%b)
+        allocate (sliding_boundary_type :: case%domain%face(2, 1)%b)
+        allocate (case%domain%face(1, 2)%b, source=frictional_boundary_type(mu=0.3_wp))
         call new_grid(grid, case, error)
         call check(suite, .not. allocated(error), "new_grid 2D with faces")
         if (allocated(error)) return
@@ -220,10 +220,8 @@ contains
         logical :: ok
 
         call small_case_3d(case)
-        case%domain%bc(1, 3) = bc_frictional
-        case%domain%bc_friction(1, 3) = 0.5_wp
-        case%domain%bc(2, 1) = bc_frictional
-        case%domain%bc_friction(2, 1) = 0.1_wp
+        allocate (case%domain%face(1, 3)%b, source=frictional_boundary_type(mu=0.5_wp))
+        allocate (case%domain%face(2, 1)%b, source=frictional_boundary_type(mu=0.1_wp))
         call new_grid(grid, case, error)
         if (allocated(error)) return
         ! x max: 4 x 5 nodes; z min: 3 x 4 nodes

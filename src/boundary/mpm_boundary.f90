@@ -1,0 +1,145 @@
+!> The abstract boundary condition of a domain face, everything about it in one extension.
+!>
+!> A condition is one module with an extension of `boundary_type` (and one line in
+!> `mpm_boundary_registry`): its names for `domain.boundaries.<face>`, its keys, how it
+!> reads and checks them through the case cursor, its words in the --check summary and what
+!> it does to the nodes of its face (`face_nodes_type`: the velocity components it holds and
+!> their value, whether its nodes are frictional contact pairs). The case reads it
+!> (mpm_case_domain); the grid takes the face's nodal description and the nodal update
+!> applies it. A condition sees no model data, only the axis of its face and the dimension.
+module mpm_boundary
+    use mpm_kinds, only: wp
+    use mpm_error, only: error_type
+    use mpm_case_cursor, only: cursor_type
+    implicit none
+    private
+    public :: boundary_type, boundary_holder_type, face_nodes_type, boundary_key_width
+
+    integer, parameter :: boundary_key_width = 10
+        !! longest key or type name of a condition ("frictional")
+
+    !> What a condition does to the nodes of its face, as plain data for the grid: the
+    !> defaults are those of a free face (nothing held, no contact, particles may leave).
+    type :: face_nodes_type
+        logical :: held(3) = .false.
+            !! velocity components the face holds at `velocity` (only 1..dim are used)
+        real(wp) :: velocity(3) = 0.0_wp
+            !! value of the held components [m/s]
+        logical :: prescribed = .false.
+            !! the face moves its nodes at `velocity`: the impulse that takes (its reaction)
+            !! is summed per face, and its work is work of the loads
+        logical :: contact = .false.
+            !! the face's nodes are frictional contact pairs (no penetration, Coulomb friction,
+            !! lift-off), applied by the contact kernel
+        real(wp) :: mu = 0.0_wp
+            !! Coulomb friction coefficient of the contact pairs [-]
+        logical :: keeps_particles = .false.
+            !! a particle moved past the face is put back on it (a wall)
+    end type face_nodes_type
+
+    !> A boundary condition of one face with its parameters, and how the case file gives it.
+    type, abstract :: boundary_type
+    contains
+        !> Names accepted for the face; the first is the one the summary writes.
+        procedure(list_interface), deferred, nopass :: names
+        !> Keys of the face object besides "type" (default none).
+        procedure, nopass :: keys => boundary_keys
+        !> An example object for messages when the condition needs keys (default "": the
+        !> name alone, a string, is enough).
+        procedure, nopass :: example => boundary_no_text
+        !> What the condition is for, after the example in messages ("a face with ...").
+        procedure, nopass :: purpose => boundary_no_text
+        !> What the name alone lacks ("a friction coefficient"; with `example`).
+        procedure, nopass :: needs => boundary_no_text
+        !> Read and check its keys of the face object (default: it has none).
+        procedure :: read => boundary_read
+        !> Its words in the --check summary after its name (" (mu = 0.4)"; default none).
+        procedure :: summary => boundary_summary
+        !> What it does to the nodes of a face normal to `axis`.
+        procedure(nodes_interface), deferred :: nodes
+        !> The name the summary writes: the first of names.
+        procedure :: name => boundary_name
+    end type boundary_type
+
+    !> Holder so that conditions of different types fit in one array.
+    type :: boundary_holder_type
+        class(boundary_type), allocatable :: b
+            !! the condition
+    end type boundary_holder_type
+
+    abstract interface
+        !> A list of names (type names or keys).
+        pure subroutine list_interface(list)
+            import :: boundary_key_width
+            character(len=boundary_key_width), allocatable, intent(out) :: list(:)
+                !! the names
+        end subroutine list_interface
+
+        !> What the condition does to the nodes of its face.
+        pure function nodes_interface(self, axis, dim) result(nodes)
+            import :: boundary_type, face_nodes_type
+            class(boundary_type), intent(in) :: self
+                !! the condition
+            integer, intent(in) :: axis
+                !! axis normal to the face
+            integer, intent(in) :: dim
+                !! space dimensions
+            type(face_nodes_type) :: nodes
+                !! its action on the face's nodes
+        end function nodes_interface
+    end interface
+
+contains
+
+    !> Default: no keys besides "type".
+    pure subroutine boundary_keys(list)
+        character(len=boundary_key_width), allocatable, intent(out) :: list(:)
+            !! the keys
+
+        allocate (list(0))
+    end subroutine boundary_keys
+
+    !> Default: no text.
+    pure function boundary_no_text() result(text)
+        character(len=:), allocatable :: text
+            !! empty
+
+        text = ""
+    end function boundary_no_text
+
+    !> Default: nothing to read.
+    subroutine boundary_read(self, face, dim, error)
+        class(boundary_type), intent(inout) :: self
+            !! the condition, its defaults set
+        type(cursor_type), intent(in) :: face
+            !! the face object ("domain.boundaries.xmin"), its keys checked
+        integer, intent(in) :: dim
+            !! space dimensions
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+    end subroutine boundary_read
+
+    !> Default: nothing after the name.
+    pure function boundary_summary(self) result(text)
+        class(boundary_type), intent(in) :: self
+            !! the condition
+        character(len=:), allocatable :: text
+            !! the words, each starting with a blank
+
+        text = ""
+    end function boundary_summary
+
+    !> The name the summary writes.
+    pure function boundary_name(self) result(text)
+        class(boundary_type), intent(in) :: self
+            !! the condition
+        character(len=:), allocatable :: text
+            !! first of its names
+
+        character(len=boundary_key_width), allocatable :: list(:)
+
+        call self%names(list)
+        text = trim(list(1))
+    end function boundary_name
+
+end module mpm_boundary

@@ -1,0 +1,173 @@
+!> Boundary registry: every name belongs to one condition, the choice codes point at the
+!> condition of each name, a condition with keys needs the object form; the nodal action of
+!> each condition (held components, contact, prescribed velocity, wall); and the velocity face
+!> read from a case: its vector, its --check words and every refusal of a bad value.
+program test_mpm_boundary_registry
+    use mpm_kinds, only: wp
+    use mpm_error, only: error_type
+    use mpm_strings, only: any_same
+    use mpm_boundary, only: face_nodes_type, boundary_holder_type, boundary_key_width
+    use mpm_boundary_registry, only: boundary_models, boundary_choices, boundary_choice_codes, &
+        all_boundary_keys, boundary_allowed, names_of, keys_of
+    use mpm_case, only: case_type, read_case_string, case_summary
+    use mpm_testing, only: test_suite_type, new_suite, check, finish
+    implicit none
+
+    type(test_suite_type) :: suite
+
+    call new_suite(suite, "mpm_boundary_registry")
+    call check_names_and_keys()
+    call check_nodes()
+    call check_velocity_face()
+    call finish(suite)
+
+contains
+
+    !> Names unique over the registry, codes consistent, keys listed once.
+    subroutine check_names_and_keys()
+        type(boundary_holder_type), allocatable :: models(:)
+        character(len=boundary_key_width), allocatable :: choices(:), keys(:), names(:)
+        integer, allocatable :: codes(:)
+        integer :: i, m, k
+        logical :: unique
+
+        models = boundary_models()
+        choices = boundary_choices()
+        codes = boundary_choice_codes()
+        call check(suite, size(codes) == size(choices), "one code per name")
+        unique = .true.
+        do i = 2, size(choices)
+            if (any_same(choices(1:i - 1), trim(choices(i)))) unique = .false.
+        end do
+        call check(suite, unique, "each name belongs to one condition")
+        do i = 1, size(choices)
+            names = names_of(models(codes(i))%b)
+            call check(suite, any_same(names, trim(choices(i))), &
+                trim(choices(i))//": its code points at its condition")
+        end do
+        keys = all_boundary_keys()
+        unique = size(keys) == 3
+        if (unique) unique = all(keys == [character(len=boundary_key_width) :: "type", "mu", &
+            "velocity"])
+        call check(suite, unique, "face keys: type, then mu (frictional), velocity")
+        do m = 1, size(models)
+            keys = keys_of(models(m)%b)
+            call check(suite, (size(keys) > 0) .eqv. (len(models(m)%b%example()) > 0), &
+                models(m)%b%name()//": an example object exactly when it has keys")
+            do k = 1, size(keys)
+                call check(suite, index(models(m)%b%example(), '"'//trim(keys(k))//'"') > 0, &
+                    models(m)%b%name()//": its example gives "//trim(keys(k)))
+            end do
+        end do
+        call check(suite, boundary_allowed() == 'one of "free", "sliding", "fixed", or an ' &
+            //'object {"type": "frictional", "mu": 0.4} for a face with Coulomb friction, or ' &
+            //'an object {"type": "velocity", "velocity": [0, -0.01]} for a face moving at a ' &
+            //"prescribed velocity", "the allowed text of messages")
+    end subroutine check_names_and_keys
+
+    !> What each condition does to the nodes of a y face in 2D.
+    subroutine check_nodes()
+        type(boundary_holder_type), allocatable :: models(:)
+        type(face_nodes_type) :: nodes
+        integer :: m
+
+        models = boundary_models()
+        do m = 1, size(models)
+            nodes = models(m)%b%nodes(2, 2)
+            select case (models(m)%b%name())
+            case ("free")
+                call check(suite, .not. any(nodes%held) .and. .not. nodes%contact &
+                    .and. .not. nodes%keeps_particles, "free: nothing")
+            case ("sliding")
+                call check(suite, all(nodes%held .eqv. [.false., .true., .false.]) &
+                    .and. nodes%keeps_particles, "sliding: the normal component, a wall")
+            case ("fixed")
+                call check(suite, all(nodes%held .eqv. [.true., .true., .false.]) &
+                    .and. all(nodes%velocity == 0.0_wp) .and. .not. nodes%prescribed, &
+                    "fixed: both components at zero, no reaction booked")
+            case ("frictional")
+                call check(suite, nodes%contact .and. .not. any(nodes%held), &
+                    "frictional: contact pairs, nothing held")
+            case ("velocity")
+                call check(suite, all(nodes%held .eqv. [.true., .true., .false.]) &
+                    .and. nodes%prescribed .and. nodes%keeps_particles, &
+                    "velocity: both components prescribed, a wall")
+            case default
+                call check(suite, .false., models(m)%b%name()//": no nodal check here")
+            end select
+        end do
+    end subroutine check_nodes
+
+    !> The velocity face of a case: its vector, summary and bad values.
+    subroutine check_velocity_face()
+        type(case_type) :: case
+        type(error_type), allocatable :: error
+        type(face_nodes_type) :: nodes
+
+        call read_case_string(face_case('{"type": "Velocity", "velocity": [0.5, -0.01]}'), &
+            case, error, "velocity_face")
+        call check(suite, .not. allocated(error), "velocity face: valid")
+        if (allocated(error)) then
+            print "(a)", error%message
+            return
+        end if
+        nodes = case%domain%nodes(2, 2, 2)
+        call check(suite, all(nodes%velocity(1:2) == [0.5_wp, -0.01_wp]) .and. nodes%prescribed, &
+            "velocity face: its vector")
+        call check(suite, index(case_summary(case), "ymax velocity (velocity = (0.5, -0.01) m/s)") &
+            > 0, "velocity face: summary")
+        call expect_error(face_case('"velocity"'), &
+            'domain.boundaries.ymax = "velocity" needs a velocity: write the face as an object, ' &
+            //'{"type": "velocity", "velocity": [0, -0.01]}', "velocity as a string")
+        call expect_error(face_case('{"type": "velocity"}'), &
+            "missing required key 'domain.boundaries.ymax.velocity'", "velocity missing")
+        call expect_error(face_case('{"type": "velocity", "velocity": [0, -0.01, 0]}'), &
+            "domain.boundaries.ymax.velocity must have 2 numbers", "velocity of 3 in 2D")
+        call expect_error(face_case('{"type": "velocity", "velocity": [0, "down"]}'), &
+            "domain.boundaries.ymax.velocity[2] has the wrong type: expected a number", &
+            "velocity not a number")
+        call expect_error(face_case('{"type": "velocity", "velocity": [0, 1e999]}'), &
+            "domain.boundaries.ymax.velocity[2] is not a finite number", "velocity not finite")
+        call expect_error(face_case('{"type": "velocity", "velocity": 0.1}'), &
+            "domain.boundaries.ymax.velocity has the wrong type", "velocity a number")
+        call expect_error(face_case('{"type": "fixed", "velocity": [0, 0]}'), &
+            "domain.boundaries.ymax.velocity applies to velocity faces only (here " &
+            //'domain.boundaries.ymax.type = "fixed"); remove velocity or set "type": ' &
+            //'"velocity"', "velocity on a fixed face")
+        call expect_error(face_case('{"type": "velocity", "velocity": [0, 0], "mu": 0.1}'), &
+            "domain.boundaries.ymax.mu applies to frictional faces only", "mu on a velocity face")
+    end subroutine check_velocity_face
+
+    !> A small valid 2D case with the given ymax face.
+    function face_case(face) result(text)
+        character(len=*), intent(in) :: face
+            !! the face's JSON value
+        character(len=:), allocatable :: text
+            !! the case
+
+        text = '{"domain": {"nx": 2, "ny": 2, "dx": 0.5, "boundaries": {"ymax": '//face// &
+            '}}, "materials": [{"name": "m", "type": "linear_elastic", "E": 1e6, "nu": 0.3, ' // &
+            '"rho": 1000}], "bodies": [{"material": "m", "min": [0, 0], "max": [1, 1]}], ' // &
+            '"time": {"tend": 0.1}}'
+    end function face_case
+
+    !> The case is refused with a message holding `text`.
+    subroutine expect_error(case_text, text, label)
+        character(len=*), intent(in) :: case_text
+            !! the case
+        character(len=*), intent(in) :: text
+            !! part of the message
+        character(len=*), intent(in) :: label
+            !! name of the check
+
+        type(case_type) :: case
+        type(error_type), allocatable :: error
+
+        call read_case_string(case_text, case, error, "face")
+        call check(suite, allocated(error), label//": refused")
+        if (.not. allocated(error)) return
+        call check(suite, index(error%message, text) > 0, label//": message")
+        if (index(error%message, text) == 0) print "(a)", "    got: "//error%message
+    end subroutine expect_error
+
+end program test_mpm_boundary_registry
