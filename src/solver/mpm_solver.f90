@@ -631,11 +631,16 @@ contains
         real(wp) :: work(nstress_sums), nodal_work(nnodal_sums), clock, kinetic, stopped, &
             grid_kinetic(2), sums(nsums + size(sim%grid%face_impulse))
         integer :: scheme
+        logical :: grid_energy
         type(motion_type) :: motion
         type(energies_type) :: next
 
         scheme = sim%case%solver%scheme
+        ! the nodes' kinetic energies are booked only when G2P gives the particles the nodal
+        ! velocities (step_energies); FLIP runs do not pay for the two sums
+        grid_energy = sim%case%solver%apic .or. sim%case%solver%flip_fraction == 0.0_wp
         stopped = 0.0_wp
+        grid_kinetic = 0.0_wp
         clock = wall_time()
         call compute_stencils(sim%stencils, sim%grid, sim%particles, sim%shape, error, &
             cells=sim%case%solver%fbar)
@@ -645,11 +650,11 @@ contains
                    fbar => sim%case%solver%fbar)
             if (scheme == scheme_usf) then
                 call scatter_to_nodes(sim, p2g_options_type(mass=.true., fbar=fbar))
-                grid_kinetic(1) = nodal_kinetic(grid)
+                if (grid_energy) grid_kinetic(1) = nodal_kinetic(grid)
                 call lap(sim, phase_p2g, clock)
                 ! the constraints act on the momentum of the step here: what they stop
                 call nodal_velocity(grid, dt)
-                stopped = grid_kinetic(1) - nodal_kinetic(grid)
+                if (grid_energy) stopped = grid_kinetic(1) - nodal_kinetic(grid)
                 call lap(sim, phase_nodal, clock)
                 call update_stress(grid, particles, stc, sim%materials, dt, fbar, work, &
                     sim%case%gravity)
@@ -657,14 +662,14 @@ contains
                 call scatter_to_nodes(sim, p2g_options_type(fint=.true., fbar=fbar))
             else
                 call scatter_to_nodes(sim, p2g_options_type(mass=.true., fint=.true., fbar=fbar))
-                grid_kinetic(1) = nodal_kinetic(grid)
+                if (grid_energy) grid_kinetic(1) = nodal_kinetic(grid)
             end if
             call lap(sim, phase_p2g, clock)
             call integrate_nodes(grid, dt, sim%case%gravity, &
                 local_damping=sim%case%damping%type == damping_local, alpha=sim%case%damping%value, &
                 dissipated=nodal_work)
             nodal_work(nodal_boundary) = nodal_work(nodal_boundary) + stopped
-            grid_kinetic(2) = nodal_kinetic(grid)
+            if (grid_energy) grid_kinetic(2) = nodal_kinetic(grid)
             call lap(sim, phase_nodal, clock)
             ! MUSL: the same pass maps the updated particle momentum back to the nodes, and the
             ! particles move in the stress update; USL, USF: they move here
@@ -704,8 +709,7 @@ contains
         sums = [kinetic, motion%potential, motion%load_work, work, nodal_work, grid_kinetic, &
             reshape(sim%grid%face_impulse, [size(sim%grid%face_impulse)])]
         call sum_over_images(sums)
-        next = step_energies(sim%energy, sums(1:nsums), grid_velocities=sim%case%solver%apic &
-            .or. sim%case%solver%flip_fraction == 0.0_wp)
+        next = step_energies(sim%energy, sums(1:nsums), grid_velocities=grid_energy)
         sim%face_reaction = reshape(sums(nsums + 1:), shape(sim%face_reaction))/dt
         ! the blow-up guard speaks first, so an unstable run is reported as such rather than
         ! as the particles it throws out of the grid
