@@ -78,6 +78,13 @@ module mpm_grid
             !! running mean of the normal impulse the face takes at each pair (ncontacts) [N s]
         real(wp), allocatable :: contact_friction(:, :)
             !! friction impulse of the last nodal update at each pair (dim, ncontacts) [N s]
+        real(wp), allocatable :: contact_impulse(:, :)
+            !! the part of the normal constraint's impulse in the last nodal update at each
+            !! pair that stopped the normal velocity the node brought into the step (not the
+            !! one the step's forces added), - m v_s n (dim, ncontacts) [N s]
+        real(wp), allocatable :: contact_start(:, :)
+            !! momentum P2G gave the node of each pair at the start of the step, before any
+            !! constraint (dim, ncontacts) [kg m/s]
         integer :: contact_offset(2, 3) = -1
             !! index before the first pair of each face (side, axis); -1: face not frictional
         real(wp) :: small_mass = 0.0_wp
@@ -203,13 +210,16 @@ contains
             grid%contact_normal(grid%ncontacts), grid%contact_dir(d, grid%ncontacts), &
             grid%contact_mu(grid%ncontacts), &
             grid%contact_gap(grid%ncontacts), grid%contact_load(grid%ncontacts), &
-            grid%contact_friction(d, grid%ncontacts), stat=stat, errmsg=msg)
+            grid%contact_friction(d, grid%ncontacts), grid%contact_impulse(d, grid%ncontacts), &
+            grid%contact_start(d, grid%ncontacts), stat=stat, errmsg=msg)
         if (stat /= 0) then
             call fatal_error(error, "cannot allocate the grid: "//trim(msg), exit_other)
             return
         end if
         grid%contact_load = 0.0_wp
         grid%contact_friction = 0.0_wp
+        grid%contact_impulse = 0.0_wp
+        grid%contact_start = 0.0_wp
         grid%contact_gap = huge(1.0_wp)
         c = 0
         n = 0
@@ -346,6 +356,8 @@ contains
         call move_alloc(gap, grid%contact_gap)
         call move_alloc(load, grid%contact_load)
         impulse = 0.0_wp
+        grid%contact_impulse = impulse
+        grid%contact_start = impulse
         call move_alloc(impulse, grid%contact_friction)
         grid%ncontacts = nold + nnew
 

@@ -47,7 +47,8 @@ module mpm_energy
         real(wp) :: boundary = 0.0_wp
             !! kinetic energy stopped by the fixed components of the faces and the normal
             !! constraint of the contacts: 1/2 m v^2 of the normal velocity a node brings into
-            !! the step [J]
+            !! the step (APIC, PIC); with FLIP what the contacts' normal impulses take from the
+            !! particles [J]
         real(wp) :: transfer = 0.0_wp
             !! kinetic energy lost in the particle-grid transfers: particles minus nodes after
             !! P2G, nodes after the nodal update minus particles after G2P [J]

@@ -35,6 +35,7 @@ module mpm_solver
         nstress_sums
     use mpm_kernel_nodal, only: nodal_velocity, integrate_nodes, nnodal_sums, nodal_damping, &
         nodal_friction, nodal_boundary, nodal_kinetic, nodal_faces
+    use mpm_kernel_contact, only: keep_contact_start, contact_particle_work
     use mpm_halo, only: halo_sum, halo_box, halo_contact_gaps
     use mpm_clock, only: wall_time
     use mpm_energy, only: energies_type, energy_total, energy_residual, energy_scale, &
@@ -651,6 +652,7 @@ contains
             if (scheme == scheme_usf) then
                 call scatter_to_nodes(sim, p2g_options_type(mass=.true., fbar=fbar))
                 if (grid_energy) grid_kinetic(1) = nodal_kinetic(grid)
+                if (.not. grid_energy) call keep_contact_start(grid)
                 call lap(sim, phase_p2g, clock)
                 ! the constraints act on the momentum of the step here: what they stop
                 call nodal_velocity(grid, dt)
@@ -663,6 +665,7 @@ contains
             else
                 call scatter_to_nodes(sim, p2g_options_type(mass=.true., fint=.true., fbar=fbar))
                 if (grid_energy) grid_kinetic(1) = nodal_kinetic(grid)
+                if (.not. grid_energy) call keep_contact_start(grid)
             end if
             call lap(sim, phase_p2g, clock)
             call integrate_nodes(grid, dt, sim%case%gravity, &
@@ -670,6 +673,9 @@ contains
                 dissipated=nodal_work)
             nodal_work(nodal_boundary) = nodal_work(nodal_boundary) + stopped
             if (grid_energy) grid_kinetic(2) = nodal_kinetic(grid)
+            ! FLIP without a remap: the contacts' work on the particles at the updated momentum
+            if (.not. grid_energy .and. scheme /= scheme_musl) call contact_particle_work(grid, &
+                nodal_work(nodal_friction), nodal_work(nodal_boundary))
             call lap(sim, phase_nodal, clock)
             ! MUSL: the same pass maps the updated particle momentum back to the nodes, and the
             ! particles move in the stress update; USL, USF: they move here
@@ -685,8 +691,16 @@ contains
             if (scheme == scheme_musl) then
                 ! the remapped momentum of the shared nodes, then the velocities of the remap
                 call halo_sum(grid, sim%shape%halo_width(), momentum=.true.)
-                ! the particles slide with these velocities: friction works at them
-                call nodal_velocity(grid, dt, nodal_work(nodal_friction))
+                if (grid_energy) then
+                    ! the particles slide with these velocities: friction works at them
+                    call nodal_velocity(grid, dt, nodal_work(nodal_friction))
+                else
+                    ! FLIP: what the contact impulses took from the particles, with the
+                    ! momentum of their new velocities
+                    call contact_particle_work(grid, nodal_work(nodal_friction), &
+                        nodal_work(nodal_boundary))
+                    call nodal_velocity(grid, dt)
+                end if
             end if
             call lap(sim, phase_g2p, clock)
             select case (scheme)
@@ -772,8 +786,8 @@ contains
             !! the nodes lose to the constraints and the transfers is theirs. FLIP adds the
             !! nodal accelerations to the particle velocities instead: a held component (zero
             !! acceleration) leaves them as they are, and the particles keep the velocity the
-            !! nodes do not hold; neither term is booked (the work of the contact impulses on
-            !! them stays in the residual)
+            !! nodes do not hold; no transfer term is booked, and the friction and boundary
+            !! sums are the contacts' work on the particles (contact_particle_work)
         type(energies_type) :: e
 
         real(wp) :: work(nwork_kinds), stored(nwork_kinds), nodal(nnodal_sums), grid(2)
@@ -799,8 +813,8 @@ contains
         e%supplied = max(before%supplied, abs(e%potential) + abs(e%loads))
         e%damping = e%damping + nodal(nodal_damping)
         e%friction = e%friction + nodal(nodal_friction)
-        if (.not. grid_velocities) return
         e%boundary = e%boundary + nodal(nodal_boundary)
+        if (.not. grid_velocities) return
         ! the particles' kinetic energy the P2G projection did not give the nodes, and the
         ! nodes' that G2P did not give back to the particles
         e%transfer = e%transfer + (before%kinetic - grid(1)) + (grid(2) - e%kinetic)

@@ -11,6 +11,11 @@
 !>    PIC (flip_fraction 0). Without the term the balance would lose 6 % of the kinetic
 !>    energy in the step. FLIP keeps the particles' velocities beside a held component (its
 !>    acceleration is zero): no term, and their kinetic energy stays.
+!>    A frictional floor under FLIP (MUSL) is booked by what its normal impulse takes from
+!>    the particles: the floor row's change +v0 gives the particle rows of the first cell
+!>    3/4 v0 and 1/4 v0, so they keep -v0/4 and -3 v0/4, and their kinetic energy falls by
+!>    1/2 (M / 8) v0^2 (2 - 1/16 - 9/16) = 11 M v0^2 / 128: the boundary term, exactly; the
+!>    residual is then the elastic energy of the step's strain.
 !> 2. A projection loss. Between sliding faces (y) the block moves along x with particle
 !>    velocities alternating +v0 (the particle rows at dx/4 in each cell) and -v0 (at 3 dx/4),
 !>    PIC (flip_fraction 0). An inner node row gets +v0 with weight 1/4 + 3/4 and -v0 with
@@ -38,6 +43,7 @@ program test_boundary_transfer
     call impact('{"type": "frictional", "mu": 0.3}', "USL", "flip", &
         "frictional floor, USL, PIC")
     call flip_keeps()
+    call flip_impact()
     call projection("MUSL")
     call projection("USL")
     call finish(suite)
@@ -145,6 +151,36 @@ contains
             sim%energy%kinetic/sim%energy%initial - 1.0_wp, &
             energy_residual(sim%energy)/sim%energy%initial
     end subroutine flip_keeps
+
+    !> FLIP, MUSL, frictional floor: the boundary term is the particles' loss of kinetic
+    !> energy to the normal impulse.
+    subroutine flip_impact()
+        real(wp), parameter :: v0 = 0.1_wp
+        character(len=*), parameter :: label = "FLIP, frictional floor, MUSL"
+        type(simulation_type) :: sim
+        real(wp) :: mass, expected
+        integer :: p
+        logical :: ok
+
+        call new_block('{"type": "frictional", "mu": 0.3}', '"free"', "8", "MUSL", &
+            '"transfer": "flip"', label, sim, ok)
+        if (.not. ok) return
+        do p = 1, sim%particles%n
+            sim%particles%v(:, p) = [0.0_wp, -v0]
+        end do
+        mass = sum(sim%particles%mass)
+        call first_step(sim, label, ok)
+        if (.not. ok) return
+        expected = 11.0_wp*mass*v0**2/128.0_wp
+        call check_close(suite, sim%energy%boundary, expected, 1.0e-12_wp*expected, &
+            label//": boundary = 11 M v0^2 / 128")
+        call check_close(suite, sim%energy%initial - sim%energy%kinetic, expected, &
+            1.0e-12_wp*expected, label//": the particles lost 11 M v0^2 / 128")
+        call check(suite, abs(energy_residual(sim%energy) - sim%energy%elastic) < &
+            1.0e-12_wp*expected, label//": residual = elastic energy of the step")
+        print "(a,3(a,es12.5))", label, ": boundary ", sim%energy%boundary, " J/m, expected ", &
+            expected, ", residual ", energy_residual(sim%energy)
+    end subroutine flip_impact
 
     !> PIC of alternating particle velocities: the transfer term after one step.
     subroutine projection(scheme)
