@@ -213,7 +213,7 @@ contains
             box_hi)
         type(grid_type), intent(inout) :: grid
         type(stencils_type), intent(in) :: stc
-        real(wp), intent(in) :: buf(:, :)
+        real(wp), contiguous, intent(in) :: buf(:, :)
         logical, intent(in) :: mass_rows
         integer, intent(in) :: fint_row, body_row
         logical, intent(in), optional :: only_momentum
@@ -369,7 +369,7 @@ contains
                 call update_particle_velocity(grid, particles, stc, p, dt, flip, apic, &
                     need_v=.not. remap, with_gradient=stress, dx=dx, gradv=gradv)
                 ke = ke + 0.5_wp*particles%mass(p)*sum(particles%v(:, p)**2)
-                if (.not. remap) call move_particle(grid, particles, p, dx(1:dim), gravity, mine)
+                if (.not. remap) call move_particle(grid, particles, p, dx, gravity, mine)
                 if (stress) ldts(:, :, q - qlo + 1) = dt*gradv
                 if (remap) then
                     vp(1:dim) = particles%v(:, p)
@@ -471,41 +471,34 @@ contains
             !! particles
         integer, intent(in) :: p
             !! particle
-        real(wp), intent(in) :: dx(:)
-            !! position increment (dim) [m]
+        real(wp), intent(in) :: dx(3)
+            !! position increment (first dim components) [m]
         real(wp), intent(in) :: gravity(3)
             !! gravitational acceleration [m/s2]
         type(motion_type), intent(inout) :: motion
             !! record of the moves of a chunk
 
-        integer :: a, dim
-        real(wp) :: x(3), lo, hi, jump
-
-        dim = grid%dim
-        jump = maxval(abs(dx))
-        if (.not. (jump <= huge(1.0_wp))) jump = huge(1.0_wp)   ! not finite
-        if (jump > motion%jump) then
-            motion%jump = jump
-            motion%jump_particle = p
-            motion%jump_length = norm2(dx)
+        ! one variant per dimension: the maxima, clamps and copies over the axes have a
+        ! length known to the compiler (no memcpy call per particle); the energy sums keep
+        ! their loops of runtime length (mpm_transfer_move.inc)
+        if (grid%dim == 2) then
+            call move_particle_2d(grid, particles, p, dx, gravity, motion)
+        else
+            call move_particle_3d(grid, particles, p, dx, gravity, motion)
         end if
-        x(1:dim) = particles%x(:, p) + dx
-        do a = 1, dim
-            lo = grid%origin(a)
-            hi = grid%origin(a) + grid%dx*real(grid%nn(a) - 1, wp)
-            if (grid%clamped(1, a) .and. x(a) < lo) x(a) = lo
-            if (grid%clamped(2, a) .and. x(a) > hi) x(a) = hi
-            if (.not. (x(a) >= lo .and. x(a) <= hi) .and. motion%lost == 0) motion%lost = p
-        end do
-        motion%potential = motion%potential - particles%mass(p) &
-            *dot_product(gravity(1:dim), x(1:dim) - particles%x(:, p))
-        if (allocated(particles%body_force)) motion%load_work = motion%load_work &
-            + particles%mass(p)*dot_product(particles%body_force(:, p), x(1:dim) - particles%x(:, p))
-        if (allocated(particles%u)) then
-            particles%u(:, p) = particles%u(:, p) + (x(1:dim) - particles%x(:, p))
-        end if
-        particles%x(:, p) = x(1:dim)
     end subroutine move_particle
+
+    !> move_particle in 2D.
+    pure subroutine move_particle_2d(grid, particles, p, dx, gravity, motion)
+        integer, parameter :: dim = 2
+        include "mpm_transfer_move.inc"
+    end subroutine move_particle_2d
+
+    !> move_particle in 3D.
+    pure subroutine move_particle_3d(grid, particles, p, dx, gravity, motion)
+        integer, parameter :: dim = 3
+        include "mpm_transfer_move.inc"
+    end subroutine move_particle_3d
 
     !> The record of a pass from those of its chunks, in chunk order (the same with any number
     !> of threads).
@@ -650,7 +643,7 @@ contains
                     end if
                 end if
                 ldts(:, :, q - qlo + 1) = ldt
-                if (move) call move_particle(grid, particles, p, dt*v(1:dim), gravity, mine)
+                if (move) call move_particle(grid, particles, p, dt*v, gravity, mine)
             end do
             call stress_block(stc%order(qlo:qhi), particles%material, particles%stress, &
                 particles%state, particles%f, particles%volume, particles%volume0, &

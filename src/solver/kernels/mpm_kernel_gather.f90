@@ -52,6 +52,13 @@ contains
 
     !> gather_particle for full stencils of width 3 in 3D.
     pure subroutine gather_w3_3d(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
+        type(stencils_type), intent(in) :: stc
+            !! stencils of the step
+        ! the nodal fields by address: no descriptors per particle (explicit extents changed
+        ! the inlining and the last bits of two cases)
+        ! allow(assumed-size): nodal fields passed by address
+        real(wp), intent(in) :: fa(stc%dim, *), fv(stc%dim, *)
+            !! nodal fields (dim, nodes)
         integer, parameter :: n1 = 3, n2 = 3, n3 = 3
         integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
         include "mpm_kernel_gather.inc"
@@ -59,6 +66,13 @@ contains
 
     !> gather_particle for full stencils of width 3 in 2D.
     pure subroutine gather_w3_2d(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
+        type(stencils_type), intent(in) :: stc
+            !! stencils of the step
+        ! the nodal fields by address: no descriptors per particle (explicit extents changed
+        ! the inlining and the last bits of two cases)
+        ! allow(assumed-size): nodal fields passed by address
+        real(wp), intent(in) :: fa(stc%dim, *), fv(stc%dim, *)
+            !! nodal fields (dim, nodes)
         integer, parameter :: n1 = 3, n2 = 3, n3 = 1
         integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
         include "mpm_kernel_gather.inc"
@@ -66,6 +80,13 @@ contains
 
     !> gather_particle for full stencils of width 2 in 3D.
     pure subroutine gather_w2_3d(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
+        type(stencils_type), intent(in) :: stc
+            !! stencils of the step
+        ! the nodal fields by address: no descriptors per particle (explicit extents changed
+        ! the inlining and the last bits of two cases)
+        ! allow(assumed-size): nodal fields passed by address
+        real(wp), intent(in) :: fa(stc%dim, *), fv(stc%dim, *)
+            !! nodal fields (dim, nodes)
         integer, parameter :: n1 = 2, n2 = 2, n3 = 2
         integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
         include "mpm_kernel_gather.inc"
@@ -73,6 +94,13 @@ contains
 
     !> gather_particle for full stencils of width 2 in 2D.
     pure subroutine gather_w2_2d(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
+        type(stencils_type), intent(in) :: stc
+            !! stencils of the step
+        ! the nodal fields by address: no descriptors per particle (explicit extents changed
+        ! the inlining and the last bits of two cases)
+        ! allow(assumed-size): nodal fields passed by address
+        real(wp), intent(in) :: fa(stc%dim, *), fv(stc%dim, *)
+            !! nodal fields (dim, nodes)
         integer, parameter :: n1 = 2, n2 = 2, n3 = 1
         integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
         include "mpm_kernel_gather.inc"
@@ -82,8 +110,12 @@ contains
     !> grid with an axis of fewer nodes (scratch of that width).
     pure subroutine gather_narrow(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient, &
             n1, n2, n3)
+        type(stencils_type), intent(in) :: stc
+            !! stencils of the step
         integer, intent(in) :: n1, n2, n3
         integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), intent(in), contiguous :: fa(:, :), fv(:, :)
+            !! nodal fields (dim, nodes)
         include "mpm_kernel_gather.inc"
     end subroutine gather_narrow
 
@@ -92,7 +124,11 @@ contains
     pure subroutine gather_any(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient, &
             n1, n2, n3, m1, m2, m3)
         use mpm_stencil, only: axis_derivatives => axis_derivatives_any
+        type(stencils_type), intent(in) :: stc
+            !! stencils of the step
         integer, intent(in) :: n1, n2, n3, m1, m2, m3
+        real(wp), intent(in), contiguous :: fa(:, :), fv(:, :)
+            !! nodal fields (dim, nodes)
         include "mpm_kernel_gather.inc"
     end subroutine gather_any
 

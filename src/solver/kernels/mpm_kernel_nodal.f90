@@ -185,7 +185,7 @@ contains
             !! energy removed in this step by local damping and by contact friction, and
             !! given by the velocity faces (nnodal_sums) [J]
 
-        integer :: i, dim, layer, j, first, last, y, z, lo, hi
+        integer :: i, dim, layer, j, first, last, y, z, lo, hi, a
         real(wp) :: f(3), v0(3), fd(3), acc, held, face_work
         real(wp), allocatable :: partial(:), partial_held(:)
 
@@ -200,7 +200,7 @@ contains
         partial_held = 0.0_wp
         !$omp parallel do default(none) schedule(static) &
         !$omp shared(grid, dt, gravity, local_damping, alpha, dim, partial, partial_held, lo, hi) &
-        !$omp private(layer, j, first, last, y, z, i, f, v0, fd, acc, held)
+        !$omp private(layer, j, first, last, y, z, i, f, v0, fd, acc, held, a)
         do layer = lo, hi
             acc = 0.0_wp
             held = 0.0_wp
@@ -224,10 +224,13 @@ contains
                     ! instead makes the manufactured solution less accurate (cpGIMP MUSL, 64
                     ! cells: 9.4e-5 m against 3.5e-5 m).
                     if (node_owned(grid, i)) held = held + held_kinetic(grid, i)
-                    where (grid%constrained(:, i))
-                        grid%momentum(:, i) = 0.0_wp
-                        v0(1:dim) = 0.0_wp
-                    end where
+                    ! a loop, not a where construct: its mask was a heap temporary per node
+                    do a = 1, dim
+                        if (grid%constrained(a, i)) then
+                            grid%momentum(a, i) = 0.0_wp
+                            v0(a) = 0.0_wp
+                        end if
+                    end do
                     if (local_damping) then
                         fd(1:dim) = -alpha*abs(f(1:dim))*sign(1.0_wp, v0(1:dim))
                         where (v0(1:dim) == 0.0_wp) fd(1:dim) = 0.0_wp

@@ -61,8 +61,8 @@ contains
             !! extra body force per unit mass [m/s2]
         integer, intent(in) :: body_row
             !! first row of the extra body force, 0 for none
-        real(wp), intent(inout) :: buf(:, :)
-            !! buffer (rows, nodes)
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
 
         ! the variant of the stencils' width (0: an axis keeps fewer nodes) and dimension
         select case (10*stc%width + stc%dim)
@@ -96,6 +96,8 @@ contains
             vs, fint_row, bf, body_row, buf)
         integer, parameter :: n1 = 3, n2 = 3, n3 = 3
         integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
         include "mpm_kernel_scatter.inc"
     end subroutine scatter_w3_3d
 
@@ -104,6 +106,8 @@ contains
             vs, fint_row, bf, body_row, buf)
         integer, parameter :: n1 = 3, n2 = 3, n3 = 1
         integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
         include "mpm_kernel_scatter.inc"
     end subroutine scatter_w3_2d
 
@@ -112,6 +116,8 @@ contains
             vs, fint_row, bf, body_row, buf)
         integer, parameter :: n1 = 2, n2 = 2, n3 = 2
         integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
         include "mpm_kernel_scatter.inc"
     end subroutine scatter_w2_3d
 
@@ -120,6 +126,8 @@ contains
             vs, fint_row, bf, body_row, buf)
         integer, parameter :: n1 = 2, n2 = 2, n3 = 1
         integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
         include "mpm_kernel_scatter.inc"
     end subroutine scatter_w2_2d
 
@@ -129,6 +137,8 @@ contains
             momentum_row, vs, fint_row, bf, body_row, buf, n1, n2, n3)
         integer, intent(in) :: n1, n2, n3
         integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes)
         include "mpm_kernel_scatter.inc"
     end subroutine scatter_narrow
 
@@ -138,6 +148,8 @@ contains
             vs, fint_row, bf, body_row, buf, n1, n2, n3, m1, m2, m3)
         use mpm_stencil, only: axis_derivatives => axis_derivatives_any
         integer, intent(in) :: n1, n2, n3, m1, m2, m3
+        real(wp), intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes)
         include "mpm_kernel_scatter.inc"
     end subroutine scatter_any
 

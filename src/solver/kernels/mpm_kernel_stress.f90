@@ -158,19 +158,27 @@ contains
     !> the domain of a particle turned by 90 degrees to a point (linear hat weights), and the
     !> free end of a hanging cantilever turned unstable there (docs/accuracy-vs-cost.md).
     pure subroutine domain_half_sizes(f, lp0, dim, lp)
-        real(wp), intent(in) :: f(:, :)
-            !! deformation gradient (dim x dim)
-        real(wp), intent(in) :: lp0(:)
-            !! half-sizes of the reference domain [m]
         integer, intent(in) :: dim
-            !! space dimensions
-        real(wp), intent(out) :: lp(:)
+            !! space dimensions (2 or 3)
+        real(wp), intent(in) :: f(dim, dim)
+            !! deformation gradient
+        real(wp), intent(in) :: lp0(dim)
+            !! half-sizes of the reference domain [m]
+        real(wp), intent(out) :: lp(dim)
             !! half-sizes of the current domain [m]
         integer :: a
 
-        do a = 1, dim
-            lp(a) = norm2(f(a, 1:dim)*lp0(1:dim))
-        end do
+        ! norm2 of arrays of a size known here: the same scaled sums, element by element in
+        ! the same order, as over f(a, 1:dim)*lp0(1:dim), without a loop of runtime length
+        ! around each (a quarter of the stress block's instructions in 2D)
+        if (dim == 2) then
+            lp(1) = norm2([f(1, 1)*lp0(1), f(1, 2)*lp0(2)])
+            lp(2) = norm2([f(2, 1)*lp0(1), f(2, 2)*lp0(2)])
+        else
+            do a = 1, 3
+                lp(a) = norm2([f(a, 1)*lp0(1), f(a, 2)*lp0(2), f(a, 3)*lp0(3)])
+            end do
+        end if
     end subroutine domain_half_sizes
 
     !> F <- (I + ldt) F in 2D and its determinant.
