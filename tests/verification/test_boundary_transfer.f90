@@ -35,6 +35,8 @@ program test_boundary_transfer
     implicit none
 
     type(test_suite_type) :: suite
+    real(wp), parameter :: v0 = 0.1_wp
+        !! speed of the falling blocks [m/s]
 
     call new_suite(suite, "boundary_transfer")
     call impact('"fixed"', "MUSL", "apic", "fixed floor, MUSL, APIC")
@@ -94,30 +96,44 @@ contains
         call check(suite, ok, label//": step runs")
     end subroutine first_step
 
-    !> The block moving down onto the floor: the boundary term after one step.
-    subroutine impact(floor, scheme, transfer, label)
+    !> The block of new_block on the floor (ymin) moving down at v0, advanced by one step.
+    subroutine falling_block(floor, scheme, transfer, label, sim, mass, ok)
         character(len=*), intent(in) :: floor, scheme, transfer, label
-            !! condition of the floor (ymin), scheme, transfer, label of the checks
+            !! condition of the floor, scheme, transfer keys, label of the checks
+        type(simulation_type), intent(out) :: sim
+            !! the simulation after the step
+        real(wp), intent(out) :: mass
+            !! mass of the block [kg/m]
+        logical, intent(out) :: ok
+            !! the simulation was made and the step ran
 
-        real(wp), parameter :: v0 = 0.1_wp
-        type(simulation_type) :: sim
-        real(wp) :: mass, expected
         integer :: p
-        logical :: ok
 
-        if (transfer == "flip") then
-            call new_block(floor, '"free"', "8", scheme, '"transfer": "flip", "flip_fraction": 0', &
-                label, sim, ok)
-        else
-            call new_block(floor, '"free"', "8", scheme, '"transfer": "'//transfer//'"', label, &
-                sim, ok)
-        end if
+        mass = 0.0_wp
+        call new_block(floor, '"free"', "8", scheme, transfer, label, sim, ok)
         if (.not. ok) return
         do p = 1, sim%particles%n
             sim%particles%v(:, p) = [0.0_wp, -v0]
         end do
         mass = sum(sim%particles%mass)
         call first_step(sim, label, ok)
+    end subroutine falling_block
+
+    !> The block moving down onto the floor: the boundary term after one step.
+    subroutine impact(floor, scheme, transfer, label)
+        character(len=*), intent(in) :: floor, scheme, transfer, label
+            !! condition of the floor (ymin), scheme, transfer, label of the checks
+
+        type(simulation_type) :: sim
+        real(wp) :: mass, expected
+        logical :: ok
+
+        if (transfer == "flip") then
+            call falling_block(floor, scheme, '"transfer": "flip", "flip_fraction": 0', label, &
+                sim, mass, ok)
+        else
+            call falling_block(floor, scheme, '"transfer": "'//transfer//'"', label, sim, mass, ok)
+        end if
         if (.not. ok) return
         expected = mass*v0**2/16.0_wp
         call check_close(suite, sim%energy%boundary, expected, 1.0e-12_wp*expected, &
@@ -129,17 +145,11 @@ contains
     !> FLIP: the particles beside a fixed floor keep their velocity (its acceleration is
     !> zero), nothing is booked.
     subroutine flip_keeps()
-        real(wp), parameter :: v0 = 0.1_wp
         type(simulation_type) :: sim
-        integer :: p
+        real(wp) :: mass
         logical :: ok
 
-        call new_block('"fixed"', '"free"', "8", "MUSL", '"transfer": "flip"', "FLIP", sim, ok)
-        if (.not. ok) return
-        do p = 1, sim%particles%n
-            sim%particles%v(:, p) = [0.0_wp, -v0]
-        end do
-        call first_step(sim, "FLIP", ok)
+        call falling_block('"fixed"', "MUSL", '"transfer": "flip"', "FLIP", sim, mass, ok)
         if (.not. ok) return
         call check(suite, sim%energy%boundary == 0.0_wp .and. sim%energy%transfer == 0.0_wp, &
             "FLIP, fixed floor: no boundary or transfer term")
@@ -155,21 +165,13 @@ contains
     !> FLIP, MUSL, frictional floor: the boundary term is the particles' loss of kinetic
     !> energy to the normal impulse.
     subroutine flip_impact()
-        real(wp), parameter :: v0 = 0.1_wp
         character(len=*), parameter :: label = "FLIP, frictional floor, MUSL"
         type(simulation_type) :: sim
         real(wp) :: mass, expected
-        integer :: p
         logical :: ok
 
-        call new_block('{"type": "frictional", "mu": 0.3}', '"free"', "8", "MUSL", &
-            '"transfer": "flip"', label, sim, ok)
-        if (.not. ok) return
-        do p = 1, sim%particles%n
-            sim%particles%v(:, p) = [0.0_wp, -v0]
-        end do
-        mass = sum(sim%particles%mass)
-        call first_step(sim, label, ok)
+        call falling_block('{"type": "frictional", "mu": 0.3}', "MUSL", '"transfer": "flip"', &
+            label, sim, mass, ok)
         if (.not. ok) return
         expected = 11.0_wp*mass*v0**2/128.0_wp
         call check_close(suite, sim%energy%boundary, expected, 1.0e-12_wp*expected, &
@@ -187,7 +189,7 @@ contains
         character(len=*), intent(in) :: scheme
             !! scheme
 
-        real(wp), parameter :: v0 = 0.1_wp, nb = 4.0_wp
+        real(wp), parameter :: nb = 4.0_wp
         type(simulation_type) :: sim
         real(wp) :: mass, expected, offset
         integer :: p
