@@ -36,6 +36,7 @@ module mpm_solver
     use mpm_kernel_nodal, only: nodal_velocity, integrate_nodes, nnodal_sums, nodal_damping, &
         nodal_friction, nodal_boundary, nodal_kinetic, nodal_faces
     use mpm_halo, only: halo_sum, halo_box, halo_contact_gaps
+    use mpm_kernel_light, only: find_light_nodes
     use mpm_clock, only: wall_time
     use mpm_energy, only: energies_type, energy_total, energy_residual, energy_scale, &
         energy_record, energies_from_record, nenergy_record
@@ -62,6 +63,12 @@ module mpm_solver
         !! a node of at most this fraction of the lightest particle's mass is empty (at rest):
         !! round-off level (the cpGIMP weights lose about 1e-16 / l of their value), far
         !! below any node a particle really reaches
+    real(wp), parameter :: light_node_fraction = 1.0e-3_wp
+        !! a node of at most this fraction of the mass of a node inside the material
+        !! (rho dx**dim, rho the smallest particle density) is light: slaved to its heavy
+        !! neighbours (mpm_kernel_light). A node that a particle reaches only with the tail
+        !! of its weights otherwise gives that particle its own stress back as an
+        !! acceleration of its own (the torn root of the bspline2 cantilever)
     integer, parameter :: rebalance_steps = 50
         !! steps between two looks at the particle counts of the images
     real(wp), parameter :: rebalance_threshold = 1.1_wp
@@ -151,7 +158,7 @@ contains
             !! move into the simulation (a checkpoint's with its time and step; the rest of
             !! the run record is set by resume_simulation)
 
-        real(wp) :: lightest
+        real(wp) :: lightest, density
         integer :: i, stat, nstate
         logical :: loaded, restart
         character(len=256) :: msg
@@ -225,6 +232,14 @@ contains
         if (sim%particles%n > 0) lightest = minval(sim%particles%mass)
         call min_over_images(lightest)
         if (lightest < huge(1.0_wp)) sim%grid%small_mass = empty_node_fraction*lightest
+        ! light nodes: on a whole grid only (the masters of a node at a cut may lie on the
+        ! neighbour's side)
+        density = huge(1.0_wp)
+        if (sim%particles%n > 0) density = minval(sim%particles%mass/sim%particles%volume0)
+        call min_over_images(density)
+        sim%grid%light_mass = 0.0_wp
+        if (density < huge(1.0_wp) .and. sim%dec%axis == 0) sim%grid%light_mass = &
+            max(sim%grid%small_mass, light_node_fraction*density*case%domain%dx**case%dim)
         ! APIC affine velocities: kept from a state file of an APIC run, zero otherwise (a
         ! uniform velocity per body); dropped when this stage does not use APIC
         if (.not. case%solver%apic .and. allocated(sim%particles%affine)) then
@@ -437,7 +452,7 @@ contains
         type(decomposition_type) :: dec
         real(wp), allocatable :: loads(:), terrain_load(:)
         integer(i8), allocatable :: terrain_node(:)
-        real(wp) :: small_mass, imbalance
+        real(wp) :: small_mass, light_mass, imbalance
         integer :: axis, p, c, k, misplaced
         logical :: complete
 
@@ -477,6 +492,7 @@ contains
             if (allocated(error)) return
         end do
         small_mass = sim%grid%small_mass
+        light_mass = sim%grid%light_mass
         call slab_grid(sim, error)
         call agree(error)
         if (allocated(error)) return
@@ -485,6 +501,7 @@ contains
             if (allocated(error)) return
         end if
         sim%grid%small_mass = small_mass
+        sim%grid%light_mass = light_mass
         call take_face_loads(sim%case, sim%grid, sim%dec, loads)
         call take_terrain_loads(sim%case, sim%grid, sim%dec, terrain_node, terrain_load, &
             complete)
@@ -756,6 +773,7 @@ contains
         call halo_sum(sim%grid, layers, mass=opts%mass, momentum=opts%mass, fint=opts%fint, &
             fext=opts%mass .and. allocated(sim%particles%body_force))
         if (opts%mass) call halo_contact_gaps(sim%grid, layers)
+        if (opts%mass) call find_light_nodes(sim%grid)
     end subroutine scatter_to_nodes
 
     !> The energy terms after a step from those before and the sums of the step (over all
