@@ -87,7 +87,10 @@ module mpm_grid
             !! nodes of this mass or less with a heavier neighbour are slaved to their heavy
             !! neighbours in each step (mpm_kernel_light) [kg]; 0: none
         integer :: nlight = 0
-            !! number of light nodes of the step
+            !! number of light nodes of the step (on a cut grid: those this image treats)
+        integer :: light_layers = 0
+            !! node layers shared at a cut when the light nodes were found (their folds and
+            !! slaved values are traded over them)
         integer, allocatable :: light_node(:)
             !! the light nodes of the step (nlight used)
         integer, allocatable :: light_start(:)

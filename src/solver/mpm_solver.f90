@@ -232,13 +232,13 @@ contains
         if (sim%particles%n > 0) lightest = minval(sim%particles%mass)
         call min_over_images(lightest)
         if (lightest < huge(1.0_wp)) sim%grid%small_mass = empty_node_fraction*lightest
-        ! light nodes: on a whole grid only (the masters of a node at a cut may lie on the
-        ! neighbour's side)
+        ! light nodes: on a cut grid each is treated by one image, which trades its folds
+        ! and slaved values over the shared layers (mpm_kernel_light)
         density = huge(1.0_wp)
         if (sim%particles%n > 0) density = minval(sim%particles%mass/sim%particles%volume0)
         call min_over_images(density)
         sim%grid%light_mass = 0.0_wp
-        if (density < huge(1.0_wp) .and. sim%dec%axis == 0) sim%grid%light_mass = &
+        if (density < huge(1.0_wp)) sim%grid%light_mass = &
             max(sim%grid%small_mass, light_node_fraction*density*case%domain%dx**case%dim)
         ! APIC affine velocities: kept from a state file of an APIC run, zero otherwise (a
         ! uniform velocity per body); dropped when this stage does not use APIC
@@ -773,7 +773,7 @@ contains
         call halo_sum(sim%grid, layers, mass=opts%mass, momentum=opts%mass, fint=opts%fint, &
             fext=opts%mass .and. allocated(sim%particles%body_force))
         if (opts%mass) call halo_contact_gaps(sim%grid, layers)
-        if (opts%mass) call find_light_nodes(sim%grid)
+        if (opts%mass) call find_light_nodes(sim%grid, layers)
     end subroutine scatter_to_nodes
 
     !> The energy terms after a step from those before and the sums of the step (over all

@@ -14,10 +14,21 @@
 !> acceleration (the root of the bspline2 cantilever, docs/study/cantilever.md). A held
 !> component (boundary condition) of a light node stays at rest: its force there is the
 !> support's. Light nodes without a heavy neighbour keep the treatment of their mass (empty
-!> below grid%small_mass). Only on a whole grid (one image): light_mass is 0 on a cut grid.
+!> below grid%small_mass).
+!>
+!> On a grid cut among images (mpm_decomposition) every light node is treated by one image:
+!> the one whose layers 1 .. n - layers along the cut axis hold it (0 and n - 1 too at an
+!> end without a neighbour), so its 3**dim box is on that image with the whole sums of
+!> halo_sum, and it takes the decisions of the whole grid. Its folds reach the other images
+!> as increments of the shared layers, added in image order (the left image's first: the
+!> same bits on both), and its slaved values overwrite theirs: every node two images hold
+!> ends with the same bits on both, equal to those of one image to round-off (the order of
+!> the sums differs).
 module mpm_kernel_light
     use mpm_kinds, only: wp
     use mpm_grid, only: grid_type
+    use mpm_halo, only: halo_nodes
+    use mpm_parallel, only: exchange_neighbours
     implicit none
     private
     public :: find_light_nodes, fold_light, slave_light
@@ -26,14 +37,18 @@ contains
 
     !> The light nodes of the step and their masters, from the masses of P2G; folds the mass
     !> and momentum of each into its masters (the light node keeps none).
-    subroutine find_light_nodes(grid)
+    subroutine find_light_nodes(grid, layers)
         type(grid_type), intent(inout) :: grid
-            !! grid with mass and momentum set by P2G
+            !! grid with mass and momentum set by P2G (and summed over the images)
+        integer, intent(in) :: layers
+            !! node layers shared at a cut (shape_type%halo_width)
 
-        integer :: x, y, z, id, ix, iy, iz, nid, k, first, zlo, zhi, n
+        integer :: x, y, z, id, ix, iy, iz, nid, k, first, zlo, zhi, n, lo(3), hi(3), a
         real(wp) :: total
+        real(wp), allocatable :: mass(:, :)
 
         grid%nlight = 0
+        grid%light_layers = layers
         if (grid%light_mass <= 0.0_wp) return
         if (.not. allocated(grid%light_node)) then
             allocate (grid%light_node(64), grid%light_start(65), grid%light_master(64*27), &
@@ -45,10 +60,18 @@ contains
             zlo = -1
             zhi = 1
         end if
+        lo = grid%active_lo
+        hi = min(grid%active_hi, grid%nn - 1)
+        ! on a cut grid: the layers this image treats (the light nodes whose box it holds)
+        a = grid%halo_axis
+        if (a /= 0) then
+            if (grid%halo_left > 0) lo(a) = max(lo(a), 1)
+            if (grid%halo_right > 0) hi(a) = min(hi(a), grid%nn(a) - layers)
+        end if
         k = 0
-        do z = grid%active_lo(3), min(grid%active_hi(3), grid%nn(3) - 1)
-            do y = grid%active_lo(2), min(grid%active_hi(2), grid%nn(2) - 1)
-                do x = grid%active_lo(1), min(grid%active_hi(1), grid%nn(1) - 1)
+        do z = lo(3), hi(3)
+            do y = lo(2), hi(2)
+                do x = lo(1), hi(1)
                     id = 1 + x + grid%nn(1)*(y + grid%nn(2)*z)
                     if (grid%mass(id) <= 0.0_wp .or. grid%mass(id) > grid%light_mass) cycle
                     call reserve(grid, grid%nlight + 1, k + 27)
@@ -76,6 +99,13 @@ contains
         end do
         grid%light_start(grid%nlight + 1) = k + 1
         ! the masses last: the coefficients are those of the masses of P2G
+        if (a /= 0) then
+            mass = reshape(grid%mass, [1, size(grid%mass)])
+            call fold_cut(grid, mass, held=.false.)
+            grid%mass = mass(1, :)
+            call fold_light(grid, grid%momentum)
+            return
+        end if
         do n = 1, grid%nlight
             id = grid%light_node(n)
             do k = grid%light_start(n), grid%light_start(n + 1) - 1
@@ -125,6 +155,11 @@ contains
 
         integer :: n, k, id, dim
 
+        if (grid%light_mass <= 0.0_wp) return
+        if (grid%halo_axis /= 0) then
+            call fold_cut(grid, field, held=.true.)
+            return
+        end if
         dim = grid%dim
         do n = 1, grid%nlight
             id = grid%light_node(n)
@@ -147,6 +182,7 @@ contains
 
         integer :: n, k, id, dim
 
+        if (grid%light_mass <= 0.0_wp) return
         dim = grid%dim
         do n = 1, grid%nlight
             id = grid%light_node(n)
@@ -157,6 +193,97 @@ contains
             end do
             where (grid%constrained(:, id)) field(:, id) = 0.0_wp
         end do
+        if (grid%halo_axis /= 0) call trade_slaved(grid, field)
     end subroutine slave_light
+
+    !> fold_light on a cut grid: the folds of this image's light nodes as increments, traded
+    !> over the shared layers and added in image order (the left neighbour's, this image's,
+    !> the right neighbour's), so both images of a shared node add the same numbers in the
+    !> same order. Collective.
+    subroutine fold_cut(grid, field, held)
+        type(grid_type), intent(in) :: grid
+            !! the cut grid with this image's light nodes found
+        real(wp), intent(inout) :: field(:, :)
+            !! mass (1, nnodes), momentum or force (dim, nnodes)
+        logical, intent(in) :: held
+            !! the rows are the grid's components: held components of a light node give
+            !! nothing
+
+        real(wp), allocatable :: delta(:, :), part(:), send_lo(:), send_hi(:), recv_lo(:), &
+            recv_hi(:)
+        integer, allocatable :: lo_nodes(:), hi_nodes(:)
+        integer :: n, k, id, r
+
+        r = size(field, 1)
+        allocate (delta(r, size(field, 2)), part(r))
+        delta = 0.0_wp
+        do n = 1, grid%nlight
+            id = grid%light_node(n)
+            part = field(:, id)
+            if (held) then
+                where (grid%constrained(:, id)) part = 0.0_wp
+            end if
+            do k = grid%light_start(n), grid%light_start(n + 1) - 1
+                delta(:, grid%light_master(k)) = delta(:, grid%light_master(k)) &
+                    + grid%light_coef(k)*part
+            end do
+            ! the light node keeps nothing: f + (-f) is 0 whatever the order
+            delta(:, id) = -field(:, id)
+        end do
+        call halo_nodes(grid, grid%light_layers, lo_nodes, hi_nodes)
+        send_lo = reshape(delta(:, lo_nodes), [r*size(lo_nodes)])
+        send_hi = reshape(delta(:, hi_nodes), [r*size(hi_nodes)])
+        call exchange_neighbours(grid%halo_left, grid%halo_right, send_lo, send_hi, recv_lo, &
+            recv_hi)
+        if (size(recv_lo) > 0) field(:, lo_nodes) = field(:, lo_nodes) &
+            + reshape(recv_lo, [r, size(lo_nodes)])
+        field = field + delta
+        if (size(recv_hi) > 0) field(:, hi_nodes) = field(:, hi_nodes) &
+            + reshape(recv_hi, [r, size(hi_nodes)])
+    end subroutine fold_cut
+
+    !> The slaved values of the light nodes in the shared layers from the image that treats
+    !> them (a flag and the values per shared node). Collective.
+    subroutine trade_slaved(grid, field)
+        type(grid_type), intent(in) :: grid
+            !! the cut grid with this image's light nodes found
+        real(wp), intent(inout) :: field(:, :)
+            !! velocity or acceleration (dim, nnodes)
+
+        real(wp), allocatable :: mine(:, :), send_lo(:), send_hi(:), recv_lo(:), recv_hi(:)
+        integer, allocatable :: lo_nodes(:), hi_nodes(:)
+        integer :: n, r
+
+        r = size(field, 1)
+        allocate (mine(r + 1, size(field, 2)))
+        mine = 0.0_wp
+        do n = 1, grid%nlight
+            mine(1, grid%light_node(n)) = 1.0_wp
+            mine(2:, grid%light_node(n)) = field(:, grid%light_node(n))
+        end do
+        call halo_nodes(grid, grid%light_layers, lo_nodes, hi_nodes)
+        send_lo = reshape(mine(:, lo_nodes), [(r + 1)*size(lo_nodes)])
+        send_hi = reshape(mine(:, hi_nodes), [(r + 1)*size(hi_nodes)])
+        call exchange_neighbours(grid%halo_left, grid%halo_right, send_lo, send_hi, recv_lo, &
+            recv_hi)
+        call take(lo_nodes, recv_lo)
+        call take(hi_nodes, recv_hi)
+
+    contains
+
+        subroutine take(nodes, buf)
+            integer, intent(in) :: nodes(:)
+            real(wp), intent(in) :: buf(:)
+
+            integer :: m, b
+
+            if (size(buf) == 0) return
+            do m = 1, size(nodes)
+                b = (m - 1)*(r + 1)
+                if (buf(b + 1) > 0.5_wp) field(:, nodes(m)) = buf(b + 2:b + r + 1)
+            end do
+        end subroutine take
+
+    end subroutine trade_slaved
 
 end module mpm_kernel_light
