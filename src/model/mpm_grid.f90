@@ -90,6 +90,22 @@ module mpm_grid
         real(wp) :: small_mass = 0.0_wp
             !! nodes of this mass or less are empty: at rest, no force, no momentum (round-off
             !! level, set by the solver from the lightest particle) [kg]
+        real(wp) :: light_mass = 0.0_wp
+            !! nodes of this mass or less with a heavier neighbour are slaved to their heavy
+            !! neighbours in each step (mpm_kernel_light) [kg]; 0: none
+        integer :: nlight = 0
+            !! number of light nodes of the step (on a cut grid: those this image treats)
+        integer :: light_layers = 0
+            !! node layers shared at a cut when the light nodes were found (their folds and
+            !! slaved values are traded over them)
+        integer, allocatable :: light_node(:)
+            !! the light nodes of the step (nlight used)
+        integer, allocatable :: light_start(:)
+            !! first entry of each light node in light_master and light_coef (nlight + 1 used)
+        integer, allocatable :: light_master(:)
+            !! heavy neighbours (masters) of the light nodes
+        real(wp), allocatable :: light_coef(:)
+            !! share of each master, m_j / sum_k m_k over the masters of its light node [-]
         real(wp) :: contact_time = 0.0_wp
             !! time constant of the running mean of the normal contact impulse [s]; 0: a fixed
             !! weight per step

@@ -3,11 +3,14 @@
 !> mpm_solver sums them step by step.
 module mpm_energy
     use mpm_kinds, only: wp
-    use mpm_material, only: nwork_kinds
+    use mpm_material, only: nwork_kinds, work_plastic, work_viscous
+    use mpm_kernel_stress, only: nstress_sums
+    use mpm_kernel_nodal, only: nnodal_sums, nodal_damping, nodal_friction, nodal_boundary, &
+        nodal_faces
     implicit none
     private
     public :: energies_type, energy_total, energy_residual, energy_scale, energy_record, &
-        energies_from_record, nenergy_record
+        energies_from_record, nenergy_record, step_energies
 
     integer, parameter :: nenergy_record = 13 + nwork_kinds
         !! values of energy_record (the `energy` attribute of a checkpoint's run record)
@@ -104,5 +107,54 @@ contains
         e%boundary = r(12 + nwork_kinds)
         e%transfer = r(13 + nwork_kinds)
     end function energies_from_record
+
+
+    !> The energy terms after a step from those before and the sums of the step (over all
+    !> images): kinetic energy, change of the potential, work of the loads, the stress sums
+    !> (nstress_sums), the nodal sums (nnodal_sums) and the kinetic energy of the nodes after
+    !> P2G and after the nodal update.
+    pure function step_energies(before, sums, grid_velocities) result(e)
+        type(energies_type), intent(in) :: before
+            !! terms at the start of the step
+        real(wp), intent(in) :: sums(:)
+            !! the sums of the step [J]
+        logical, intent(in) :: grid_velocities
+            !! G2P gives the particles the nodal velocities (APIC, PIC): the kinetic energy
+            !! the nodes lose to the constraints and the transfers is theirs. FLIP adds the
+            !! nodal accelerations to the particle velocities instead: a held component (zero
+            !! acceleration) leaves them as they are, and the particles keep the velocity the
+            !! nodes do not hold; no transfer term is booked, and the friction and boundary
+            !! sums are the contacts' work on the particles (contact_particle_work)
+        type(energies_type) :: e
+
+        real(wp) :: work(nwork_kinds), stored(nwork_kinds), nodal(nnodal_sums), grid(2)
+
+        work = sums(4:3 + nwork_kinds)
+        stored = sums(4 + nwork_kinds:3 + nstress_sums)
+        nodal = sums(4 + nstress_sums:3 + nstress_sums + nnodal_sums)
+        grid = sums(4 + nstress_sums + nnodal_sums:5 + nstress_sums + nnodal_sums)
+        e = before
+        ! the kinetic energy was summed in the G2P pass (nothing changes the velocities after)
+        e%kinetic = sums(1)
+        e%potential = e%potential + sums(2)
+        ! the work of the loads: prescribed forces, then the velocity faces
+        e%loads = e%loads + sums(3) + nodal(nodal_faces)
+        e%strain = e%strain + sum(work)
+        ! the work of a plastic or viscous material that its elastic energy did not take
+        e%plastic = e%plastic + work(work_plastic) &
+            - (stored(work_plastic) - before%stored(work_plastic))
+        e%viscous = e%viscous + work(work_viscous) &
+            - (stored(work_viscous) - before%stored(work_viscous))
+        e%stored = stored
+        e%elastic = sum(stored)
+        e%supplied = max(before%supplied, abs(e%potential) + abs(e%loads))
+        e%damping = e%damping + nodal(nodal_damping)
+        e%friction = e%friction + nodal(nodal_friction)
+        e%boundary = e%boundary + nodal(nodal_boundary)
+        if (.not. grid_velocities) return
+        ! the particles' kinetic energy the P2G projection did not give the nodes, and the
+        ! nodes' that G2P did not give back to the particles
+        e%transfer = e%transfer + (before%kinetic - grid(1)) + (grid(2) - e%kinetic)
+    end function step_energies
 
 end module mpm_energy

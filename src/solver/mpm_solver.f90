@@ -25,7 +25,7 @@ module mpm_solver
         min_over_images, exchange_neighbours, agree_on_failure
     use mpm_shape, only: shape_type
     use mpm_shape_factory, only: new_shape
-    use mpm_material, only: material_holder_type, nwork_kinds, work_plastic, work_viscous
+    use mpm_material, only: material_holder_type, nwork_kinds
     use mpm_case_materials, only: material_laws
     use mpm_state, only: run_record_type
     use mpm_contact_loads, only: face_loads, take_face_loads, face_node_count, terrain_loads, &
@@ -33,13 +33,14 @@ module mpm_solver
     use mpm_stencil, only: stencils_type, compute_stencils
     use mpm_transfer, only: p2g, p2g_options_type, g2p, motion_type, report_lost, update_stress, &
         nstress_sums
-    use mpm_kernel_nodal, only: nodal_velocity, integrate_nodes, nnodal_sums, nodal_damping, &
-        nodal_friction, nodal_boundary, nodal_kinetic, nodal_faces
+    use mpm_kernel_nodal, only: nodal_velocity, integrate_nodes, nnodal_sums, nodal_friction, &
+        nodal_boundary, nodal_kinetic
     use mpm_kernel_contact, only: keep_contact_start, contact_particle_work
     use mpm_halo, only: halo_sum, halo_box, halo_contact_gaps
+    use mpm_kernel_light, only: find_light_nodes, fold_light
     use mpm_clock, only: wall_time
     use mpm_energy, only: energies_type, energy_total, energy_residual, energy_scale, &
-        energy_record, energies_from_record, nenergy_record
+        energy_record, energies_from_record, nenergy_record, step_energies
     implicit none
     private
     public :: simulation_type, new_simulation, advance, stable_time_step, energies_type
@@ -63,6 +64,12 @@ module mpm_solver
         !! a node of at most this fraction of the lightest particle's mass is empty (at rest):
         !! round-off level (the cpGIMP weights lose about 1e-16 / l of their value), far
         !! below any node a particle really reaches
+    real(wp), parameter :: light_node_fraction = 1.0e-3_wp
+        !! a node of at most this fraction of the mass of a node inside the material
+        !! (rho dx**dim, rho the smallest particle density) is light: slaved to its heavy
+        !! neighbours (mpm_kernel_light). A node that a particle reaches only with the tail
+        !! of its weights otherwise gives that particle its own stress back as an
+        !! acceleration of its own (the torn root of the bspline2 cantilever)
     integer, parameter :: rebalance_steps = 50
         !! steps between two looks at the particle counts of the images
     real(wp), parameter :: rebalance_threshold = 1.1_wp
@@ -152,7 +159,7 @@ contains
             !! move into the simulation (a checkpoint's with its time and step; the rest of
             !! the run record is set by resume_simulation)
 
-        real(wp) :: lightest
+        real(wp) :: lightest, density
         integer :: i, stat, nstate
         logical :: loaded, restart
         character(len=256) :: msg
@@ -226,6 +233,14 @@ contains
         if (sim%particles%n > 0) lightest = minval(sim%particles%mass)
         call min_over_images(lightest)
         if (lightest < huge(1.0_wp)) sim%grid%small_mass = empty_node_fraction*lightest
+        ! light nodes: on a cut grid each is treated by one image, which trades its folds
+        ! and slaved values over the shared layers (mpm_kernel_light)
+        density = huge(1.0_wp)
+        if (sim%particles%n > 0) density = minval(sim%particles%mass/sim%particles%volume0)
+        call min_over_images(density)
+        sim%grid%light_mass = 0.0_wp
+        if (density < huge(1.0_wp)) sim%grid%light_mass = &
+            max(sim%grid%small_mass, light_node_fraction*density*case%domain%dx**case%dim)
         ! APIC affine velocities: kept from a state file of an APIC run, zero otherwise (a
         ! uniform velocity per body); dropped when this stage does not use APIC
         if (.not. case%solver%apic .and. allocated(sim%particles%affine)) then
@@ -438,7 +453,7 @@ contains
         type(decomposition_type) :: dec
         real(wp), allocatable :: loads(:), terrain_load(:)
         integer(i8), allocatable :: terrain_node(:)
-        real(wp) :: small_mass, imbalance
+        real(wp) :: small_mass, light_mass, imbalance
         integer :: axis, p, c, k, misplaced
         logical :: complete
 
@@ -478,6 +493,7 @@ contains
             if (allocated(error)) return
         end do
         small_mass = sim%grid%small_mass
+        light_mass = sim%grid%light_mass
         call slab_grid(sim, error)
         call agree(error)
         if (allocated(error)) return
@@ -486,6 +502,7 @@ contains
             if (allocated(error)) return
         end if
         sim%grid%small_mass = small_mass
+        sim%grid%light_mass = light_mass
         call take_face_loads(sim%case, sim%grid, sim%dec, loads)
         call take_terrain_loads(sim%case, sim%grid, sim%dec, terrain_node, terrain_load, &
             complete)
@@ -696,7 +713,8 @@ contains
                     call nodal_velocity(grid, dt, nodal_work(nodal_friction))
                 else
                     ! FLIP: what the contact impulses took from the particles, with the
-                    ! momentum of their new velocities
+                    ! momentum of their new velocities (the light nodes' in their masters)
+                    call fold_light(grid, grid%momentum)
                     call contact_particle_work(grid, nodal_work(nodal_friction), &
                         nodal_work(nodal_boundary))
                     call nodal_velocity(grid, dt)
@@ -770,55 +788,8 @@ contains
         call halo_sum(sim%grid, layers, mass=opts%mass, momentum=opts%mass, fint=opts%fint, &
             fext=opts%mass .and. allocated(sim%particles%body_force))
         if (opts%mass) call halo_contact_gaps(sim%grid, layers)
+        if (opts%mass) call find_light_nodes(sim%grid, layers)
     end subroutine scatter_to_nodes
-
-    !> The energy terms after a step from those before and the sums of the step (over all
-    !> images): kinetic energy, change of the potential, work of the loads, the stress sums
-    !> (nstress_sums), the nodal sums (nnodal_sums) and the kinetic energy of the nodes after
-    !> P2G and after the nodal update.
-    pure function step_energies(before, sums, grid_velocities) result(e)
-        type(energies_type), intent(in) :: before
-            !! terms at the start of the step
-        real(wp), intent(in) :: sums(:)
-            !! the sums of the step [J]
-        logical, intent(in) :: grid_velocities
-            !! G2P gives the particles the nodal velocities (APIC, PIC): the kinetic energy
-            !! the nodes lose to the constraints and the transfers is theirs. FLIP adds the
-            !! nodal accelerations to the particle velocities instead: a held component (zero
-            !! acceleration) leaves them as they are, and the particles keep the velocity the
-            !! nodes do not hold; no transfer term is booked, and the friction and boundary
-            !! sums are the contacts' work on the particles (contact_particle_work)
-        type(energies_type) :: e
-
-        real(wp) :: work(nwork_kinds), stored(nwork_kinds), nodal(nnodal_sums), grid(2)
-
-        work = sums(4:3 + nwork_kinds)
-        stored = sums(4 + nwork_kinds:3 + nstress_sums)
-        nodal = sums(4 + nstress_sums:3 + nstress_sums + nnodal_sums)
-        grid = sums(4 + nstress_sums + nnodal_sums:5 + nstress_sums + nnodal_sums)
-        e = before
-        ! the kinetic energy was summed in the G2P pass (nothing changes the velocities after)
-        e%kinetic = sums(1)
-        e%potential = e%potential + sums(2)
-        ! the work of the loads: prescribed forces, then the velocity faces
-        e%loads = e%loads + sums(3) + nodal(nodal_faces)
-        e%strain = e%strain + sum(work)
-        ! the work of a plastic or viscous material that its elastic energy did not take
-        e%plastic = e%plastic + work(work_plastic) &
-            - (stored(work_plastic) - before%stored(work_plastic))
-        e%viscous = e%viscous + work(work_viscous) &
-            - (stored(work_viscous) - before%stored(work_viscous))
-        e%stored = stored
-        e%elastic = sum(stored)
-        e%supplied = max(before%supplied, abs(e%potential) + abs(e%loads))
-        e%damping = e%damping + nodal(nodal_damping)
-        e%friction = e%friction + nodal(nodal_friction)
-        e%boundary = e%boundary + nodal(nodal_boundary)
-        if (.not. grid_velocities) return
-        ! the particles' kinetic energy the P2G projection did not give the nodes, and the
-        ! nodes' that G2P did not give back to the particles
-        e%transfer = e%transfer + (before%kinetic - grid(1)) + (grid(2) - e%kinetic)
-    end function step_energies
 
     !> Make a failure of any image the failure of all (collective): every image returns the
     !> error, and only the one that reports it keeps a message (one message per run).

@@ -1,8 +1,11 @@
 !> Verification: light nodes do not create energy
 !> (issue 19).
 !>
-!> A node is empty (no momentum, no force) only at round-off mass (1e-9 of the lightest
-!> particle); every other node the particles strain with also takes its force. (A fold of the
+!> A node below 1e-3 of a full node's mass is slaved to its heavy neighbours (mass, momentum
+!> and forces given to them, their velocity taken back: the same modified shape functions in
+!> P2G and G2P, mpm_kernel_light); one without a heavy neighbour is empty (no momentum, no
+!> force) only at round-off mass (1e-9 of the lightest particle); every other node the
+!> particles strain with also takes its force. (A fold of the
 !> cpGIMP weight beyond a face onto the face node, which removes the slivers of mass that a
 !> shrunk domain gives the next node, was tried and not kept: it moved the Bui toe from -2.0 %
 !> to +9.1 %; docs/study/cantilever.md, item 4.)

@@ -8,6 +8,7 @@ module mpm_kernel_nodal
     use mpm_kinds, only: wp
     use mpm_grid, only: grid_type, node_owned
     use mpm_kernel_contact, only: apply_contacts
+    use mpm_kernel_light, only: fold_light, slave_light
     implicit none
     private
     public :: nodal_velocity, integrate_nodes, box_middle, box_row, nodal_kinetic
@@ -36,6 +37,8 @@ contains
         integer :: i, layer, j, first, last, y, z
         real(wp) :: work, stopped
 
+        ! the momentum of the light nodes to their masters (again: nothing more)
+        call fold_light(grid, grid%momentum)
         ! what the constraints stop here: the caller compares nodal_kinetic before and after
         call apply_contacts(grid, 0.0_wp, step, work, stopped)
         if (present(friction_work)) friction_work = work
@@ -56,6 +59,7 @@ contains
         end do
         !$omp end parallel do
         call set_prescribed(grid)
+        call slave_light(grid, grid%velocity)
     end subroutine nodal_velocity
 
     !> Kinetic energy of the nodal momentum, sum_i |p_i|^2 / (2 m_i) over the nodes of the
@@ -190,6 +194,9 @@ contains
         real(wp), allocatable :: partial(:), partial_held(:)
 
         dim = grid%dim
+        call fold_light(grid, grid%momentum)
+        call fold_light(grid, grid%fint)
+        call fold_light(grid, grid%fext)
         call prescribed_impulses(grid, dt, gravity, face_work)
         ! one partial sum per layer of the box (slowest axis), added in layer order: the same
         ! sums with any number of threads
@@ -267,6 +274,8 @@ contains
                 end associate
             end do
         end if
+        call slave_light(grid, grid%velocity)
+        call slave_light(grid, grid%acceleration)
     end subroutine integrate_nodes
 
     !> Middle index bound of a box for box_row: the y bound in 3D, 0 in 2D (the slowest axis,
