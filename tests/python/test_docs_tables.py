@@ -56,7 +56,7 @@ def problems(path, root=REPO):
     for block in tables(text):
         start = block[0][0]
         name = f"{path.relative_to(root)}:{start}"
-        if len(block) < 2 or not SEPARATOR.match(block[1][1]):
+        if len(block) < 2 or not SEPARATOR.match(block[1][1].strip()):
             # a headless run of rows right after a table, across blank lines only: a table
             # broken by a blank line
             between = lines[previous_end:start - 1] if previous_end is not None else ["x"]
@@ -94,6 +94,12 @@ def test_a_blank_line_inside_a_table_is_found(tmp_path):
         "page.md:3: table without a separator row (|---|) as its 2nd line"]
     page.write_text("```\n| not | a table |\n```\n| k | v |\n|:--|--:|\n| a | 1 |\n")
     assert problems(page, tmp_path) == []
+    # a table indented inside a list item is a table too
+    page.write_text("1. item\n\n   | k | v |\n   |---|---|\n   | a | 1 |\n")
+    assert problems(page, tmp_path) == []
+    page.write_text("1. item\n\n   | k | v |\n   | a | 1 |\n")
+    assert problems(page, tmp_path) == [
+        "page.md:3: table without a separator row (|---|) as its 2nd line"]
 
 
 @pytest.mark.parametrize("path", PAGES, ids=lambda p: str(p.relative_to(REPO)))
