@@ -54,7 +54,8 @@ module mpm_energy
             !! particles [J]
         real(wp) :: transfer = 0.0_wp
             !! kinetic energy lost in the particle-grid transfers: particles minus nodes after
-            !! P2G, nodes after the nodal update minus particles after G2P [J]
+            !! P2G, nodes after the nodal update minus particles after G2P (APIC, PIC); with a
+            !! FLIP-PIC blend what its PIC part takes from the FLIP velocities [J]
     end type energies_type
 
 contains
@@ -111,8 +112,8 @@ contains
 
     !> The energy terms after a step from those before and the sums of the step (over all
     !> images): kinetic energy, change of the potential, work of the loads, the stress sums
-    !> (nstress_sums), the nodal sums (nnodal_sums) and the kinetic energy of the nodes after
-    !> P2G and after the nodal update.
+    !> (nstress_sums), the nodal sums (nnodal_sums), the kinetic energy of the nodes after
+    !> P2G and after the nodal update, and the kinetic energy a FLIP-PIC blend's PIC part took.
     pure function step_energies(before, sums, grid_velocities) result(e)
         type(energies_type), intent(in) :: before
             !! terms at the start of the step
@@ -123,16 +124,18 @@ contains
             !! the nodes lose to the constraints and the transfers is theirs. FLIP adds the
             !! nodal accelerations to the particle velocities instead: a held component (zero
             !! acceleration) leaves them as they are, and the particles keep the velocity the
-            !! nodes do not hold; no transfer term is booked, and the friction and boundary
-            !! sums are the contacts' work on the particles (contact_particle_work)
+            !! nodes do not hold; no nodal transfer term is booked (only a blend's loss), and
+            !! the friction and boundary sums are the contacts' work on the particles
+            !! (contact_particle_work)
         type(energies_type) :: e
 
-        real(wp) :: work(nwork_kinds), stored(nwork_kinds), nodal(nnodal_sums), grid(2)
+        real(wp) :: work(nwork_kinds), stored(nwork_kinds), nodal(nnodal_sums), grid(2), blend
 
         work = sums(4:3 + nwork_kinds)
         stored = sums(4 + nwork_kinds:3 + nstress_sums)
         nodal = sums(4 + nstress_sums:3 + nstress_sums + nnodal_sums)
         grid = sums(4 + nstress_sums + nnodal_sums:5 + nstress_sums + nnodal_sums)
+        blend = sums(6 + nstress_sums + nnodal_sums)
         e = before
         ! the kinetic energy was summed in the G2P pass (nothing changes the velocities after)
         e%kinetic = sums(1)
@@ -151,7 +154,12 @@ contains
         e%damping = e%damping + nodal(nodal_damping)
         e%friction = e%friction + nodal(nodal_friction)
         e%boundary = e%boundary + nodal(nodal_boundary)
-        if (.not. grid_velocities) return
+        if (.not. grid_velocities) then
+            ! a FLIP-PIC blend: the kinetic energy its PIC part took from the FLIP velocities
+            ! (0 for FLIP); the FLIP part is booked as FLIP is
+            if (blend /= 0.0_wp) e%transfer = e%transfer + blend
+            return
+        end if
         ! the particles' kinetic energy the P2G projection did not give the nodes, and the
         ! nodes' that G2P did not give back to the particles
         e%transfer = e%transfer + (before%kinetic - grid(1)) + (grid(2) - e%kinetic)

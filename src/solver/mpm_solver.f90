@@ -643,11 +643,11 @@ contains
         type(error_type), allocatable, intent(out) :: error
             !! set on a numerical failure (exit_numerical)
 
-        integer, parameter :: nsums = 5 + nstress_sums + nnodal_sums
-            !! energy sums of a step (the grid's kinetic energies last); the faces' impulses
-            !! follow them
+        integer, parameter :: nsums = 6 + nstress_sums + nnodal_sums
+            !! energy sums of a step (the grid's kinetic energies and the blend's loss last);
+            !! the faces' impulses follow them
         real(wp) :: work(nstress_sums), nodal_work(nnodal_sums), clock, kinetic, stopped, &
-            grid_kinetic(2), sums(nsums + size(sim%grid%face_impulse))
+            grid_kinetic(2), blend_loss, sums(nsums + size(sim%grid%face_impulse))
         integer :: scheme
         logical :: grid_energy
         type(motion_type) :: motion
@@ -700,10 +700,11 @@ contains
                 ! the stress update needs the nodal velocities of the moves: same pass
                 call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, sim%case%gravity, &
                     remap=.false., motion=motion, kinetic=kinetic, materials=sim%materials, &
-                    strain_work=work)
+                    strain_work=work, blend_loss=blend_loss)
             else
                 call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, sim%case%gravity, &
-                    remap=scheme == scheme_musl, motion=motion, kinetic=kinetic)
+                    remap=scheme == scheme_musl, motion=motion, kinetic=kinetic, &
+                    blend_loss=blend_loss)
             end if
             if (scheme == scheme_musl) then
                 ! the remapped momentum of the shared nodes, then the velocities of the remap
@@ -739,7 +740,7 @@ contains
         end associate
         ! sums over the images, in one reduction
         sums = [kinetic, motion%potential, motion%load_work, work, nodal_work, grid_kinetic, &
-            reshape(sim%grid%face_impulse, [size(sim%grid%face_impulse)])]
+            blend_loss, reshape(sim%grid%face_impulse, [size(sim%grid%face_impulse)])]
         call sum_over_images(sums)
         next = step_energies(sim%energy, sums(1:nsums), grid_velocities=grid_energy)
         sim%face_reaction = reshape(sums(nsums + 1:), shape(sim%face_reaction))/dt

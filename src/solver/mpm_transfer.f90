@@ -294,7 +294,7 @@ contains
     !> as the moves), the same pass also updates the stresses: one gather per particle and step
     !> instead of two; the blocks and the order of the work sums are those of update_stress.
     subroutine g2p(grid, particles, stc, dt, flip, gravity, remap, motion, kinetic, materials, &
-            strain_work)
+            strain_work, blend_loss)
         type(grid_type), intent(inout), target :: grid
             !! grid after the nodal update (momentum replaced with `remap`)
         type(particles_type), intent(inout) :: particles
@@ -320,12 +320,16 @@ contains
         real(wp), intent(out), optional :: strain_work(nstress_sums)
             !! with materials: sum_p (V sigma)_mid : d_eps and the stored elastic energy, by
             !! work kind (nstress_sums) [J] (per metre in 2D)
+        real(wp), intent(out), optional :: blend_loss
+            !! a FLIP-PIC blend (0 < flip < 1): the kinetic energy its PIC part takes from the
+            !! FLIP velocities, sum_p m (|v_FLIP|^2 - |v|^2) / 2 [J] (per metre in 2D); 0
+            !! otherwise
 
         integer :: k, q, p, dim, shift, ng, qlo, qhi
-        real(wp) :: xp(3), vp(3), aff(3, 3), bf(3), vs(6), dx(3), gradv(3, 3), ke, &
-            ldts(3, 3, gather_block), work(nstress_sums)
+        real(wp) :: xp(3), vp(3), aff(3, 3), bf(3), vs(6), dx(3), gradv(3, 3), ke, loss, &
+            blended, ldts(3, 3, gather_block), work(nstress_sums)
         logical :: apic, stress
-        real(wp), allocatable :: partial(:, :), partial_ke(:)
+        real(wp), allocatable :: partial(:, :), partial_ke(:), partial_loss(:)
         real(wp), pointer, contiguous :: buf(:, :)
         type(motion_type), allocatable :: moved(:)
         type(motion_type) :: mine
@@ -335,7 +339,7 @@ contains
         stress = present(materials) .and. .not. remap
         ! the remap scatters: chunks; otherwise only gathers: small blocks balance the threads
         ng = group_count(stc, remap)
-        allocate (moved(ng), partial(nstress_sums, ng), partial_ke(ng))
+        allocate (moved(ng), partial(nstress_sums, ng), partial_ke(ng), partial_loss(ng))
         if (remap) then
             ! the momentum only: the nodal masses do not change
             call scatter_buffer(grid, dim, stc%chunk_offset(stc%nchunks + 1), buf)
@@ -344,15 +348,16 @@ contains
         end if
         !$omp parallel do default(none) schedule(dynamic, 1) &
         !$omp shared(grid, particles, stc, dt, flip, gravity, remap, buf, dim, apic, moved, ng, &
-        !$omp materials, stress, partial, partial_ke) &
+        !$omp materials, stress, partial, partial_ke, partial_loss) &
         !$omp private(k, q, p, shift, xp, vp, aff, bf, vs, dx, qlo, qhi, mine, gradv, work, ldts, &
-        !$omp ke)
+        !$omp ke, loss, blended)
         do k = 1, ng
             ! records and sums in private variables, stored once per group: neighbouring
             ! groups run on other threads, and their array entries share cache lines
             mine = motion_type()
             work = 0.0_wp
             ke = 0.0_wp
+            loss = 0.0_wp
             call group_range(stc, remap, k, qlo, qhi)
             shift = 0
             if (remap) then
@@ -367,8 +372,10 @@ contains
             do q = qlo, qhi
                 p = stc%order(q)
                 call update_particle_velocity(grid, particles, stc, p, dt, flip, apic, &
-                    need_v=.not. remap, with_gradient=stress, dx=dx, gradv=gradv)
+                    need_v=.not. remap, with_gradient=stress, dx=dx, gradv=gradv, &
+                    blend_loss=blended)
                 ke = ke + 0.5_wp*particles%mass(p)*sum(particles%v(:, p)**2)
+                loss = loss + blended
                 if (.not. remap) call move_particle(grid, particles, p, dx, gravity, mine)
                 if (stress) ldts(:, :, q - qlo + 1) = dt*gradv
                 if (remap) then
@@ -389,6 +396,7 @@ contains
             moved(k) = mine
             partial(:, k) = work
             partial_ke(k) = ke
+            partial_loss(k) = loss
         end do
         !$omp end parallel do
         call merge_motion(moved, motion)
@@ -396,6 +404,12 @@ contains
         do k = 1, ng
             kinetic = kinetic + partial_ke(k)
         end do
+        if (present(blend_loss)) then
+            blend_loss = 0.0_wp
+            do k = 1, ng
+                blend_loss = blend_loss + partial_loss(k)
+            end do
+        end if
         if (present(strain_work)) then
             strain_work = 0.0_wp
             do k = 1, ng
@@ -411,7 +425,7 @@ contains
     !> The G2P update of one particle: velocity (FLIP, PIC blend or APIC) and the position
     !> increment dt sum N_i v_i; the velocity gradient too with `with_gradient` (or APIC).
     subroutine update_particle_velocity(grid, particles, stc, p, dt, flip, apic, need_v, &
-            with_gradient, dx, gradv)
+            with_gradient, dx, gradv, blend_loss)
         type(grid_type), intent(in) :: grid
         type(particles_type), intent(inout) :: particles
         type(stencils_type), intent(in) :: stc
@@ -421,11 +435,15 @@ contains
         logical, intent(in) :: need_v
             !! the increment dx is used (the particle moves in this pass)
         real(wp), intent(out) :: dx(3), gradv(3, 3)
+        real(wp), intent(out) :: blend_loss
+            !! a FLIP-PIC blend: m (|v_FLIP|^2 - |v|^2) / 2, the kinetic energy the PIC part
+            !! takes from the FLIP update (it can give some to a particle); 0 otherwise [J]
 
         integer :: dim
-        real(wp) :: a(3), v(3), kept
+        real(wp) :: a(3), v(3), kept, vflip(3)
 
         dim = grid%dim
+        blend_loss = 0.0_wp
         ! the MUSL remap (FLIP) needs the accelerations only: the particles move later
         call gather_particle(stc, p, grid%acceleration, grid%velocity, with_a=.not. apic, &
             with_v=need_v .or. apic .or. flip < 1.0_wp, with_gradient=apic .or. with_gradient, &
@@ -451,7 +469,12 @@ contains
                 particles%affine(:, :, p) = 0.0_wp
             end if
         else if (flip < 1.0_wp) then
+            ! the velocity as FLIP alone would give it, for the loss only (the blend keeps its
+            ! own expression: the moves are those of the runs before the loss was booked)
+            vflip(1:dim) = particles%v(:, p) + dt*a(1:dim)
             particles%v(:, p) = flip*(particles%v(:, p) + dt*a(1:dim)) + (1.0_wp - flip)*v(1:dim)
+            blend_loss = 0.5_wp*particles%mass(p)* &
+                (sum(vflip(1:dim)**2) - sum(particles%v(:, p)**2))
         else
             particles%v(:, p) = particles%v(:, p) + dt*a(1:dim)
         end if
