@@ -15,7 +15,7 @@ module mpm_case_materials
     implicit none
     private
     public :: material_spec_type, read_materials, material_index, material_list
-    public :: writes_plastic_strain, material_laws
+    public :: writes_plastic_strain, material_laws, state_variable_count
 
     !> One material of the case.
     type :: material_spec_type
@@ -136,6 +136,20 @@ contains
             allocate (laws(i)%m, source=materials(i)%law)
         end do
     end subroutine material_laws
+
+    !> The state variables per particle that the materials need: the largest of their laws'
+    !> (the particles hold one row per variable for every material).
+    pure integer function state_variable_count(materials) result(nstate)
+        type(material_spec_type), intent(in) :: materials(:)
+            !! materials of the case, each with its law
+
+        integer :: i
+
+        nstate = 0
+        do i = 1, size(materials)
+            if (allocated(materials(i)%law)) nstate = max(nstate, materials(i)%law%nstate())
+        end do
+    end function state_variable_count
 
     !> Index of the material called `name`, 0 when there is none.
     pure integer function material_index(materials, name)

@@ -11,6 +11,7 @@ module mpm_run
     use mpm_particles, only: particles_type, particle_bytes, pack_particles, rebuild_particles, &
         record_length, created_particle_bytes
     use mpm_case, only: case_type
+    use mpm_case_materials, only: state_variable_count
     use mpm_boundary, only: face_nodes_type
     use mpm_setup, only: start_simulation
     use mpm_solver, only: simulation_type, advance, stable_time_step, &
@@ -701,9 +702,10 @@ contains
 
         d = real(case%dim, wp)
         nps = real(nodes_per_axis, wp)
-        ! the arrays of the field table that new_particles allocates, with 2 state variables,
-        ! the APIC affine velocities and the ids of several images
-        per_particle = real(created_particle_bytes(case%dim, 2, case%solver%apic, image_count() > 1), wp)
+        ! the arrays of the field table that new_particles allocates, with the state
+        ! variables of the materials, the APIC affine velocities and the ids of several images
+        per_particle = real(created_particle_bytes(case%dim, state_variable_count(case%materials), &
+            case%solver%apic, image_count() > 1), wp)
         if (case%guard%snapshot_steps > 0) per_particle = 2.0_wp*per_particle
         ! stencils: weights and gradients, first node, order, cell
         per_particle = per_particle + real_bytes*(2.0_wp*nps - 1.0_wp)*d + int_bytes*(d + 2.0_wp)

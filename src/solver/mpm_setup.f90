@@ -6,8 +6,7 @@ module mpm_setup
     use mpm_case, only: case_type
     use mpm_stl, only: stl_mesh_type, read_stl
     use mpm_state, only: load_state
-    use mpm_material, only: material_holder_type
-    use mpm_case_materials, only: material_laws
+    use mpm_case_materials, only: state_variable_count
     use mpm_solver, only: simulation_type, new_simulation, start_type, has_text
     implicit none
     private
@@ -28,17 +27,12 @@ contains
         character(len=*), intent(in), optional :: restart
             !! checkpoint to continue from: its particles, time and step
 
-        type(material_holder_type), allocatable :: materials(:)
         type(stl_mesh_type) :: mesh
-        integer :: nstate, i
+        integer :: nstate
 
         if (present(restart) .or. has_text(case%load_state)) then
             ! the state variables the case's materials need per particle
-            call material_laws(case%materials, materials)
-            nstate = 0
-            do i = 1, size(materials)
-                nstate = max(nstate, materials(i)%m%nstate())
-            end do
+            nstate = state_variable_count(case%materials)
             start%loaded = .true.
             if (present(restart)) then
                 start%restart = .true.

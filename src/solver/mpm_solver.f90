@@ -26,7 +26,7 @@ module mpm_solver
     use mpm_shape, only: shape_type
     use mpm_shape_factory, only: new_shape
     use mpm_material, only: material_holder_type, nwork_kinds
-    use mpm_case_materials, only: material_laws
+    use mpm_case_materials, only: material_laws, state_variable_count
     use mpm_state, only: run_record_type
     use mpm_contact_loads, only: face_loads, take_face_loads, face_node_count, terrain_loads, &
         take_terrain_loads
@@ -167,11 +167,10 @@ contains
         sim%case = case
         call material_laws(case%materials, sim%materials)
         allocate (sim%wave_speed(size(sim%materials)), sim%time_step_limit(size(sim%materials)))
-        nstate = 0
+        nstate = state_variable_count(case%materials)
         do i = 1, size(sim%materials)
             sim%wave_speed(i) = p_wave_speed(case%materials(i))
             sim%time_step_limit(i) = viscous_time_step(case%materials(i), case%domain%dx, case%dim)
-            nstate = max(nstate, sim%materials(i)%m%nstate())
         end do
         call new_shape(sim%shape, trim(case%solver%shape_function), error, &
             text_or(case%file, "?"))

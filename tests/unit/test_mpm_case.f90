@@ -9,6 +9,7 @@ program test_mpm_case
         scheme_musl, scheme_usl, damping_none, damping_local, &
         dist_regular, dist_random, field_position, field_velocity, field_stress
     use mpm_case_stability, only: critical_time_step, p_wave_speed
+    use mpm_case_materials, only: state_variable_count
     use mpm_boundary, only: face_nodes_type
     use mpm_softening, only: softening_none, softening_linear, softening_exponential
     use mpm_strength, only: strength_type
@@ -350,6 +351,7 @@ contains
         end if
         call read_valid(suite, soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30'), &
             case, "Mohr-Coulomb defaults")
+        call check(suite, state_variable_count(case%materials) == 2, "MC: 2 state variables")
         if (allocated(case%materials)) then
             str = strength_of(case%materials(1))
             associate (mat => case%materials(1))
@@ -374,6 +376,10 @@ contains
         call read_valid(suite, soil_case('"type": "mohr_coulomb", '//elastic_part//', "phi": 30, ' &
             //'"c": 2000, "tension_cutoff": 0, "separation": true'), case, &
             "separation with c > 0 and a zero tension cutoff")
+        ! the particles' state rows (and the memory estimate): plastic strain, the
+        ! softening's, and the separation's opening
+        call check(suite, state_variable_count(case%materials) == 3, &
+            "MC with separation: 3 state variables")
         call read_valid(suite, soil_case('"type": "drucker_prager", '//elastic_part//', "phi": 30, ' &
             //'"separation": true'), case, "cohesionless Drucker-Prager with separation")
         if (allocated(case%materials)) then
@@ -422,6 +428,7 @@ contains
         end if
         call read_valid(suite, soil_case('"type": "newtonian", "rho": 1000, "viscosity": 0, ' &
             //'"bulk_modulus": 1e5'), case, "inviscid fluid")
+        call check(suite, state_variable_count(case%materials) == 0, "fluid: no state variables")
     end subroutine test_material_types
 
     !> The summary shows the parameters of each type (angles in degrees) and the limit that
@@ -526,6 +533,8 @@ contains
 
         call read_valid(suite, soil_case('"type": "neo_hookean", '//elastic_part), case, &
             "neo_hookean material")
+        call check(suite, state_variable_count(case%materials) == 9, &
+            "neo_hookean: 9 state variables (F - I), not 2")
         if (allocated(case%materials)) then
             call check(suite, case%materials(1)%type == "neo_hookean", "neo_hookean type kept")
             call check_close(suite, young_of(case%materials(1)), 1.0e7_wp, tol*1.0e7_wp, &
