@@ -47,6 +47,14 @@ module mpm_case_cursor
         procedure :: item => cursor_item
         !> Number of members of an object or items of an array.
         procedure :: size => cursor_size
+        !> Whether the value is there (a key that was not given is not).
+        procedure :: given => cursor_given
+        !> Its JSON type, as json_type_name spells it ("object", "string", ...).
+        procedure :: kind => cursor_kind
+        !> The text of a string value ("" for any other).
+        procedure :: text => cursor_text
+        !> What the value is, for messages: 'a string ("abc")', "a number (2)", ...
+        procedure :: found => cursor_found
         !> Check the JSON type of the value itself.
         procedure :: check_type => cursor_check_type
         !> Refuse unknown keys (with the nearest allowed key) and duplicate keys.
@@ -164,6 +172,44 @@ contains
 
         cursor_size = json_size(cur%obj)
     end function cursor_size
+
+    !> Whether the value is there (a key that was not given is not).
+    logical function cursor_given(cur)
+        class(cursor_type), intent(in) :: cur
+            !! any value
+
+        cursor_given = json_is_valid(cur%obj)
+    end function cursor_given
+
+    !> The JSON type of the value, as json_type_name spells it.
+    function cursor_kind(cur) result(kind)
+        class(cursor_type), intent(in) :: cur
+            !! any value
+        character(len=:), allocatable :: kind
+            !! "object", "array", "string", "number", "boolean", "null"
+
+        kind = json_type_name(cur%obj)
+    end function cursor_kind
+
+    !> The text of a string value.
+    function cursor_text(cur) result(text)
+        class(cursor_type), intent(in) :: cur
+            !! a string value
+        character(len=:), allocatable :: text
+            !! its text ("" for any other value)
+
+        text = json_string(cur%obj)
+    end function cursor_text
+
+    !> What the value is, for messages.
+    function cursor_found(cur) result(text)
+        class(cursor_type), intent(in) :: cur
+            !! any value
+        character(len=:), allocatable :: text
+            !! 'a string ("abc")', "a number (2)", "an object", ...
+
+        text = describe(cur%obj)
+    end function cursor_found
 
     !> Check the JSON type of the value itself.
     subroutine cursor_check_type(cur, kind, expect, error)

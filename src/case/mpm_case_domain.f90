@@ -3,8 +3,7 @@ module mpm_case_domain
     use mpm_kinds, only: wp
     use mpm_error, only: error_type
     use mpm_strings, only: lower, int_text, fmt_real, int_list, same, any_same
-    use mpm_json, only: json_is_valid, json_type_name, json_string
-    use mpm_case_cursor, only: cursor_type, describe
+    use mpm_case_cursor, only: cursor_type
     use mpm_boundary, only: boundary_holder_type, face_nodes_type, boundary_key_width
     use mpm_boundary_free, only: free_boundary_type
     use mpm_boundary_registry, only: boundary_models, boundary_choices, boundary_choice_codes, &
@@ -149,12 +148,12 @@ contains
         integer :: i, m
 
         path = face%path
-        if (.not. json_is_valid(face%obj)) return
+        if (.not. face%given()) return
         models = boundary_models()
         choices = boundary_choices()
         codes = boundary_choice_codes()
-        if (json_type_name(face%obj) == "string") then
-            name = json_string(face%obj)
+        if (face%kind() == "string") then
+            name = face%text()
             do i = 1, size(choices)
                 if (.not. same(lower(name), lower(trim(choices(i))))) cycle
                 associate (model => models(codes(i))%b)
@@ -172,9 +171,9 @@ contains
                 //boundary_allowed())
             return
         end if
-        if (json_type_name(face%obj) /= "object") then
+        if (face%kind() /= "object") then
             call face%fail(error, path//" has the wrong type: expected "//boundary_allowed() &
-                //", found "//describe(face%obj))
+                //", found "//face%found())
             return
         end if
         call face%check_keys(all_boundary_keys(), error)

@@ -3,7 +3,6 @@ module mpm_case_output
     use mpm_kinds, only: wp
     use mpm_error, only: error_type
     use mpm_strings, only: lower, quoted_list, same
-    use mpm_json, only: json_string
     use mpm_case_cursor, only: cursor_type, room_folder
     implicit none
     private
@@ -104,15 +103,15 @@ contains
             call item%check_type("string", "a field name", error)
             if (allocated(error)) return
             do f = 1, nfields
-                if (same(lower(json_string(item%obj)), trim(field_names(f)))) exit
+                if (same(lower(item%text()), trim(field_names(f)))) exit
             end do
             if (f > nfields) then
-                call item%fail(error, item%path//' = "'//json_string(item%obj)//'" is not a ' &
+                call item%fail(error, item%path//' = "'//item%text()//'" is not a ' &
                     //"field: must be one of "//quoted_list(field_names))
                 return
             end if
             if (fields(f)) then
-                call item%fail(error, item%path//' = "'//json_string(item%obj)//'" is listed ' &
+                call item%fail(error, item%path//' = "'//item%text()//'" is listed ' &
                     //"twice; give each field once")
                 return
             end if
