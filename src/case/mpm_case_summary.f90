@@ -125,8 +125,8 @@ contains
             text = text//"history     every time step"//nl
         end if
         text = text//"progress    every "//fmt_real(case%progress%interval)//" s (wall clock)"//nl
-        text = text//"save_state  "//text_or(case%save_state, "(none)", .true.)//nl
-        text = text//"load_state  "//text_or(case%load_state, "(none)", .true.)//nl
+        text = text//"save_state  "//text_or(case%save_state, "(none)", empty_too=.true.)//nl
+        text = text//"load_state  "//text_or(case%load_state, "(none)", empty_too=.true.)//nl
         line = "checkpoint "
         if (case%checkpoint%every_steps > 0) line = line//" every "//int_text(case%checkpoint%every_steps)// &
             " steps,"
@@ -138,7 +138,7 @@ contains
             line = line//" not on signals"
         end if
         line = line//", file "//text_or(case%checkpoint%file, "<output folder>/checkpoint.h5", &
-            .true.)
+            empty_too=.true.)
         text = text//line//nl
         line = "guard       energy created above "//fmt_real(case%guard%energy_factor)// &
             " x the energy scale; "

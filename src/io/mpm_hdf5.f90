@@ -496,12 +496,12 @@ contains
             end if
             if (present(units)) then
                 call put_string_attribute(dataset, location%file, where, "units", &
-                    [text_type(units)], .true., error)
+                    [text_type(units)], scalar=.true., error=error)
                 if (allocated(error)) exit steps
             end if
             if (present(components)) then
                 call put_string_attribute(dataset, location%file, where, "components", &
-                    [text_type(components)], .true., error)
+                    [text_type(components)], scalar=.true., error=error)
                 if (allocated(error)) exit steps
             end if
         end block steps
@@ -509,7 +509,8 @@ contains
         call clear_errno()
         ! closing the dataset writes what HDF5 buffered of it: a failure there is a failure
         ! of the write
-        if (dataset >= 0) call close_written(dataset, .false., hdferr, code)
+        if (dataset >= 0) call close_written(dataset, is_attribute=.false., hdferr=hdferr, &
+            code=code)
         if (space >= 0) call h5sclose_f(space, ignored)
         if (allocated(error)) return
         if (hdferr /= 0) then
@@ -589,13 +590,14 @@ contains
             if (hdferr /= 0) exit steps
             if (present(units)) then
                 call put_string_attribute(dataset, location%file, where, "units", &
-                    [text_type(units)], .true., error)
+                    [text_type(units)], scalar=.true., error=error)
             end if
         end block steps
         code = last_errno()
         call clear_errno()
         ! (closing the view writes what HDF5 buffered of it, as in write_data)
-        if (dataset >= 0) call close_written(dataset, .false., hdferr, code)
+        if (dataset >= 0) call close_written(dataset, is_attribute=.false., hdferr=hdferr, &
+            code=code)
         if (plist >= 0) call h5pclose_f(plist, ignored)
         if (space >= 0) call h5sclose_f(space, ignored)
         if (source_space >= 0) call h5sclose_f(source_space, ignored)
@@ -676,7 +678,7 @@ contains
         type(error_type), allocatable, intent(out) :: error
 
         call put_string_attribute(location%id, location%file, location%path, name, &
-            [text_type(value)], .true., error)
+            [text_type(value)], scalar=.true., error=error)
     end subroutine write_attr_string
 
     subroutine write_attr_text_1d(location, name, values, error)
@@ -686,7 +688,7 @@ contains
         type(error_type), allocatable, intent(out) :: error
 
         call put_string_attribute(location%id, location%file, location%path, name, values, &
-            .false., error)
+            scalar=.false., error=error)
     end subroutine write_attr_text_1d
 
     !> Create (replace) a numeric attribute; `dims` empty for a scalar.
@@ -719,7 +721,8 @@ contains
         end block steps
         code = last_errno()
         call clear_errno()
-        if (attribute >= 0) call close_written(attribute, .true., hdferr, code)
+        if (attribute >= 0) call close_written(attribute, is_attribute=.true., hdferr=hdferr, &
+            code=code)
         if (space >= 0) call h5sclose_f(space, ignored)
         if (hdferr /= 0) then
             call fatal_error(error, write_failure("the attribute '"//name//"' of '"// &
@@ -786,7 +789,8 @@ contains
         end block steps
         code = last_errno()
         call clear_errno()
-        if (attribute >= 0) call close_written(attribute, .true., hdferr, code)
+        if (attribute >= 0) call close_written(attribute, is_attribute=.true., hdferr=hdferr, &
+            code=code)
         if (space >= 0) call h5sclose_f(space, ignored)
         if (string_type >= 0) call h5tclose_f(string_type, ignored)
         if (hdferr /= 0) then
@@ -815,10 +819,10 @@ contains
     !> Close a dataset or attribute that was written: the close writes what HDF5 buffered of
     !> it, so its failure is a failure of the write (kept in hdferr and code unless an earlier
     !> step already failed).
-    subroutine close_written(id, attribute, hdferr, code)
+    subroutine close_written(id, is_attribute, hdferr, code)
         integer(hid_t), intent(in) :: id
             !! the open dataset or attribute
-        logical, intent(in) :: attribute
+        logical, intent(in) :: is_attribute
             !! an attribute (else a dataset)
         integer, intent(inout) :: hdferr
             !! status of the write so far (0: it went well)
@@ -827,7 +831,7 @@ contains
 
         integer :: status
 
-        if (attribute) then
+        if (is_attribute) then
             call h5aclose_f(id, status)
         else
             call h5dclose_f(id, status)

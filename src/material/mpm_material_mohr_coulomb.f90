@@ -277,7 +277,7 @@ contains
         mat%strength = strength
         mat%peak = mohr_coulomb_surface(strength%friction, strength%cohesion, &
             strength%dilatancy, strength%tension_cutoff)
-        call new_return_planes(mat%peak_planes, mat%peak, mat%shear, mat%lame, .true.)
+        call new_return_planes(mat%peak_planes, mat%peak, mat%shear, mat%lame, factorise=.true.)
     end subroutine set_up
 
     !> Two state values per particle, eps_q and the plastic volumetric strain, and with
@@ -638,7 +638,7 @@ contains
             call try_candidates(trial, planes, surface, scale, compression, s, best, &
                 best_violation, accepted)
         else
-            call new_return_planes(local, surface, shear, lame, .false.)
+            call new_return_planes(local, surface, shear, lame, factorise=.false.)
             call try_candidates(trial, local, surface, scale, compression, s, best, &
                 best_violation, accepted)
         end if

@@ -674,8 +674,8 @@ contains
                 call nodal_velocity(grid, dt)
                 if (grid_energy) stopped = grid_kinetic(1) - nodal_kinetic(grid)
                 call lap(sim, phase_nodal, clock)
-                call update_stress(grid, particles, stc, sim%materials, dt, fbar, work, &
-                    sim%case%gravity)
+                call update_stress(grid, particles, stc, sim%materials, dt, fbar=fbar, &
+                    strain_work=work, gravity=sim%case%gravity)
                 call lap(sim, phase_stress, clock)
                 call scatter_to_nodes(sim, p2g_options_type(fint=.true., fbar=fbar))
             else
@@ -723,15 +723,15 @@ contains
             call lap(sim, phase_g2p, clock)
             select case (scheme)
             case (scheme_usl)
-                if (fbar) call update_stress(grid, particles, stc, sim%materials, dt, fbar, &
-                    work, sim%case%gravity)
+                if (fbar) call update_stress(grid, particles, stc, sim%materials, dt, &
+                    fbar=fbar, strain_work=work, gravity=sim%case%gravity)
             case (scheme_musl)
                 ! the particles move with the remapped velocities that strain them: moved with
                 ! the velocities of the nodal update instead, the difference (dt times the
                 ! nodal acceleration) feeds particle noise under tension that FLIP never damps
                 ! (growth ~ sigma dt / (rho dx^2), see docs/accuracy-vs-cost.md)
-                call update_stress(grid, particles, stc, sim%materials, dt, fbar, work, &
-                    sim%case%gravity, motion)
+                call update_stress(grid, particles, stc, sim%materials, dt, fbar=fbar, &
+                    strain_work=work, gravity=sim%case%gravity, motion=motion)
             case default
                 continue ! USF: the stress was updated before the momentum
             end select
