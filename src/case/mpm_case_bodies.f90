@@ -3,7 +3,8 @@ module mpm_case_bodies
     use mpm_kinds, only: wp, i8
     use mpm_error, only: error_type, fatal_error, exit_other
     use mpm_strings, only: int_text, fmt_real, fmt_vector, fmt_box, same
-    use mpm_stl, only: stl_mesh_type, read_stl, check_closed
+    use mpm_stl, only: read_stl
+    use mpm_surface_mesh, only: stl_mesh_type, check_closed
     use mpm_case_cursor, only: cursor_type
     use mpm_case_domain, only: domain_section_type
     use mpm_case_particles, only: particles_section_type

@@ -16,7 +16,8 @@
 !> triangles (zero area to round-off) are skipped and counted. Every problem with the file is
 !> an error with code exit_input whose message names the file and the case-file key.
 !>
-!> `check_closed` tells whether a mesh is the closed, consistently oriented surface of a body.
+!> The mesh type and its geometry (`check_closed`, `enclosed_volume`) are in
+!> mpm_surface_mesh (src/geometry/); this module only reads files.
 module mpm_stl
     use, intrinsic :: iso_fortran_env, only: int16, int32, real32
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -25,10 +26,10 @@ module mpm_stl
     use mpm_filesystem, only: file_exists, directory_exists
     use mpm_strings, only: lower, real_text, vector_text => reals_text, i8_text => int_text, &
         parse_real, number_invalid, number_finite, number_not_finite, number_too_large
-    use mpm_surface_mesh, only: stl_mesh_type, check_closed, enclosed_volume
+    use mpm_surface_mesh, only: stl_mesh_type
     implicit none
     private
-    public :: stl_mesh_type, read_stl, check_closed, enclosed_volume
+    public :: read_stl
     public :: stl_coordinate_limit
 
     real(wp), parameter :: stl_coordinate_limit = 1.0e30_wp

@@ -4,7 +4,8 @@
 module mpm_setup
     use mpm_error, only: error_type
     use mpm_case, only: case_type
-    use mpm_stl, only: stl_mesh_type, read_stl
+    use mpm_stl, only: read_stl
+    use mpm_surface_mesh, only: stl_mesh_type
     use mpm_state, only: load_state
     use mpm_case_materials, only: state_variable_count
     use mpm_solver, only: simulation_type, new_simulation, start_type, has_text

@@ -15,8 +15,8 @@ program test_mpm_stl
     use mpm_kinds, only: wp
     use mpm_error, only: error_type, exit_input
     use mpm_filesystem, only: remove_file, c_string
-    use mpm_stl, only: stl_mesh_type, read_stl
-    use mpm_surface_mesh, only: check_closed, enclosed_volume
+    use mpm_stl, only: read_stl
+    use mpm_surface_mesh, only: stl_mesh_type, check_closed, enclosed_volume
     use mpm_testing, only: test_suite_type, new_suite, check, check_close, check_contains, &
         finish, temporary_folder
     implicit none
