@@ -12,13 +12,19 @@
 !> at each shared node, also one that only the neighbour's particles touch (the running
 !> contact loads of such a node, and the energy sums of the image that owns it, need them).
 !> Nodes outside the box take nothing and stay zero (mpm_transfer's fold).
+!>
+!> The light nodes (mpm_kernel_light) are found, folded and slaved here: the kernel does this
+!> image's part, and on a cut grid this module trades the shared layers.
 module mpm_halo
     use mpm_kinds, only: wp
     use mpm_grid, only: grid_type, node_layer
     use mpm_parallel, only: exchange_neighbours
+    use mpm_kernel_light, only: find_light_nodes, fold_light_local, fold_light_mass_local, &
+        slave_light_local, light_increments, light_slaved_values
     implicit none
     private
     public :: halo_sum, halo_contact_gaps, halo_box, halo_nodes, halo_pairs, box_part, grow_box
+    public :: settle_light_nodes, fold_light, slave_light
 
 contains
 
@@ -331,5 +337,132 @@ contains
             in_box = in_box .and. layer >= grid%active_lo(a) .and. layer <= grid%active_hi(a)
         end do
     end function in_box
+
+    !> The light nodes of the step and their masters, from the masses of P2G (summed over the
+    !> images); folds the mass and momentum of each into its masters (the light node keeps
+    !> none). Collective on a cut grid.
+    subroutine settle_light_nodes(grid, layers)
+        type(grid_type), intent(inout) :: grid
+            !! grid with mass and momentum set by P2G (and summed over the images)
+        integer, intent(in) :: layers
+            !! node layers shared at a cut (shape_type%halo_width)
+
+        real(wp), allocatable :: mass(:, :)
+
+        call find_light_nodes(grid, layers)
+        if (grid%light_mass <= 0.0_wp) return
+        ! the masses first: the coefficients are those of the masses of P2G
+        if (grid%halo_axis /= 0) then
+            mass = reshape(grid%mass, [1, size(grid%mass)])
+            call fold_cut(grid, mass, held=.false.)
+            grid%mass = mass(1, :)
+        else
+            call fold_light_mass_local(grid)
+        end if
+        call fold_light(grid, grid%momentum)
+    end subroutine settle_light_nodes
+
+    !> Give the nodal field (dim, nnodes) of each light node to its masters, f_j += c_j f_l,
+    !> and zero it there (a second call adds nothing); held components are the support's.
+    !> Collective on a cut grid.
+    subroutine fold_light(grid, field)
+        type(grid_type), intent(in) :: grid
+            !! the grid with its light nodes found
+        real(wp), intent(inout) :: field(:, :)
+            !! momentum or force
+
+        if (grid%light_mass <= 0.0_wp) return
+        if (grid%halo_axis /= 0) then
+            call fold_cut(grid, field, held=.true.)
+        else
+            call fold_light_local(grid, field)
+        end if
+    end subroutine fold_light
+
+    !> The nodal field (dim, nnodes) of each light node from its masters, f_l = sum_j c_j f_j
+    !> (held components zero); on a cut grid the image that treats a shared light node gives
+    !> its values to the other. Collective on a cut grid.
+    subroutine slave_light(grid, field)
+        type(grid_type), intent(in) :: grid
+            !! the grid with its light nodes found
+        real(wp), intent(inout) :: field(:, :)
+            !! velocity or acceleration
+
+        if (grid%light_mass <= 0.0_wp) return
+        call slave_light_local(grid, field)
+        if (grid%halo_axis /= 0) call trade_slaved(grid, field)
+    end subroutine slave_light
+
+    !> fold_light on a cut grid: the folds of this image's light nodes as increments, traded
+    !> over the shared layers and added in image order (the left neighbour's, this image's,
+    !> the right neighbour's), so both images of a shared node add the same numbers in the
+    !> same order. Collective.
+    subroutine fold_cut(grid, field, held)
+        type(grid_type), intent(in) :: grid
+            !! the cut grid with this image's light nodes found
+        real(wp), intent(inout) :: field(:, :)
+            !! mass (1, nnodes), momentum or force (dim, nnodes)
+        logical, intent(in) :: held
+            !! the rows are the grid's components: held components of a light node give
+            !! nothing
+
+        real(wp), allocatable :: delta(:, :), send_lo(:), send_hi(:), recv_lo(:), recv_hi(:)
+        integer, allocatable :: lo_nodes(:), hi_nodes(:)
+        integer :: r
+
+        r = size(field, 1)
+        allocate (delta(r, size(field, 2)))
+        call light_increments(grid, field, held, delta)
+        call halo_nodes(grid, grid%light_layers, lo_nodes, hi_nodes)
+        send_lo = reshape(delta(:, lo_nodes), [r*size(lo_nodes)])
+        send_hi = reshape(delta(:, hi_nodes), [r*size(hi_nodes)])
+        call exchange_neighbours(grid%halo_left, grid%halo_right, send_lo, send_hi, recv_lo, &
+            recv_hi)
+        if (size(recv_lo) > 0) field(:, lo_nodes) = field(:, lo_nodes) &
+            + reshape(recv_lo, [r, size(lo_nodes)])
+        field = field + delta
+        if (size(recv_hi) > 0) field(:, hi_nodes) = field(:, hi_nodes) &
+            + reshape(recv_hi, [r, size(hi_nodes)])
+    end subroutine fold_cut
+
+    !> The slaved values of the light nodes in the shared layers from the image that treats
+    !> them (a flag and the values per shared node). Collective.
+    subroutine trade_slaved(grid, field)
+        type(grid_type), intent(in) :: grid
+            !! the cut grid with this image's light nodes found
+        real(wp), intent(inout) :: field(:, :)
+            !! velocity or acceleration (dim, nnodes)
+
+        real(wp), allocatable :: mine(:, :), send_lo(:), send_hi(:), recv_lo(:), recv_hi(:)
+        integer, allocatable :: lo_nodes(:), hi_nodes(:)
+        integer :: r
+
+        r = size(field, 1)
+        allocate (mine(r + 1, size(field, 2)))
+        call light_slaved_values(grid, field, mine)
+        call halo_nodes(grid, grid%light_layers, lo_nodes, hi_nodes)
+        send_lo = reshape(mine(:, lo_nodes), [(r + 1)*size(lo_nodes)])
+        send_hi = reshape(mine(:, hi_nodes), [(r + 1)*size(hi_nodes)])
+        call exchange_neighbours(grid%halo_left, grid%halo_right, send_lo, send_hi, recv_lo, &
+            recv_hi)
+        call take(lo_nodes, recv_lo)
+        call take(hi_nodes, recv_hi)
+
+    contains
+
+        subroutine take(nodes, buf)
+            integer, intent(in) :: nodes(:)
+            real(wp), intent(in) :: buf(:)
+
+            integer :: m, b
+
+            if (size(buf) == 0) return
+            do m = 1, size(nodes)
+                b = (m - 1)*(r + 1)
+                if (buf(b + 1) > 0.5_wp) field(:, nodes(m)) = buf(b + 2:b + r + 1)
+            end do
+        end subroutine take
+
+    end subroutine trade_slaved
 
 end module mpm_halo

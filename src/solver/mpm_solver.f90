@@ -36,8 +36,8 @@ module mpm_solver
     use mpm_kernel_nodal, only: nodal_velocity, integrate_nodes, nnodal_sums, nodal_friction, &
         nodal_boundary, nodal_kinetic
     use mpm_kernel_contact, only: keep_contact_start, contact_particle_work
-    use mpm_halo, only: halo_sum, halo_box, halo_contact_gaps
-    use mpm_kernel_light, only: find_light_nodes, fold_light
+    use mpm_halo, only: halo_sum, halo_box, halo_contact_gaps, settle_light_nodes, fold_light, &
+        slave_light
     use mpm_clock, only: wall_time
     use mpm_energy, only: energies_type, energy_total, energy_residual, energy_scale, &
         energy_record, energies_from_record, nenergy_record, step_energies
@@ -671,7 +671,7 @@ contains
                 if (.not. grid_energy) call keep_contact_start(grid)
                 call lap(sim, phase_p2g, clock)
                 ! the constraints act on the momentum of the step here: what they stop
-                call nodal_velocity(grid, dt)
+                call grid_velocity(grid, dt)
                 if (grid_energy) stopped = grid_kinetic(1) - nodal_kinetic(grid)
                 call lap(sim, phase_nodal, clock)
                 call update_stress(grid, particles, stc, sim%materials, dt, fbar=fbar, &
@@ -684,7 +684,7 @@ contains
                 if (.not. grid_energy) call keep_contact_start(grid)
             end if
             call lap(sim, phase_p2g, clock)
-            call integrate_nodes(grid, dt, sim%case%gravity, &
+            call update_nodes(grid, dt, sim%case%gravity, &
                 local_damping=sim%case%damping%type == damping_local, alpha=sim%case%damping%value, &
                 dissipated=nodal_work)
             nodal_work(nodal_boundary) = nodal_work(nodal_boundary) + stopped
@@ -710,14 +710,14 @@ contains
                 call halo_sum(grid, sim%shape%halo_width(), momentum=.true.)
                 if (grid_energy) then
                     ! the particles slide with these velocities: friction works at them
-                    call nodal_velocity(grid, dt, nodal_work(nodal_friction))
+                    call grid_velocity(grid, dt, nodal_work(nodal_friction))
                 else
                     ! FLIP: what the contact impulses took from the particles, with the
                     ! momentum of their new velocities (the light nodes' in their masters)
                     call fold_light(grid, grid%momentum)
                     call contact_particle_work(grid, nodal_work(nodal_friction), &
                         nodal_work(nodal_boundary))
-                    call nodal_velocity(grid, dt)
+                    call grid_velocity(grid, dt)
                 end if
             end if
             call lap(sim, phase_g2p, clock)
@@ -788,8 +788,49 @@ contains
         call halo_sum(sim%grid, layers, mass=opts%mass, momentum=opts%mass, fint=opts%fint, &
             fext=opts%mass .and. allocated(sim%particles%body_force))
         if (opts%mass) call halo_contact_gaps(sim%grid, layers)
-        if (opts%mass) call find_light_nodes(sim%grid, layers)
+        if (opts%mass) call settle_light_nodes(sim%grid, layers)
     end subroutine scatter_to_nodes
+
+    !> The nodal velocities (mpm_kernel_nodal::nodal_velocity) with the light nodes: their
+    !> momentum to their masters before, their velocities slaved after.
+    subroutine grid_velocity(grid, step, friction_work)
+        type(grid_type), intent(inout) :: grid
+            !! grid with mass and momentum set
+        real(wp), intent(in) :: step
+            !! time step the velocities move the particles over [s]
+        real(wp), intent(out), optional :: friction_work
+            !! work of the friction impulses at these velocities [J]
+
+        ! (again after P2G's fold: it adds nothing more)
+        call fold_light(grid, grid%momentum)
+        call nodal_velocity(grid, step, friction_work)
+        call slave_light(grid, grid%velocity)
+    end subroutine grid_velocity
+
+    !> The nodal update (mpm_kernel_nodal::integrate_nodes) with the light nodes: their
+    !> momentum and forces to their masters before, their velocities and accelerations
+    !> slaved after.
+    subroutine update_nodes(grid, dt, gravity, local_damping, alpha, dissipated)
+        type(grid_type), intent(inout) :: grid
+            !! grid with mass, momentum and forces set
+        real(wp), intent(in) :: dt
+            !! time step [s]
+        real(wp), intent(in) :: gravity(3)
+            !! gravitational acceleration [m/s2]
+        logical, intent(in) :: local_damping
+            !! apply local damping
+        real(wp), intent(in) :: alpha
+            !! local damping coefficient [-]
+        real(wp), intent(out) :: dissipated(nnodal_sums)
+            !! the nodal sums of the step (mpm_kernel_nodal::nnodal_sums) [J]
+
+        call fold_light(grid, grid%momentum)
+        call fold_light(grid, grid%fint)
+        call fold_light(grid, grid%fext)
+        call integrate_nodes(grid, dt, gravity, local_damping, alpha, dissipated)
+        call slave_light(grid, grid%velocity)
+        call slave_light(grid, grid%acceleration)
+    end subroutine update_nodes
 
     !> Make a failure of any image the failure of all (collective): every image returns the
     !> error, and only the one that reports it keeps a message (one message per run).

@@ -1,4 +1,6 @@
-!> Unit tests of the light-node kernel (mpm_kernel_light) on a 2D grid of 4 x 3 cells with
+!> Unit tests of the light-node kernel (mpm_kernel_light, through mpm_halo's
+!> settle_light_nodes, fold_light and slave_light, which call it on a grid that is not cut)
+!> on a 2D grid of 4 x 3 cells with
 !> masses set by hand: which nodes are light, their masters and coefficients (the masses of
 !> the heavy neighbours in the 3 x 3 box, normalised), the fold of mass and momentum into the
 !> masters (totals kept), the slaved velocity (the masters' mass-weighted mean), a held
@@ -9,7 +11,8 @@ program test_mpm_kernel_light
     use mpm_testing, only: test_suite_type, new_suite, check, check_close, finish
     use mpm_case, only: case_type
     use mpm_grid, only: grid_type, new_grid, node_index
-    use mpm_kernel_light, only: find_light_nodes, fold_light, slave_light
+    use mpm_kernel_light, only: find_light_nodes
+    use mpm_halo, only: settle_light_nodes, fold_light, slave_light
     implicit none
 
     type(test_suite_type) :: suite
@@ -60,7 +63,11 @@ contains
         grid%momentum(:, c) = [-0.002_wp, 0.0_wp]
         mass0 = sum(grid%mass)
         momentum0 = sum(grid%momentum, dim=2)
+        ! the kernel finds them and leaves the masses as they are
         call find_light_nodes(grid, 1)
+        call check(suite, grid%nlight == 2 .and. grid%mass(l) == 0.004_wp, &
+            "find_light_nodes: two light nodes, no fold yet")
+        call settle_light_nodes(grid, 1)
         call check(suite, grid%nlight == 2, "two light nodes")
         if (grid%nlight /= 2) return
         ! in node order: (0, 0) before (2, 1)
@@ -128,13 +135,13 @@ contains
         b = node_index(grid, [2, 1, 0])
         grid%mass(a) = 0.005_wp
         grid%mass(b) = 0.001_wp
-        call find_light_nodes(grid, 1)
+        call settle_light_nodes(grid, 1)
         call check(suite, grid%nlight == 0 .and. grid%mass(a) == 0.005_wp .and. &
             grid%mass(b) == 0.001_wp, "light nodes without a heavy neighbour are left alone")
         call small_grid(grid, 0.0_wp)
         grid%mass(a) = 0.005_wp
         grid%mass(b) = 1.0_wp
-        call find_light_nodes(grid, 1)
+        call settle_light_nodes(grid, 1)
         call check(suite, grid%nlight == 0 .and. grid%mass(a) == 0.005_wp, &
             "light_mass 0: no light node")
     end subroutine test_alone

@@ -20,32 +20,33 @@
 !> the one whose layers 1 .. n - layers along the cut axis hold it (0 and n - 1 too at an
 !> end without a neighbour), so its 3**dim box is on that image with the whole sums of
 !> halo_sum, and it takes the decisions of the whole grid. Its folds reach the other images
-!> as increments of the shared layers, added in image order (the left image's first: the
-!> same bits on both), and its slaved values overwrite theirs: every node two images hold
-!> ends with the same bits on both, equal to those of one image to round-off (the order of
-!> the sums differs).
+!> as increments of the shared layers (`light_increments`), added in image order (the left
+!> image's first: the same bits on both), and its slaved values overwrite theirs
+!> (`light_slaved_values`): every node two images hold ends with the same bits on both,
+!> equal to those of one image to round-off (the order of the sums differs).
+!>
+!> A kernel: it works on this image's grid only. The step (mpm_halo: `settle_light_nodes`,
+!> `fold_light`, `slave_light`) calls it and trades the shared layers between images.
 module mpm_kernel_light
     use mpm_kinds, only: wp
     use mpm_grid, only: grid_type
-    use mpm_halo, only: halo_nodes
-    use mpm_parallel, only: exchange_neighbours
     implicit none
     private
-    public :: find_light_nodes, fold_light, slave_light
+    public :: find_light_nodes, fold_light_local, fold_light_mass_local, slave_light_local, &
+        light_increments, light_slaved_values
 
 contains
 
-    !> The light nodes of the step and their masters, from the masses of P2G; folds the mass
-    !> and momentum of each into its masters (the light node keeps none).
+    !> The light nodes of the step and their masters, from the masses of P2G (the caller
+    !> then folds their mass and momentum into the masters: mpm_halo::settle_light_nodes).
     subroutine find_light_nodes(grid, layers)
         type(grid_type), intent(inout) :: grid
             !! grid with mass and momentum set by P2G (and summed over the images)
         integer, intent(in) :: layers
             !! node layers shared at a cut (shape_type%halo_width)
 
-        integer :: x, y, z, id, ix, iy, iz, nid, k, first, zlo, zhi, n, lo(3), hi(3), a
+        integer :: x, y, z, id, ix, iy, iz, nid, k, first, zlo, zhi, lo(3), hi(3), a
         real(wp) :: total
-        real(wp), allocatable :: mass(:, :)
 
         grid%nlight = 0
         grid%light_layers = layers
@@ -98,14 +99,16 @@ contains
             end do
         end do
         grid%light_start(grid%nlight + 1) = k + 1
-        ! the masses last: the coefficients are those of the masses of P2G
-        if (a /= 0) then
-            mass = reshape(grid%mass, [1, size(grid%mass)])
-            call fold_cut(grid, mass, held=.false.)
-            grid%mass = mass(1, :)
-            call fold_light(grid, grid%momentum)
-            return
-        end if
+    end subroutine find_light_nodes
+
+    !> Give the mass of each light node to its masters, m_j += c_j m_l (m_l = 0 after), on a
+    !> grid that is not cut.
+    pure subroutine fold_light_mass_local(grid)
+        type(grid_type), intent(inout) :: grid
+            !! the grid with its light nodes found
+
+        integer :: n, k, id
+
         do n = 1, grid%nlight
             id = grid%light_node(n)
             do k = grid%light_start(n), grid%light_start(n + 1) - 1
@@ -114,8 +117,7 @@ contains
             end do
             grid%mass(id) = 0.0_wp
         end do
-        call fold_light(grid, grid%momentum)
-    end subroutine find_light_nodes
+    end subroutine fold_light_mass_local
 
     !> Grow the tables to hold nlight light nodes and nmasters masters.
     subroutine reserve(grid, nlight, nmasters)
@@ -146,20 +148,16 @@ contains
     end subroutine reserve
 
     !> Give the nodal field (dim, nnodes) of each light node to its masters, f_j += c_j f_l,
-    !> and zero it there (a second call adds nothing); held components are the support's.
-    subroutine fold_light(grid, field)
-        type(grid_type), intent(inout) :: grid
+    !> and zero it there (a second call adds nothing); held components are the support's. On
+    !> a grid that is not cut.
+    pure subroutine fold_light_local(grid, field)
+        type(grid_type), intent(in) :: grid
             !! the grid with its light nodes found
         real(wp), intent(inout) :: field(:, :)
             !! momentum or force
 
         integer :: n, k, id, dim
 
-        if (grid%light_mass <= 0.0_wp) return
-        if (grid%halo_axis /= 0) then
-            call fold_cut(grid, field, held=.true.)
-            return
-        end if
         dim = grid%dim
         do n = 1, grid%nlight
             id = grid%light_node(n)
@@ -170,19 +168,18 @@ contains
             end do
             field(:, id) = 0.0_wp
         end do
-    end subroutine fold_light
+    end subroutine fold_light_local
 
     !> The nodal field (dim, nnodes) of each light node from its masters, f_l = sum_j c_j f_j
-    !> (held components zero).
-    subroutine slave_light(grid, field)
-        type(grid_type), intent(inout) :: grid
+    !> (held components zero), for this image's light nodes.
+    pure subroutine slave_light_local(grid, field)
+        type(grid_type), intent(in) :: grid
             !! the grid with its light nodes found
         real(wp), intent(inout) :: field(:, :)
             !! velocity or acceleration
 
         integer :: n, k, id, dim
 
-        if (grid%light_mass <= 0.0_wp) return
         dim = grid%dim
         do n = 1, grid%nlight
             id = grid%light_node(n)
@@ -193,29 +190,26 @@ contains
             end do
             where (grid%constrained(:, id)) field(:, id) = 0.0_wp
         end do
-        if (grid%halo_axis /= 0) call trade_slaved(grid, field)
-    end subroutine slave_light
+    end subroutine slave_light_local
 
-    !> fold_light on a cut grid: the folds of this image's light nodes as increments, traded
-    !> over the shared layers and added in image order (the left neighbour's, this image's,
-    !> the right neighbour's), so both images of a shared node add the same numbers in the
-    !> same order. Collective.
-    subroutine fold_cut(grid, field, held)
+    !> fold_light on a cut grid, this image's part: the increments its light nodes' folds
+    !> make, delta_j = c_j f_l at the masters and -f_l at the light node (the light node
+    !> keeps nothing: f + (-f) is 0 whatever the order); the caller trades the shared layers
+    !> and adds them in image order (mpm_halo::fold_light).
+    pure subroutine light_increments(grid, field, held, delta)
         type(grid_type), intent(in) :: grid
             !! the cut grid with this image's light nodes found
-        real(wp), intent(inout) :: field(:, :)
+        real(wp), intent(in) :: field(:, :)
             !! mass (1, nnodes), momentum or force (dim, nnodes)
         logical, intent(in) :: held
             !! the rows are the grid's components: held components of a light node give
             !! nothing
+        real(wp), intent(out) :: delta(:, :)
+            !! the increments, the shape of field
 
-        real(wp), allocatable :: delta(:, :), part(:), send_lo(:), send_hi(:), recv_lo(:), &
-            recv_hi(:)
-        integer, allocatable :: lo_nodes(:), hi_nodes(:)
-        integer :: n, k, id, r
+        real(wp) :: part(size(field, 1))
+        integer :: n, k, id
 
-        r = size(field, 1)
-        allocate (delta(r, size(field, 2)), part(r))
         delta = 0.0_wp
         do n = 1, grid%nlight
             id = grid%light_node(n)
@@ -227,63 +221,27 @@ contains
                 delta(:, grid%light_master(k)) = delta(:, grid%light_master(k)) &
                     + grid%light_coef(k)*part
             end do
-            ! the light node keeps nothing: f + (-f) is 0 whatever the order
             delta(:, id) = -field(:, id)
         end do
-        call halo_nodes(grid, grid%light_layers, lo_nodes, hi_nodes)
-        send_lo = reshape(delta(:, lo_nodes), [r*size(lo_nodes)])
-        send_hi = reshape(delta(:, hi_nodes), [r*size(hi_nodes)])
-        call exchange_neighbours(grid%halo_left, grid%halo_right, send_lo, send_hi, recv_lo, &
-            recv_hi)
-        if (size(recv_lo) > 0) field(:, lo_nodes) = field(:, lo_nodes) &
-            + reshape(recv_lo, [r, size(lo_nodes)])
-        field = field + delta
-        if (size(recv_hi) > 0) field(:, hi_nodes) = field(:, hi_nodes) &
-            + reshape(recv_hi, [r, size(hi_nodes)])
-    end subroutine fold_cut
+    end subroutine light_increments
 
-    !> The slaved values of the light nodes in the shared layers from the image that treats
-    !> them (a flag and the values per shared node). Collective.
-    subroutine trade_slaved(grid, field)
+    !> slave_light on a cut grid, this image's part: per node a flag (1: one of this image's
+    !> light nodes) and its slaved values, for the neighbours (mpm_halo::slave_light).
+    pure subroutine light_slaved_values(grid, field, mine)
         type(grid_type), intent(in) :: grid
-            !! the cut grid with this image's light nodes found
-        real(wp), intent(inout) :: field(:, :)
+            !! the cut grid with this image's light nodes found and slaved
+        real(wp), intent(in) :: field(:, :)
             !! velocity or acceleration (dim, nnodes)
+        real(wp), intent(out) :: mine(:, :)
+            !! (dim + 1, nnodes): the flag and the values
 
-        real(wp), allocatable :: mine(:, :), send_lo(:), send_hi(:), recv_lo(:), recv_hi(:)
-        integer, allocatable :: lo_nodes(:), hi_nodes(:)
-        integer :: n, r
+        integer :: n
 
-        r = size(field, 1)
-        allocate (mine(r + 1, size(field, 2)))
         mine = 0.0_wp
         do n = 1, grid%nlight
             mine(1, grid%light_node(n)) = 1.0_wp
             mine(2:, grid%light_node(n)) = field(:, grid%light_node(n))
         end do
-        call halo_nodes(grid, grid%light_layers, lo_nodes, hi_nodes)
-        send_lo = reshape(mine(:, lo_nodes), [(r + 1)*size(lo_nodes)])
-        send_hi = reshape(mine(:, hi_nodes), [(r + 1)*size(hi_nodes)])
-        call exchange_neighbours(grid%halo_left, grid%halo_right, send_lo, send_hi, recv_lo, &
-            recv_hi)
-        call take(lo_nodes, recv_lo)
-        call take(hi_nodes, recv_hi)
-
-    contains
-
-        subroutine take(nodes, buf)
-            integer, intent(in) :: nodes(:)
-            real(wp), intent(in) :: buf(:)
-
-            integer :: m, b
-
-            if (size(buf) == 0) return
-            do m = 1, size(nodes)
-                b = (m - 1)*(r + 1)
-                if (buf(b + 1) > 0.5_wp) field(:, nodes(m)) = buf(b + 2:b + r + 1)
-            end do
-        end subroutine take
-
-    end subroutine trade_slaved
+    end subroutine light_slaved_values
 
 end module mpm_kernel_light

@@ -8,7 +8,6 @@ module mpm_kernel_nodal
     use mpm_kinds, only: wp
     use mpm_grid, only: grid_type, node_owned
     use mpm_kernel_contact, only: apply_contacts
-    use mpm_kernel_light, only: fold_light, slave_light
     implicit none
     private
     public :: nodal_velocity, integrate_nodes, box_middle, box_row, nodal_kinetic
@@ -24,7 +23,9 @@ module mpm_kernel_nodal
 
 contains
 
-    !> Nodal velocity v_i = p_i / m_i with the boundary conditions applied.
+    !> Nodal velocity v_i = p_i / m_i with the boundary conditions applied. The light nodes'
+    !> momentum is folded into their masters before (it keeps nothing then) and their
+    !> velocities slaved after, by the caller (mpm_halo: fold_light, slave_light).
     subroutine nodal_velocity(grid, step, friction_work)
         type(grid_type), intent(inout) :: grid
             !! grid with mass and momentum set
@@ -37,8 +38,6 @@ contains
         integer :: i, layer, j, first, last, y, z
         real(wp) :: work, stopped
 
-        ! the momentum of the light nodes to their masters (again: nothing more)
-        call fold_light(grid, grid%momentum)
         ! what the constraints stop here: the caller compares nodal_kinetic before and after
         call apply_contacts(grid, 0.0_wp, step, work, stopped)
         if (present(friction_work)) friction_work = work
@@ -59,7 +58,6 @@ contains
         end do
         !$omp end parallel do
         call set_prescribed(grid)
-        call slave_light(grid, grid%velocity)
     end subroutine nodal_velocity
 
     !> Kinetic energy of the nodal momentum, sum_i |p_i|^2 / (2 m_i) over the nodes of the
@@ -173,7 +171,9 @@ contains
     !> dropped too), so it stops the kinetic energy of the mapped start velocity, 1/2 m v^2;
     !> a contact's normal constraint stops the start velocity into the obstacle (beyond
     !> gap / dt) and the velocity the step's forces add, which the particles never move
-    !> with (its work, like a fixed component's, is zero at the end velocity).
+    !> with (its work, like a fixed component's, is zero at the end velocity). The light
+    !> nodes' momentum and forces are folded into their masters before, and their velocities
+    !> and accelerations slaved after, by the caller (mpm_halo: fold_light, slave_light).
     subroutine integrate_nodes(grid, dt, gravity, local_damping, alpha, dissipated)
         type(grid_type), intent(inout) :: grid
             !! grid with mass, momentum and forces set
@@ -194,9 +194,6 @@ contains
         real(wp), allocatable :: partial(:), partial_held(:)
 
         dim = grid%dim
-        call fold_light(grid, grid%momentum)
-        call fold_light(grid, grid%fint)
-        call fold_light(grid, grid%fext)
         call prescribed_impulses(grid, dt, gravity, face_work)
         ! one partial sum per layer of the box (slowest axis), added in layer order: the same
         ! sums with any number of threads
@@ -274,8 +271,6 @@ contains
                 end associate
             end do
         end if
-        call slave_light(grid, grid%velocity)
-        call slave_light(grid, grid%acceleration)
     end subroutine integrate_nodes
 
     !> Middle index bound of a box for box_row: the y bound in 3D, 0 in 2D (the slowest axis,
