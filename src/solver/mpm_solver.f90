@@ -70,6 +70,14 @@ module mpm_solver
         !! neighbours (mpm_kernel_light). A node that a particle reaches only with the tail
         !! of its weights otherwise gives that particle its own stress back as an
         !! acceleration of its own (the torn root of the bspline2 cantilever)
+    integer, parameter :: pass_p2g = 1, pass_p2g_mass = 2, pass_start_velocity = 3, &
+        pass_p2g_force = 4, pass_nodes = 5, pass_g2p = 6, pass_g2p_stress = 7, &
+        pass_g2p_remap = 8, pass_stress = 9, pass_stress_move = 10
+        !! the passes of a step (step_passes gives each scheme's list): P2G of mass, momentum
+        !! and forces; USF's P2G of mass and momentum, its nodal velocities and its P2G of the
+        !! internal force; the nodal update; G2P with the moves (and USL's stress update in
+        !! the same pass); MUSL's G2P with the remap and the remapped velocities; the stress
+        !! update (MUSL's with the moves)
     integer, parameter :: rebalance_steps = 50
         !! steps between two looks at the particle counts of the images
     real(wp), parameter :: rebalance_threshold = 1.1_wp
@@ -633,7 +641,34 @@ contains
             minval(sim%time_step_limit))
     end function stable_time_step
 
-    !> Advance the simulation by one step of length dt.
+    !> The passes of a step of `scheme`, in order (advance runs them).
+    pure function step_passes(scheme, fbar) result(passes)
+        integer, intent(in) :: scheme
+            !! scheme_usf, scheme_usl or scheme_musl
+        logical, intent(in) :: fbar
+            !! F-bar: the stress update averages over a cell, after all the particles' gathers
+        integer, allocatable :: passes(:)
+            !! pass_* codes
+
+        select case (scheme)
+        case (scheme_usf)
+            ! the stress first, with the velocities of the mapped momentum
+            passes = [pass_p2g_mass, pass_start_velocity, pass_stress, pass_p2g_force, &
+                pass_nodes, pass_g2p]
+        case (scheme_usl)
+            if (fbar) then
+                passes = [pass_p2g, pass_nodes, pass_g2p, pass_stress]
+            else
+                passes = [pass_p2g, pass_nodes, pass_g2p_stress]
+            end if
+        case default
+            ! MUSL: the stress with the velocities of the remapped momentum
+            passes = [pass_p2g, pass_nodes, pass_g2p_remap, pass_stress_move]
+        end select
+    end function step_passes
+
+    !> Advance the simulation by one step of length dt: the scheme's passes in order
+    !> (step_passes), then the energy sums, the checks and the clock.
     subroutine advance(sim, dt, error)
         type(simulation_type), intent(inout) :: sim
             !! the simulation
@@ -647,7 +682,8 @@ contains
             !! the faces' impulses follow them
         real(wp) :: work(nstress_sums), nodal_work(nnodal_sums), clock, kinetic, stopped, &
             grid_kinetic(2), blend_loss, sums(nsums + size(sim%grid%face_impulse))
-        integer :: scheme
+        integer :: scheme, k
+        integer, allocatable :: passes(:)
         logical :: grid_energy
         type(motion_type) :: motion
         type(energies_type) :: next
@@ -663,79 +699,96 @@ contains
             cells=sim%case%solver%fbar)
         if (allocated(error)) return
         call lap(sim, phase_stencils, clock)
+        passes = step_passes(scheme, sim%case%solver%fbar)
         associate (grid => sim%grid, particles => sim%particles, stc => sim%stencils, &
                    fbar => sim%case%solver%fbar)
-            if (scheme == scheme_usf) then
-                call scatter_to_nodes(sim, p2g_options_type(mass=.true., fbar=fbar))
-                if (grid_energy) grid_kinetic(1) = nodal_kinetic(grid)
-                if (.not. grid_energy) call keep_contact_start(grid)
-                call lap(sim, phase_p2g, clock)
-                ! the constraints act on the momentum of the step here: what they stop
-                call grid_velocity(grid, dt)
-                if (grid_energy) stopped = grid_kinetic(1) - nodal_kinetic(grid)
-                call lap(sim, phase_nodal, clock)
-                call update_stress(grid, particles, stc, sim%materials, dt, fbar=fbar, &
-                    strain_work=work, gravity=sim%case%gravity)
-                call lap(sim, phase_stress, clock)
-                call scatter_to_nodes(sim, p2g_options_type(fint=.true., fbar=fbar))
-            else
-                call scatter_to_nodes(sim, p2g_options_type(mass=.true., fint=.true., fbar=fbar))
-                if (grid_energy) grid_kinetic(1) = nodal_kinetic(grid)
-                if (.not. grid_energy) call keep_contact_start(grid)
-            end if
-            call lap(sim, phase_p2g, clock)
-            call update_nodes(grid, dt, sim%case%gravity, &
-                local_damping=sim%case%damping%type == damping_local, alpha=sim%case%damping%value, &
-                dissipated=nodal_work)
-            nodal_work(nodal_boundary) = nodal_work(nodal_boundary) + stopped
-            if (grid_energy) grid_kinetic(2) = nodal_kinetic(grid)
-            ! FLIP without a remap: the contacts' work on the particles at the updated momentum
-            if (.not. grid_energy .and. scheme /= scheme_musl) call contact_particle_work(grid, &
-                nodal_work(nodal_friction), nodal_work(nodal_boundary))
-            call lap(sim, phase_nodal, clock)
-            ! MUSL: the same pass maps the updated particle momentum back to the nodes, and the
-            ! particles move in the stress update; USL, USF: they move here
-            if (scheme == scheme_usl .and. .not. fbar) then
-                ! the stress update needs the nodal velocities of the moves: same pass
-                call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, sim%case%gravity, &
-                    remap=.false., motion=motion, kinetic=kinetic, materials=sim%materials, &
-                    strain_work=work, blend_loss=blend_loss)
-            else
-                call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, sim%case%gravity, &
-                    remap=scheme == scheme_musl, motion=motion, kinetic=kinetic, &
-                    blend_loss=blend_loss)
-            end if
-            if (scheme == scheme_musl) then
-                ! the remapped momentum of the shared nodes, then the velocities of the remap
-                call halo_sum(grid, sim%shape%halo_width(), momentum=.true.)
-                if (grid_energy) then
-                    ! the particles slide with these velocities: friction works at them
-                    call grid_velocity(grid, dt, nodal_work(nodal_friction))
-                else
-                    ! FLIP: what the contact impulses took from the particles, with the
-                    ! momentum of their new velocities (the light nodes' in their masters)
-                    call fold_light(grid, grid%momentum)
-                    call contact_particle_work(grid, nodal_work(nodal_friction), &
-                        nodal_work(nodal_boundary))
+            do k = 1, size(passes)
+                select case (passes(k))
+                case (pass_p2g_mass)
+                    ! USF: mass and momentum only, for the velocities of its stress update
+                    call scatter_to_nodes(sim, p2g_options_type(mass=.true., fbar=fbar))
+                    if (grid_energy) grid_kinetic(1) = nodal_kinetic(grid)
+                    if (.not. grid_energy) call keep_contact_start(grid)
+                    call lap(sim, phase_p2g, clock)
+                case (pass_start_velocity)
+                    ! USF: the constraints act on the momentum of the step here: what they stop
                     call grid_velocity(grid, dt)
-                end if
-            end if
-            call lap(sim, phase_g2p, clock)
-            select case (scheme)
-            case (scheme_usl)
-                if (fbar) call update_stress(grid, particles, stc, sim%materials, dt, &
-                    fbar=fbar, strain_work=work, gravity=sim%case%gravity)
-            case (scheme_musl)
-                ! the particles move with the remapped velocities that strain them: moved with
-                ! the velocities of the nodal update instead, the difference (dt times the
-                ! nodal acceleration) feeds particle noise under tension that FLIP never damps
-                ! (growth ~ sigma dt / (rho dx^2), see docs/accuracy-vs-cost.md)
-                call update_stress(grid, particles, stc, sim%materials, dt, fbar=fbar, &
-                    strain_work=work, gravity=sim%case%gravity, motion=motion)
-            case default
-                continue ! USF: the stress was updated before the momentum
-            end select
-            call lap(sim, phase_stress, clock)
+                    if (grid_energy) stopped = grid_kinetic(1) - nodal_kinetic(grid)
+                    call lap(sim, phase_nodal, clock)
+                case (pass_p2g_force)
+                    ! USF: the internal force of the updated stresses
+                    call scatter_to_nodes(sim, p2g_options_type(fint=.true., fbar=fbar))
+                    call lap(sim, phase_p2g, clock)
+                case (pass_p2g)
+                    call scatter_to_nodes(sim, p2g_options_type(mass=.true., fint=.true., &
+                        fbar=fbar))
+                    if (grid_energy) grid_kinetic(1) = nodal_kinetic(grid)
+                    if (.not. grid_energy) call keep_contact_start(grid)
+                    call lap(sim, phase_p2g, clock)
+                case (pass_nodes)
+                    call update_nodes(grid, dt, sim%case%gravity, &
+                        local_damping=sim%case%damping%type == damping_local, &
+                        alpha=sim%case%damping%value, dissipated=nodal_work)
+                    nodal_work(nodal_boundary) = nodal_work(nodal_boundary) + stopped
+                    if (grid_energy) grid_kinetic(2) = nodal_kinetic(grid)
+                    ! FLIP without a remap: the contacts' work on the particles at the updated
+                    ! momentum
+                    if (.not. grid_energy .and. scheme /= scheme_musl) call &
+                        contact_particle_work(grid, nodal_work(nodal_friction), &
+                        nodal_work(nodal_boundary))
+                    call lap(sim, phase_nodal, clock)
+                case (pass_g2p_stress)
+                    ! USL without F-bar: the stress update needs the nodal velocities of the
+                    ! moves, in the same pass
+                    call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, &
+                        sim%case%gravity, remap=.false., motion=motion, kinetic=kinetic, &
+                        materials=sim%materials, strain_work=work, blend_loss=blend_loss)
+                    call lap(sim, phase_g2p, clock)
+                case (pass_g2p)
+                    ! USL with F-bar, USF: the particles move here
+                    call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, &
+                        sim%case%gravity, remap=.false., motion=motion, kinetic=kinetic, &
+                        blend_loss=blend_loss)
+                    call lap(sim, phase_g2p, clock)
+                case (pass_g2p_remap)
+                    ! MUSL: the same pass maps the updated particle momentum back to the nodes;
+                    ! the particles move in the stress update
+                    call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, &
+                        sim%case%gravity, remap=.true., motion=motion, kinetic=kinetic, &
+                        blend_loss=blend_loss)
+                    ! the remapped momentum of the shared nodes, then the velocities of the
+                    ! remap
+                    call halo_sum(grid, sim%shape%halo_width(), momentum=.true.)
+                    if (grid_energy) then
+                        ! the particles slide with these velocities: friction works at them
+                        call grid_velocity(grid, dt, nodal_work(nodal_friction))
+                    else
+                        ! FLIP: what the contact impulses took from the particles, with the
+                        ! momentum of their new velocities (the light nodes' in their masters)
+                        call fold_light(grid, grid%momentum)
+                        call contact_particle_work(grid, nodal_work(nodal_friction), &
+                            nodal_work(nodal_boundary))
+                        call grid_velocity(grid, dt)
+                    end if
+                    call lap(sim, phase_g2p, clock)
+                case (pass_stress)
+                    ! USF before the momentum; USL with F-bar after the moves (its own pass)
+                    call update_stress(grid, particles, stc, sim%materials, dt, fbar=fbar, &
+                        strain_work=work, gravity=sim%case%gravity)
+                    call lap(sim, phase_stress, clock)
+                case (pass_stress_move)
+                    ! MUSL: the particles move with the remapped velocities that strain them:
+                    ! moved with the velocities of the nodal update instead, the difference (dt
+                    ! times the nodal acceleration) feeds particle noise under tension that
+                    ! FLIP never damps (growth ~ sigma dt / (rho dx^2), see
+                    ! docs/accuracy-vs-cost.md)
+                    call update_stress(grid, particles, stc, sim%materials, dt, fbar=fbar, &
+                        strain_work=work, gravity=sim%case%gravity, motion=motion)
+                    call lap(sim, phase_stress, clock)
+                case default
+                    error stop "advance: a pass step_passes does not know"
+                end select
+            end do
         end associate
         ! sums over the images, in one reduction
         sums = [kinetic, motion%potential, motion%load_work, work, nodal_work, grid_kinetic, &
