@@ -114,7 +114,8 @@ module mpm_output
 
     !> The particle output fields besides the position (always written) and the ids (written
     !> on several images), in the order of the files and the index. A new output field is one
-    !> entry here (and its name in mpm_case's field list).
+    !> entry here and its index and name in mpm_case_output (nfields, field_names), with the
+    !> other files docs/architecture.md lists ("How to add an output field").
     type(output_field_type), parameter :: output_fields(*) = [ &
         output_field_type(field_displacement, "displacement", "u", 0, layout_vector), &
         output_field_type(field_velocity, "velocity", "v", 0, layout_vector), &
