@@ -9,7 +9,7 @@
 !> nodal velocities remapped from the updated particle velocities.
 module mpm_solver
     use mpm_kinds, only: wp, i8
-    use mpm_strings, only: vector_text, text_or
+    use mpm_strings, only: vector_text, text_or, int_text
     use mpm_error, only: error_type, fatal_error, exit_numerical, exit_input, exit_other
     use mpm_case, only: case_type, scheme_usf, scheme_usl, scheme_musl, damping_kinetic, &
         damping_local, field_strain, field_displacement
@@ -33,11 +33,13 @@ module mpm_solver
     use mpm_stencil, only: stencils_type, compute_stencils
     use mpm_transfer, only: p2g, p2g_options_type, g2p, motion_type, report_lost, update_stress, &
         nstress_sums
-    use mpm_kernel_nodal, only: nodal_velocity, integrate_nodes, nnodal_sums, nodal_friction, &
+    use mpm_kernel_nodal, only: nnodal_sums, nodal_friction, &
         nodal_boundary, nodal_kinetic
     use mpm_kernel_contact, only: keep_contact_start, contact_particle_work
-    use mpm_halo, only: halo_sum, halo_box, halo_contact_gaps, settle_light_nodes, fold_light, &
-        slave_light
+    use mpm_halo, only: halo_sum, halo_box, halo_contact_gaps, settle_light_nodes, fold_light
+    use mpm_step_passes, only: step_passes, grid_velocity, update_nodes, pass_p2g, &
+        pass_p2g_mass, pass_start_velocity, pass_p2g_force, pass_nodes, pass_g2p, &
+        pass_g2p_stress, pass_g2p_remap, pass_stress, pass_stress_move
     use mpm_clock, only: wall_time
     use mpm_energy, only: energies_type, energy_total, energy_residual, energy_scale, &
         energy_record, energies_from_record, nenergy_record, step_energies
@@ -70,14 +72,6 @@ module mpm_solver
         !! neighbours (mpm_kernel_light). A node that a particle reaches only with the tail
         !! of its weights otherwise gives that particle its own stress back as an
         !! acceleration of its own (the torn root of the bspline2 cantilever)
-    integer, parameter :: pass_p2g = 1, pass_p2g_mass = 2, pass_start_velocity = 3, &
-        pass_p2g_force = 4, pass_nodes = 5, pass_g2p = 6, pass_g2p_stress = 7, &
-        pass_g2p_remap = 8, pass_stress = 9, pass_stress_move = 10
-        !! the passes of a step (step_passes gives each scheme's list): P2G of mass, momentum
-        !! and forces; USF's P2G of mass and momentum, its nodal velocities and its P2G of the
-        !! internal force; the nodal update; G2P with the moves (and USL's stress update in
-        !! the same pass); MUSL's G2P with the remap and the remapped velocities; the stress
-        !! update (MUSL's with the moves)
     integer, parameter :: rebalance_steps = 50
         !! steps between two looks at the particle counts of the images
     real(wp), parameter :: rebalance_threshold = 1.1_wp
@@ -641,32 +635,6 @@ contains
             minval(sim%time_step_limit))
     end function stable_time_step
 
-    !> The passes of a step of `scheme`, in order (advance runs them).
-    pure function step_passes(scheme, fbar) result(passes)
-        integer, intent(in) :: scheme
-            !! scheme_usf, scheme_usl or scheme_musl
-        logical, intent(in) :: fbar
-            !! F-bar: the stress update averages over a cell, after all the particles' gathers
-        integer, allocatable :: passes(:)
-            !! pass_* codes
-
-        select case (scheme)
-        case (scheme_usf)
-            ! the stress first, with the velocities of the mapped momentum
-            passes = [pass_p2g_mass, pass_start_velocity, pass_stress, pass_p2g_force, &
-                pass_nodes, pass_g2p]
-        case (scheme_usl)
-            if (fbar) then
-                passes = [pass_p2g, pass_nodes, pass_g2p, pass_stress]
-            else
-                passes = [pass_p2g, pass_nodes, pass_g2p_stress]
-            end if
-        case default
-            ! MUSL: the stress with the velocities of the remapped momentum
-            passes = [pass_p2g, pass_nodes, pass_g2p_remap, pass_stress_move]
-        end select
-    end function step_passes
-
     !> Advance the simulation by one step of length dt: the scheme's passes in order
     !> (step_passes), then the energy sums, the checks and the clock.
     subroutine advance(sim, dt, error)
@@ -786,7 +754,9 @@ contains
                         strain_work=work, gravity=sim%case%gravity, motion=motion)
                     call lap(sim, phase_stress, clock)
                 case default
-                    error stop "advance: a pass step_passes does not know"
+                    call fatal_error(error, "advance: pass "//int_text(passes(k))// &
+                        " of step_passes has no branch (a defect of mpm-geo)", exit_other)
+                    return
                 end select
             end do
         end associate
@@ -843,47 +813,6 @@ contains
         if (opts%mass) call halo_contact_gaps(sim%grid, layers)
         if (opts%mass) call settle_light_nodes(sim%grid, layers)
     end subroutine scatter_to_nodes
-
-    !> The nodal velocities (mpm_kernel_nodal::nodal_velocity) with the light nodes: their
-    !> momentum to their masters before, their velocities slaved after.
-    subroutine grid_velocity(grid, step, friction_work)
-        type(grid_type), intent(inout) :: grid
-            !! grid with mass and momentum set
-        real(wp), intent(in) :: step
-            !! time step the velocities move the particles over [s]
-        real(wp), intent(out), optional :: friction_work
-            !! work of the friction impulses at these velocities [J]
-
-        ! (again after P2G's fold: it adds nothing more)
-        call fold_light(grid, grid%momentum)
-        call nodal_velocity(grid, step, friction_work)
-        call slave_light(grid, grid%velocity)
-    end subroutine grid_velocity
-
-    !> The nodal update (mpm_kernel_nodal::integrate_nodes) with the light nodes: their
-    !> momentum and forces to their masters before, their velocities and accelerations
-    !> slaved after.
-    subroutine update_nodes(grid, dt, gravity, local_damping, alpha, dissipated)
-        type(grid_type), intent(inout) :: grid
-            !! grid with mass, momentum and forces set
-        real(wp), intent(in) :: dt
-            !! time step [s]
-        real(wp), intent(in) :: gravity(3)
-            !! gravitational acceleration [m/s2]
-        logical, intent(in) :: local_damping
-            !! apply local damping
-        real(wp), intent(in) :: alpha
-            !! local damping coefficient [-]
-        real(wp), intent(out) :: dissipated(nnodal_sums)
-            !! the nodal sums of the step (mpm_kernel_nodal::nnodal_sums) [J]
-
-        call fold_light(grid, grid%momentum)
-        call fold_light(grid, grid%fint)
-        call fold_light(grid, grid%fext)
-        call integrate_nodes(grid, dt, gravity, local_damping, alpha, dissipated)
-        call slave_light(grid, grid%velocity)
-        call slave_light(grid, grid%acceleration)
-    end subroutine update_nodes
 
     !> Make a failure of any image the failure of all (collective): every image returns the
     !> error, and only the one that reports it keeps a message (one message per run).

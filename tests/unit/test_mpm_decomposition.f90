@@ -75,11 +75,8 @@ contains
         if (allocated(error)) return
         call check(suite, dec%axis == 2 .and. dec%cuts(0) == 0 .and. dec%cuts(3) == 30, &
             "the cuts span the axis")
-        slabs = .true.
+        slabs = full_slabs(dec)
         balanced = .true.
-        do k = 1, 3
-            slabs = slabs .and. dec%cuts(k) - dec%cuts(k - 1) >= min_slab_cells
-        end do
         do k = 1, 2
             share = sum(histogram(dec%cuts(k - 1):dec%cuts(k) - 1))
             balanced = balanced .and. abs(share - 500_i8) <= 100_i8
@@ -96,13 +93,23 @@ contains
         call new_decomposition(dec, case, 4, 1, histogram, error)
         call check(suite, .not. allocated(error), "4 images, particles in the top layer")
         if (allocated(error)) return
-        slabs = .true.
-        do k = 1, 4
-            slabs = slabs .and. dec%cuts(k) - dec%cuts(k - 1) >= min_slab_cells
-        end do
+        slabs = full_slabs(dec)
         call check(suite, slabs .and. dec%cuts(4) == 30, &
             "every slab keeps min_slab_cells cells when the particles are in one layer")
     end subroutine test_balance
+
+    !> Whether every slab of dec has min_slab_cells cells or more.
+    pure logical function full_slabs(dec)
+        type(decomposition_type), intent(in) :: dec
+            !! a decomposition with its cuts
+
+        integer :: k
+
+        full_slabs = .true.
+        do k = 1, dec%images
+            full_slabs = full_slabs .and. dec%cuts(k) - dec%cuts(k - 1) >= min_slab_cells
+        end do
+    end function full_slabs
 
     !> One image cuts nothing; no particles: equal slabs.
     subroutine test_uniform_and_empty()

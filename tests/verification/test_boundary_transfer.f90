@@ -194,22 +194,24 @@ contains
             expected, ", residual ", energy_residual(sim%energy)
     end subroutine flip_impact
 
-    !> PIC of alternating particle velocities: the transfer term after one step.
-    subroutine projection(scheme)
-        character(len=*), intent(in) :: scheme
-            !! scheme
+    !> The block between sliding faces (it fills the domain in y: 4 cells) moving along x
+    !> with particle velocities alternating +v0 (rows at dx/4 in each cell) and -v0 (at
+    !> 3 dx/4), advanced by one step.
+    subroutine alternating_block(scheme, transfer, label, sim, mass, ok)
+        character(len=*), intent(in) :: scheme, transfer, label
+            !! scheme, transfer keys, label of the checks
+        type(simulation_type), intent(out) :: sim
+            !! the simulation after the step
+        real(wp), intent(out) :: mass
+            !! mass of the block [kg/m]
+        logical, intent(out) :: ok
+            !! the simulation was made and the step ran
 
-        real(wp), parameter :: nb = 4.0_wp
-        type(simulation_type) :: sim
-        real(wp) :: mass, expected, offset
+        real(wp) :: offset
         integer :: p
-        logical :: ok
-        character(len=:), allocatable :: label
 
-        label = scheme//", PIC, alternating velocities"
-        ! the block fills the domain in y: 4 cells between the sliding faces
-        call new_block('"sliding"', '"sliding"', "4", scheme, &
-            '"transfer": "flip", "flip_fraction": 0', label, sim, ok)
+        mass = 0.0_wp
+        call new_block('"sliding"', '"sliding"', "4", scheme, transfer, label, sim, ok)
         if (.not. ok) return
         do p = 1, sim%particles%n
             offset = sim%particles%x(2, p) - real(floor(sim%particles%x(2, p)), wp)
@@ -217,6 +219,22 @@ contains
         end do
         mass = sum(sim%particles%mass)
         call first_step(sim, label, ok)
+    end subroutine alternating_block
+
+    !> PIC of alternating particle velocities: the transfer term after one step.
+    subroutine projection(scheme)
+        character(len=*), intent(in) :: scheme
+            !! scheme
+
+        real(wp), parameter :: nb = 4.0_wp
+        type(simulation_type) :: sim
+        real(wp) :: mass, expected
+        logical :: ok
+        character(len=:), allocatable :: label
+
+        label = scheme//", PIC, alternating velocities"
+        call alternating_block(scheme, '"transfer": "flip", "flip_fraction": 0', label, sim, &
+            mass, ok)
         if (.not. ok) return
         expected = mass*v0**2*(0.5_wp - 5.0_wp/(64.0_wp*nb))
         call check_close(suite, sim%energy%transfer, expected, 1.0e-12_wp*expected, &
@@ -239,21 +257,13 @@ contains
 
         real(wp), parameter :: nb = 4.0_wp, a = 0.9_wp
         type(simulation_type) :: sim
-        real(wp) :: mass, expected, offset
-        integer :: p
+        real(wp) :: mass, expected
         logical :: ok
         character(len=:), allocatable :: label
 
         label = scheme//", FLIP-PIC blend 0.9, alternating velocities"
-        call new_block('"sliding"', '"sliding"', "4", scheme, &
-            '"transfer": "flip", "flip_fraction": 0.9', label, sim, ok)
-        if (.not. ok) return
-        do p = 1, sim%particles%n
-            offset = sim%particles%x(2, p) - real(floor(sim%particles%x(2, p)), wp)
-            sim%particles%v(:, p) = [merge(v0, -v0, offset < 0.5_wp), 0.0_wp]
-        end do
-        mass = sum(sim%particles%mass)
-        call first_step(sim, label, ok)
+        call alternating_block(scheme, '"transfer": "flip", "flip_fraction": 0.9', label, &
+            sim, mass, ok)
         if (.not. ok) return
         expected = mass*v0**2/(4.0_wp*nb)*(2.0_wp*nb - (2.0_wp*nb - 4.0_wp)*a**2 &
             - 2.0_wp*(a + 3.0_wp*(1.0_wp - a)/8.0_wp)**2 - 2.0_wp*(a - (1.0_wp - a)/8.0_wp)**2)
