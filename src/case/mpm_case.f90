@@ -21,9 +21,7 @@ module mpm_case
     use mpm_case_damping, only: damping_section_type, damping_none, damping_local, &
         damping_kinetic, damping_names
     use mpm_case_contact, only: contact_section_type
-    use mpm_case_output, only: output_section_type, field_position, field_displacement, &
-        field_velocity, field_stress, field_strain, field_material, field_mass, field_volume, &
-        field_plastic_strain, field_names, nfields
+    use mpm_case_output, only: output_section_type
     use mpm_case_progress, only: progress_section_type
     use mpm_case_checkpoint, only: checkpoint_section_type
     use mpm_case_guard, only: guard_section_type
@@ -38,9 +36,6 @@ module mpm_case
     public :: scheme_usf, scheme_usl, scheme_musl, scheme_names
     public :: damping_none, damping_local, damping_kinetic, damping_names
     public :: dist_regular, dist_random, distribution_names
-    public :: field_position, field_displacement, field_velocity, field_stress, field_strain
-    public :: field_material, field_mass, field_volume, field_plastic_strain, field_names
-    public :: nfields
 
     !> Every setting of a run, resolved and checked: the top-level keys of the case file and
     !> one section per object key, in the order of docs/input.md.

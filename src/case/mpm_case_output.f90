@@ -4,24 +4,10 @@ module mpm_case_output
     use mpm_error, only: error_type
     use mpm_strings, only: lower, quoted_list, same
     use mpm_case_cursor, only: cursor_type, room_folder
+    use mpm_case_output_fields, only: output_fields, nfields, field_position
     implicit none
     private
     public :: output_section_type, read_output, output_keys
-    public :: field_position, field_displacement, field_velocity, field_stress, field_strain
-    public :: field_material, field_mass, field_volume, field_plastic_strain, field_names
-    public :: nfields
-
-    ! Output fields
-    integer, parameter :: nfields = 9
-        !! number of particle fields
-    integer, parameter :: field_position = 1, field_displacement = 2, field_velocity = 3, &
-        field_stress = 4, field_strain = 5, field_material = 6, field_mass = 7, field_volume = 8, &
-        field_plastic_strain = 9
-        !! index of each particle field
-    character(len=*), parameter :: field_names(nfields) = [character(len=14) :: "position", &
-        "displacement", "velocity", "stress", "strain", "material", "mass", "volume", &
-        "plastic_strain"]
-        !! name of each particle field in the case file
 
     character(len=*), parameter :: output_keys(*) = [character(len=16) :: "interval", "fields", &
         "grid", "directory", "overwrite", "history_interval"]
@@ -34,7 +20,7 @@ module mpm_case_output
         real(wp) :: interval = 0.0_wp
             !! time between particle outputs [s]; 0 for no intermediate output
         logical :: fields(nfields) = .true.
-            !! which particle fields are written
+            !! which particle fields are written (the entries of mpm_case_output_fields)
         logical :: grid = .false.
             !! also write the grid nodes (mass, velocity)
         logical :: overwrite = .false.
@@ -103,11 +89,11 @@ contains
             call item%check_type("string", "a field name", error)
             if (allocated(error)) return
             do f = 1, nfields
-                if (same(lower(item%text()), trim(field_names(f)))) exit
+                if (same(lower(item%text()), trim(output_fields(f)%name))) exit
             end do
             if (f > nfields) then
                 call item%fail(error, item%path//' = "'//item%text()//'" is not a ' &
-                    //"field: must be one of "//quoted_list(field_names))
+                    //"field: must be one of "//quoted_list(output_fields%name))
                 return
             end if
             if (fields(f)) then

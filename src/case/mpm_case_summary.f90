@@ -6,6 +6,7 @@ submodule (mpm_case) mpm_case_summary
     use mpm_case_bodies, only: domain_digits
     use mpm_case_sites, only: body_site_count
     use mpm_case_stability, only: start_time_step
+    use mpm_case_output_fields, only: output_fields, nfields
     implicit none
 
 contains
@@ -116,7 +117,7 @@ contains
         text = text//line//nl
         line = "fields     "
         do f = 1, nfields
-            if (case%output%fields(f)) line = line//" "//trim(field_names(f))
+            if (case%output%fields(f)) line = line//" "//trim(output_fields(f)%name)
         end do
         text = text//line//nl
         if (case%output%history_interval > 0.0_wp) then

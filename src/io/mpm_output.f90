@@ -14,8 +14,9 @@ module mpm_output
     use mpm_kinds, only: wp, i8
     use mpm_strings, only: int_text
     use mpm_error, only: error_type, fatal_error, exit_other
-    use mpm_case, only: case_type, nfields, field_displacement, field_velocity, field_stress, &
-        field_strain, field_material, field_mass, field_volume, field_plastic_strain
+    use mpm_case, only: case_type
+    use mpm_case_output_fields, only: output_field_type, output_fields, nfields, layout_vector, &
+        layout_voigt, layout_scalar
     use mpm_case_materials, only: writes_plastic_strain
     use mpm_particles, only: particles_type, particle_field_type, particle_field, field_index, &
         field_units, get_field, get_field_integers
@@ -88,44 +89,6 @@ module mpm_output
         [character(len=2) :: "xx", "yy", "zz", "xy", "yz", "zx"]
         !! names of the Voigt components, in the order of the columns
 
-    ! How an output field is stored
-    integer, parameter :: layout_vector = 1
-        !! a vector per particle, written (n, 3) with z = 0 in 2D; an XDMF Vector
-    integer, parameter :: layout_voigt = 2
-        !! Voigt components per particle (n, nstress); an XDMF Matrix and one Scalar per
-        !! component (views in /xdmf)
-    integer, parameter :: layout_scalar = 3
-        !! one value per particle (n); an XDMF Scalar
-
-    !> A particle output field: what the case's output.fields name (mpm_case field_*), and
-    !> the array of the particles (the field table of mpm_particles) it shows.
-    type :: output_field_type
-        integer :: case_field = 0
-            !! index in case%output%fields
-        character(len=14) :: name = ""
-            !! dataset of /particles and attribute of the XDMF index
-        character(len=12) :: source = ""
-            !! particle field it comes from (its units are the output's)
-        integer :: row = 0
-            !! 0: every value of the source; r > 0: its row r only (a scalar)
-        integer :: layout = layout_scalar
-            !! layout_vector, layout_voigt or layout_scalar
-    end type output_field_type
-
-    !> The particle output fields besides the position (always written) and the ids (written
-    !> on several images), in the order of the files and the index. A new output field is one
-    !> entry here and its index and name in mpm_case_output (nfields, field_names), with the
-    !> other files docs/architecture.md lists ("How to add an output field").
-    type(output_field_type), parameter :: output_fields(*) = [ &
-        output_field_type(field_displacement, "displacement", "u", 0, layout_vector), &
-        output_field_type(field_velocity, "velocity", "v", 0, layout_vector), &
-        output_field_type(field_stress, "stress", "stress", 0, layout_voigt), &
-        output_field_type(field_strain, "strain", "strain", 0, layout_voigt), &
-        output_field_type(field_material, "material", "material", 0, layout_scalar), &
-        output_field_type(field_mass, "mass", "mass", 0, layout_scalar), &
-        output_field_type(field_volume, "volume", "volume", 0, layout_scalar), &
-        output_field_type(field_plastic_strain, "plastic_strain", "state", 1, layout_scalar)]
-
     ! The submodule mpm_output_xdmf: the index, and the helpers this module calls too (file
     ! names, XDMF data items), declared as separate module procedures: gfortran's link-time
     ! optimisation drops a private procedure of a module that a submodule calls.
@@ -148,6 +111,16 @@ module mpm_output
                 !! "file.h5:/group/dataset"
             character(len=:), allocatable :: text
         end function data_item
+        !> Whether output field i is written as a dataset of /particles and an attribute of
+        !> the index: listed by the case, and not the positions (the geometry).
+        module pure function attribute(writer, i) result(listed)
+            type(output_writer_type), intent(in) :: writer
+                !! the run's writer
+            integer, intent(in) :: i
+                !! index in output_fields
+            logical :: listed
+                !! written as a dataset and an attribute
+        end function attribute
         !> Name of the particle file of output number `index` (0-based).
         module pure function particle_file_name(index) result(name)
             integer, intent(in) :: index
@@ -234,7 +207,7 @@ contains
         do m = 1, size(case%materials)
             plastic = plastic .or. writes_plastic_strain(case%materials(m))
         end do
-        writer%fields(field_plastic_strain) = writer%fields(field_plastic_strain) .and. plastic
+        where (output_fields%plastic) writer%fields = writer%fields .and. plastic
         writer%grid = case%output%grid
         if (allocated(case%materials)) then
             allocate (writer%materials(size(case%materials)))
@@ -570,8 +543,8 @@ contains
         steps: block
             call write_vector(group, "position", particles%x, "m", error)
             if (allocated(error)) exit steps
-            do i = 1, size(output_fields)
-                if (.not. writer%fields(output_fields(i)%case_field)) cycle
+            do i = 1, nfields
+                if (.not. attribute(writer, i)) cycle
                 call write_field(writer, group, output_fields(i), particles, error)
                 if (allocated(error)) exit steps
             end do
@@ -648,8 +621,8 @@ contains
         steps: block
             call hdf5_write_dataset(group, "vertices", [(k, k = 0, n - 1)], error, units="-")
             if (allocated(error)) exit steps
-            do i = 1, size(output_fields)
-                if (.not. writer%fields(output_fields(i)%case_field)) cycle
+            do i = 1, nfields
+                if (.not. attribute(writer, i)) cycle
                 if (output_fields(i)%layout /= layout_voigt) cycle
                 call write_views(trim(output_fields(i)%name), field_units(particle_field( &
                     field_index(trim(output_fields(i)%source))), writer%dim), error)

@@ -6,6 +6,18 @@ submodule(mpm_output) mpm_output_xdmf
 
 contains
 
+    !> Whether output field i is written as a dataset and an attribute (see the interface).
+    module pure function attribute(writer, i) result(listed)
+        type(output_writer_type), intent(in) :: writer
+            !! the run's writer
+        integer, intent(in) :: i
+            !! index in output_fields
+        logical :: listed
+            !! written as a dataset and an attribute
+
+        listed = writer%fields(i) .and. .not. output_fields(i)%geometry
+    end function attribute
+
     !> Rewrite <dir>/<case>.xdmf listing every file written so far (via a .tmp and rename).
     !>
     !> With several images each time is a spatial collection of the parts; a part without
@@ -111,8 +123,8 @@ contains
             call put('        <Geometry GeometryType="XYZ">')
             call put("          "//data_item(n//" 3", "Float", source//"position"))
             call put("        </Geometry>")
-            do i = 1, size(output_fields)
-                if (.not. writer%fields(output_fields(i)%case_field)) cycle
+            do i = 1, nfields
+                if (.not. attribute(writer, i)) cycle
                 name = trim(output_fields(i)%name)
                 number_type = "Float"
                 described = particle_field(field_index(trim(output_fields(i)%source)))

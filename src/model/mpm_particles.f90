@@ -21,7 +21,8 @@ module mpm_particles
         pack_particles, rebuild_particles, particle_number
     public :: particle_field_type, particle_field_count, particle_field, field_index, &
         values_per_particle, field_units, field_held, get_field, get_field_integers, &
-        put_field, put_field_integers, hold_field, created_particle_bytes, move_particles
+        put_field, put_field_integers, hold_field, release_field, created_particle_bytes, &
+        move_particles
     public :: per_particle, per_axis, per_stress, per_tensor, per_state
     public :: held_always, held_written, held_apic, held_driver, held_images
 
@@ -442,6 +443,19 @@ contains
                 trim(job%field%name)//": "//trim(job%message), exit_other)
         end if
     end subroutine hold_field
+
+    !> Deallocate field k (nothing when it is not held).
+    subroutine release_field(particles, k)
+        type(particles_type), intent(inout) :: particles
+            !! the particles
+        integer, intent(in) :: k
+            !! field number
+
+        type(change_job_type) :: job
+
+        job%action = job_release
+        call change_field(particles, k, job)
+    end subroutine release_field
 
     !> Move every array of `from` into `to` (which loses what it held), one field at a time,
     !> so that memory holds the particles once and one field more.

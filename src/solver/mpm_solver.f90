@@ -12,12 +12,14 @@ module mpm_solver
     use mpm_strings, only: vector_text, text_or, int_text
     use mpm_error, only: error_type, fatal_error, exit_numerical, exit_input, exit_other
     use mpm_case, only: case_type, scheme_usf, scheme_usl, scheme_musl, damping_kinetic, &
-        damping_local, field_strain, field_displacement
+        damping_local
+    use mpm_case_output_fields, only: output_fields
     use mpm_case_stability, only: p_wave_speed, viscous_time_step
     use mpm_grid, only: grid_type, new_grid, add_terrain
     use mpm_terrain, only: terrain_misses_domain
     use mpm_particles, only: particles_type, pack_particles, rebuild_particles, particle_number, &
-        move_particles
+        move_particles, particle_field_type, particle_field_count, particle_field, held_written, &
+        release_field
     use mpm_bodies, only: create_particles, body_cell_histogram
     use mpm_decomposition, only: decomposition_type, new_decomposition, cut_axis, local_case, &
         global_cell
@@ -162,8 +164,9 @@ contains
             !! the run record is set by resume_simulation)
 
         real(wp) :: lightest, density
-        integer :: i, stat, nstate
+        integer :: i, k, stat, nstate
         logical :: loaded, restart
+        type(particle_field_type) :: described
         character(len=256) :: msg
 
         sim%case = case
@@ -221,14 +224,14 @@ contains
             call terrain_contact(sim, error, start)
             if (allocated(error)) return
         end if
-        ! a case stores what it writes: the accumulated strain and the displacement only when
-        ! an output field or a state file asks for them
-        if (.not. (case%output%fields(field_strain) .or. has_text(case%save_state))) then
-            deallocate (sim%particles%strain)
-        end if
-        if (.not. (case%output%fields(field_displacement) .or. has_text(case%save_state))) then
-            deallocate (sim%particles%u)
-        end if
+        ! a case stores what it writes: a field held only for output (the accumulated strain,
+        ! the displacement) only when an output field shows it or a state file keeps it
+        do k = 1, particle_field_count()
+            described = particle_field(k)
+            if (described%held /= held_written .or. has_text(case%save_state)) cycle
+            if (any(case%output%fields .and. output_fields%source == described%name)) cycle
+            call release_field(sim%particles, k)
+        end do
         ! the same threshold on every image: the shared nodes get the same update
         lightest = huge(1.0_wp)
         if (sim%particles%n > 0) lightest = minval(sim%particles%mass)

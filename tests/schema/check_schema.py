@@ -4,7 +4,9 @@
 
 1. The key paths of the schema and those the reader accepts (printed by print_case_keys from
    the reader's own key lists) are the same set; every object of the schema refuses unknown
-   keys (additionalProperties: false), as the reader does.
+   keys (additionalProperties: false), as the reader does. The names of the keys that choose
+   an extension (output fields, material types, boundary conditions, shape functions; printed
+   from the registries as "=<path> <name>") are those of the schema's enum for that key.
 2. Every case shipped in inputs/, validation/, bench/cases/ and tests/parallel/cases/ is valid
    (JSON files under a results/ folder are metrics, not cases).
 3. The hostile cases of tests/bad_inputs/ that a schema can detect are invalid.
@@ -229,6 +231,28 @@ def schema_key_paths(schema):
     return paths, open_objects
 
 
+# where the schema lists the names of each key that chooses an extension (JSON pointers of the
+# objects whose "enum" lists hold them)
+CHOICE_POINTERS = {
+    "output.fields": ["properties/output/properties/fields/items/anyOf/0"],
+    "materials.type": ["properties/materials/items/properties/type/anyOf/0"],
+    "domain.boundaries.type": ["definitions/face/anyOf/0/anyOf/0",
+                               "definitions/face/anyOf/1/properties/type/anyOf/0"],
+    "solver.shape_function": ["properties/solver/properties/shape_function/anyOf/0"],
+}
+
+
+def schema_choices(schema, pointers):
+    """The names of the enums at the JSON pointers."""
+    names = set()
+    for pointer in pointers:
+        node = schema
+        for part in pointer.split("/"):
+            node = node[int(part)] if isinstance(node, list) else node[part]
+        names.update(node["enum"])
+    return names
+
+
 def load_json(path):
     """A JSON file, refusing NaN and Infinity, which Python accepts but JSON has not."""
     def refuse(constant):
@@ -271,7 +295,13 @@ def main():
 
     # 1. the same keys as the reader
     run = subprocess.run([args.keys_program], capture_output=True, text=True, check=True)
-    reader = {line.strip() for line in run.stdout.splitlines() if line.strip()}
+    lines = [line.strip() for line in run.stdout.splitlines() if line.strip()]
+    reader = {line for line in lines if not line.startswith("=")}
+    registry = {}
+    for line in lines:
+        if line.startswith("="):
+            path, name = line[1:].split()
+            registry.setdefault(path, set()).add(name)
     ours, open_objects = schema_key_paths(schema)
     for key in sorted(reader - ours):
         failures.append(f"key '{key}' is accepted by the reader but missing from the schema")
@@ -281,6 +311,19 @@ def main():
         failures.append(f"object '{path}' of the schema accepts unknown keys "
                         "(additionalProperties is not false)")
     print(f"keys: {len(reader)} in the reader, {len(ours)} in the schema")
+    if set(registry) != set(CHOICE_POINTERS):
+        failures.append(f"print_case_keys lists the names of {sorted(registry)}, "
+                        f"this check knows {sorted(CHOICE_POINTERS)}")
+    for path, pointers in CHOICE_POINTERS.items():
+        names = schema_choices(schema, pointers)
+        for name in sorted(registry.get(path, set()) - names):
+            failures.append(f"{path} = '{name}' is a name of the registry but missing from "
+                            "the schema's enum")
+        for name in sorted(names - registry.get(path, set())):
+            failures.append(f"{path} = '{name}' is in the schema's enum but no registry "
+                            "entry has it")
+    print(f"choices: {sum(len(v) for v in registry.values())} names of "
+          f"{len(registry)} registries compared with the schema")
 
     # 2. the shipped cases are valid
     cases = sorted(p for d in CASE_DIRS for p in (ROOT / d).rglob("*.json")

@@ -7,7 +7,8 @@ program test_mpm_case
     use mpm_error, only: error_type, exit_input
     use mpm_case, only: case_type, read_case_file, read_case_string, case_summary, &
         scheme_musl, scheme_usl, damping_none, damping_local, &
-        dist_regular, dist_random, field_position, field_velocity, field_stress
+        dist_regular, dist_random
+    use mpm_case_output_fields, only: field_position, output_field_index
     use mpm_case_stability, only: critical_time_step, p_wave_speed
     use mpm_case_materials, only: state_variable_count
     use mpm_boundary, only: face_nodes_type
@@ -139,7 +140,8 @@ contains
         call check(suite, case%output%interval == 0.0_wp .and. case%output%history_interval == 0.0_wp, &
             "3D: interval 0 gives history interval 0")
         call check(suite, case%output%fields(field_position) .and. &
-            case%output%fields(field_velocity) .and. case%output%fields(field_stress) .and. &
+            case%output%fields(output_field_index("velocity")) .and. &
+            case%output%fields(output_field_index("stress")) .and. &
             count(case%output%fields) == 3, "3D: listed fields plus position")
         call check(suite, case%output%grid .and. case%output%overwrite, "3D: grid and overwrite")
         call check(suite, case%output%directory == "out/cube", "3D: output directory")

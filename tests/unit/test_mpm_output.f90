@@ -14,7 +14,8 @@ program test_mpm_output
     use mpm_kinds, only: wp, i8
     use mpm_error, only: error_type
     use mpm_strings, only: int_text
-    use mpm_case, only: case_type, field_displacement, field_strain
+    use mpm_case, only: case_type
+    use mpm_case_output_fields, only: output_field_index
     use mpm_particles, only: particles_type
     use mpm_grid, only: grid_type, new_grid
     use mpm_output, only: output_writer_type, new_output_writer, write_output, remove_outputs
@@ -277,8 +278,8 @@ contains
         case%name = "cube"
         case%dim = 3
         case%domain%ncells = [2, 3, 4]
-        case%output%fields(field_displacement) = .false.
-        case%output%fields(field_strain) = .false.
+        case%output%fields(output_field_index("displacement")) = .false.
+        case%output%fields(output_field_index("strain")) = .false.
         case%output%grid = .false.
         call fill_particles(suite, case, n, particles)
         call make_directory(dir, error)
