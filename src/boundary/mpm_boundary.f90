@@ -4,9 +4,11 @@
 !> `mpm_boundary_registry`): its names for `domain.boundaries.<face>`, its keys, how it
 !> reads and checks them through the case cursor, its words in the --check summary and what
 !> it does to the nodes of its face (`face_nodes_type`: the velocity components it holds and
-!> their value, whether its nodes are frictional contact pairs). The case reads it
-!> (mpm_case_domain); the grid takes the face's nodal description and the nodal update
-!> applies it. A condition sees no model data, only the axis of its face and the dimension.
+!> their value, whether its nodes are frictional contact pairs, whether it acts on them each
+!> step). The case reads it (mpm_case_domain); the grid takes the face's nodal description and
+!> the nodal update applies it; a condition that `acts` applies its own nodal action (`act`)
+!> to the face's nodes after each nodal update, on plain arrays of those nodes. A condition
+!> sees no model data, only the axis of its face, the dimension and its nodes' values.
 module mpm_boundary
     use mpm_kinds, only: wp
     use mpm_error, only: error_type
@@ -35,6 +37,9 @@ module mpm_boundary
             !! Coulomb friction coefficient of the contact pairs [-]
         logical :: keeps_particles = .false.
             !! a particle moved past the face is put back on it (a wall)
+        logical :: acts = .false.
+            !! the condition's `act` changes the velocities of the face's nodes after each
+            !! nodal update (a dashpot)
     end type face_nodes_type
 
     !> A boundary condition of one face with its parameters, and how the case file gives it.
@@ -57,6 +62,9 @@ module mpm_boundary
         procedure :: summary => boundary_summary
         !> What it does to the nodes of a face normal to `axis`.
         procedure(nodes_interface), deferred :: nodes
+        !> Its action on the nodes of its face after each nodal update, when `nodes` says it
+        !> `acts` (default: none).
+        procedure :: act => boundary_act
         !> The name the summary writes: the first of names.
         procedure :: name => boundary_name
     end type boundary_type
@@ -118,6 +126,40 @@ contains
         type(error_type), allocatable, intent(out) :: error
             !! first error found
     end subroutine boundary_read
+
+    !> Default: no action of its own on the nodes.
+    !>
+    !> A condition that acts receives the nodes of its face that hold material, after the
+    !> nodal update of the step (forces, gravity, damping, the held components and the
+    !> contacts applied): their masses, momenta, velocities and accelerations. It changes
+    !> them as its law says, keeping momentum = mass velocity, and returns the work its
+    !> impulses did on the nodes in this step (the change of their kinetic energy it made),
+    !> which the energy balance books as work of the faces.
+    pure subroutine boundary_act(self, axis, dim, dt, dx, mass, momentum, velocity, &
+        acceleration, work)
+        class(boundary_type), intent(in) :: self
+            !! the condition
+        integer, intent(in) :: axis
+            !! axis normal to the face
+        integer, intent(in) :: dim
+            !! space dimensions
+        real(wp), intent(in) :: dt
+            !! time step [s]
+        real(wp), intent(in) :: dx
+            !! grid spacing [m]
+        real(wp), intent(in) :: mass(:)
+            !! mass of each node of the face (n) [kg]
+        real(wp), intent(inout) :: momentum(:, :)
+            !! momentum (dim, n) [kg m/s]
+        real(wp), intent(inout) :: velocity(:, :)
+            !! velocity (dim, n) [m/s]
+        real(wp), intent(inout) :: acceleration(:, :)
+            !! acceleration of the step (dim, n) [m/s2]
+        real(wp), intent(out) :: work
+            !! work of the condition on these nodes in this step [J]
+
+        work = 0.0_wp
+    end subroutine boundary_act
 
     !> Default: nothing after the name.
     pure function boundary_summary(self) result(text)

@@ -56,6 +56,13 @@ module mpm_grid
             !! face (side, axis) of each pair (2, nprescribed)
         real(wp), allocatable :: prescribed_velocity(:, :)
             !! velocity the face gives the node (dim, nprescribed) [m/s]
+        integer :: nacting = 0
+            !! number of (node, acting face) pairs: nodes of faces whose condition acts on
+            !! them after each nodal update (an absorbing face)
+        integer, allocatable :: acting_node(:)
+            !! node of each pair, face by face (nacting)
+        integer, allocatable :: acting_face(:, :)
+            !! face (side, axis) of each pair (2, nacting)
         real(wp) :: face_impulse(3, 2, 3) = 0.0_wp
             !! impulse each face (side, axis) gave the material in the last nodal update, over
             !! this image's nodes (node_owned); zero but at velocity faces [N s]
@@ -172,7 +179,7 @@ contains
         type(error_type), allocatable, intent(out) :: error
             !! set when memory cannot be allocated
 
-        integer :: stat, i, j, k, a, id, d, side, face, c, n, lo(3), hi(3)
+        integer :: stat, i, j, k, a, id, d, side, face, c, n, m, lo(3), hi(3)
         character(len=256) :: msg
         type(face_nodes_type) :: nodes(2, 3)
 
@@ -211,16 +218,19 @@ contains
         ! during the nodal update (frictional: contact with friction, lift-off allowed)
         grid%ncontacts = 0
         grid%nprescribed = 0
+        grid%nacting = 0
         do a = 1, d
             do side = 1, 2
                 if (nodes(side, a)%contact) grid%ncontacts = grid%ncontacts &
                     + grid%nnodes/grid%nn(a)
                 if (nodes(side, a)%prescribed) grid%nprescribed = grid%nprescribed &
                     + grid%nnodes/grid%nn(a)
+                if (nodes(side, a)%acts) grid%nacting = grid%nacting + grid%nnodes/grid%nn(a)
             end do
         end do
         allocate (grid%prescribed_node(grid%nprescribed), &
             grid%prescribed_face(2, grid%nprescribed), &
+            grid%acting_node(grid%nacting), grid%acting_face(2, grid%nacting), &
             grid%prescribed_velocity(d, grid%nprescribed), &
             grid%contact_node(grid%ncontacts), grid%contact_axis(grid%ncontacts), &
             grid%contact_normal(grid%ncontacts), grid%contact_dir(d, grid%ncontacts), &
@@ -239,6 +249,7 @@ contains
         grid%contact_gap = huge(1.0_wp)
         c = 0
         n = 0
+        m = 0
         do a = 1, d
             do side = 1, 2
                 face = merge(0, grid%nn(a) - 1, side == 1)
@@ -258,6 +269,11 @@ contains
                                 grid%prescribed_node(n) = id
                                 grid%prescribed_face(:, n) = [side, a]
                                 grid%prescribed_velocity(:, n) = nodes(side, a)%velocity(1:d)
+                            end if
+                            if (nodes(side, a)%acts) then
+                                m = m + 1
+                                grid%acting_node(m) = id
+                                grid%acting_face(:, m) = [side, a]
                             end if
                             if (nodes(side, a)%contact) then
                                 c = c + 1

@@ -45,6 +45,7 @@ SCHEMA_DETECTABLE = [
     "wrong_type_gravity_string", "wrong_type_materials_object", "wrong_type_nx_string",
     "wrong_type_ppc_float", "wrong_type_tend_bool", "zero_dx", "zero_ppc", "zero_size_domain",
     "name_too_long", "save_state_name_too_long", "output_directory_too_long",
+    "absorbing_face_negative_vp",
 ]
 
 BASE = {
@@ -116,6 +117,15 @@ PROBES = [
      variant(("domain.boundaries", {"ymin": {"type": "frictional"}})), False),
     ("mu on a fixed face",
      variant(("domain.boundaries", {"ymin": {"type": "fixed", "mu": 0.1}})), False),
+    ("an absorbing face", variant(("domain.boundaries",
+                                   {"ymin": {"type": "Absorbing", "vp": 300, "vs": 160}})), True),
+    ('the string "absorbing"', variant(("domain.boundaries", {"ymin": "absorbing"})), False),
+    ("an absorbing face without vs",
+     variant(("domain.boundaries", {"ymin": {"type": "absorbing", "vp": 300}})), False),
+    ("an absorbing face with vp = 0",
+     variant(("domain.boundaries", {"ymin": {"type": "absorbing", "vp": 0, "vs": 1}})), False),
+    ("vs on a sliding face",
+     variant(("domain.boundaries", {"ymin": {"type": "sliding", "vs": 100}})), False),
     ("a z face in 2D", variant(("domain.boundaries", {"zmin": "fixed"})), False),
     ("a 3D case", variant(("domain.nz", 4), ("gravity", [0, 0, -9.81]),
                           ("bodies.0.min", [0.2, 0.0, 0.0]), ("bodies.0.max", [0.5, 0.3, 0.3]),

@@ -1,7 +1,9 @@
 !> Boundary registry: every name belongs to one condition, the choice codes point at the
 !> condition of each name, a condition with keys needs the object form; the nodal action of
 !> each condition (held components, contact, prescribed velocity, wall); and the velocity face
-!> read from a case: its vector, its --check words and every refusal of a bad value.
+!> read from a case: its vector, its --check words and every refusal of a bad value; the
+!> absorbing face read from a case and its dashpots on one node (the implicit update and its
+!> work against the closed form).
 program test_mpm_boundary_registry
     use mpm_kinds, only: wp
     use mpm_error, only: error_type
@@ -19,6 +21,7 @@ program test_mpm_boundary_registry
     call check_names_and_keys()
     call check_nodes()
     call check_velocity_face()
+    call check_absorbing_face()
     call finish(suite)
 
 contains
@@ -46,10 +49,11 @@ contains
                 trim(choices(i))//": its code points at its condition")
         end do
         keys = all_boundary_keys()
-        unique = size(keys) == 3
+        unique = size(keys) == 5
         if (unique) unique = all(keys == [character(len=boundary_key_width) :: "type", "mu", &
-            "velocity"])
-        call check(suite, unique, "face keys: type, then mu (frictional), velocity")
+            "velocity", "vp", "vs"])
+        call check(suite, unique, "face keys: type, then mu (frictional), velocity, vp, vs " &
+            //"(absorbing)")
         do m = 1, size(models)
             keys = keys_of(models(m)%b)
             call check(suite, (size(keys) > 0) .eqv. (len(models(m)%b%example()) > 0), &
@@ -62,7 +66,8 @@ contains
         call check(suite, boundary_allowed() == 'one of "free", "sliding", "fixed", or an ' &
             //'object {"type": "frictional", "mu": 0.4} for a face with Coulomb friction, or ' &
             //'an object {"type": "velocity", "velocity": [0, -0.01]} for a face moving at a ' &
-            //"prescribed velocity", "the allowed text of messages")
+            //'prescribed velocity, or an object {"type": "absorbing", "vp": 300, "vs": 160} ' &
+            //"for a face through which waves leave the domain", "the allowed text of messages")
     end subroutine check_names_and_keys
 
     !> What each condition does to the nodes of a y face in 2D.
@@ -92,6 +97,10 @@ contains
                 call check(suite, all(nodes%held .eqv. [.true., .true., .false.]) &
                     .and. nodes%prescribed .and. nodes%keeps_particles, &
                     "velocity: both components prescribed, a wall")
+            case ("absorbing")
+                call check(suite, nodes%acts .and. .not. any(nodes%held) .and. &
+                    .not. nodes%contact .and. .not. nodes%prescribed .and. &
+                    nodes%keeps_particles, "absorbing: acts on its nodes, nothing held, a wall")
             case default
                 call check(suite, .false., models(m)%b%name()//": no nodal check here")
             end select
@@ -137,6 +146,53 @@ contains
         call expect_error(face_case('{"type": "velocity", "velocity": [0, 0], "mu": 0.1}'), &
             "domain.boundaries.ymax.mu applies to frictional faces only", "mu on a velocity face")
     end subroutine check_velocity_face
+
+    !> The absorbing face of a case: its speeds, summary, bad values, and its dashpots on one
+    !> node of a y face: v = v* / (1 + 2 c dt / dx) with c = vp normal, vs along the face, and
+    !> the work m (v - v*) . (v0 + v) / 2, v0 = v* - dt a*.
+    subroutine check_absorbing_face()
+        type(case_type) :: case
+        type(error_type), allocatable :: error
+        type(face_nodes_type) :: nodes
+        real(wp) :: momentum(2, 1), velocity(2, 1), acceleration(2, 1), work, v(2), v0(2)
+        real(wp), parameter :: dt = 1.0e-3_wp, dx = 0.5_wp, mass = 3.0_wp
+
+        call read_case_string(face_case('{"type": "Absorbing", "vp": 300, "vs": 160}'), &
+            case, error, "absorbing_face")
+        call check(suite, .not. allocated(error), "absorbing face: valid")
+        if (allocated(error)) then
+            print "(a)", error%message
+            return
+        end if
+        nodes = case%domain%nodes(2, 2, 2)
+        call check(suite, nodes%acts .and. .not. any(nodes%held), "absorbing face: acts")
+        call check(suite, index(case_summary(case), &
+            "ymax absorbing (vp = 300 m/s, vs = 160 m/s)") > 0, "absorbing face: summary")
+        velocity(:, 1) = [0.2_wp, -0.4_wp]
+        acceleration(:, 1) = [10.0_wp, -20.0_wp]
+        momentum = mass*velocity
+        call case%domain%face(2, 2)%b%act(2, 2, dt, dx, [mass], momentum, velocity, &
+            acceleration, work)
+        v = [0.2_wp/(1 + 2*160*dt/dx), -0.4_wp/(1 + 2*300*dt/dx)]
+        v0 = [0.2_wp, -0.4_wp] - dt*[10.0_wp, -20.0_wp]
+        call check(suite, all(abs(velocity(:, 1) - v) <= 1.0e-15_wp) .and. &
+            all(abs(momentum(:, 1) - mass*v) <= 1.0e-14_wp), &
+            "absorbing face: implicit dashpots, vs along and vp normal to the face")
+        call check(suite, all(abs(acceleration(:, 1) - ([10.0_wp, -20.0_wp] + (v - &
+            [0.2_wp, -0.4_wp])/dt)) <= 1.0e-9_wp), "absorbing face: the acceleration follows")
+        call check(suite, abs(work - 0.5_wp*mass*dot_product(v - [0.2_wp, -0.4_wp], v0 + v)) &
+            <= 1.0e-15_wp .and. work < 0.0_wp, "absorbing face: its work, negative")
+        call expect_error(face_case('"absorbing"'), 'domain.boundaries.ymax = "absorbing" ' &
+            //"needs the P- and S-wave speeds vp and vs", "absorbing as a string")
+        call expect_error(face_case('{"type": "absorbing", "vs": 100}'), &
+            "missing required key 'domain.boundaries.ymax.vp'", "vp missing")
+        call expect_error(face_case('{"type": "absorbing", "vp": 0, "vs": 100}'), &
+            "domain.boundaries.ymax.vp", "vp zero")
+        call expect_error(face_case('{"type": "absorbing", "vp": 300, "vs": 300}'), &
+            "domain.boundaries.ymax.vs = 300 m/s is not below vp = 300 m/s", "vs not below vp")
+        call expect_error(face_case('{"type": "fixed", "vp": 300}'), &
+            "domain.boundaries.ymax.vp applies to absorbing faces only", "vp on a fixed face")
+    end subroutine check_absorbing_face
 
     !> A small valid 2D case with the given ymax face.
     function face_case(face) result(text)

@@ -1,0 +1,180 @@
+!> A viscous absorbing face (Lysmer and Kuhlemeyer 1969): dashpots that take the traction
+!> t_n = -rho vp v_n normal to the face and t_t = -rho vs v_t along it, which is what the
+!> material beyond the face would give a plane wave leaving the domain at normal incidence,
+!> so that such a wave passes out instead of reflecting.
+!>
+!> On the grid a face node stands for the face area its material covers: with the material's
+!> density rho at the face, a node of mass m holds rho A dx / 2 (the half of its cell inside
+!> the domain), so A = 2 m / (rho dx) and the dashpot of the node is c = rho v A = 2 m v / dx,
+!> whatever the density; a node the material only partly covers gets the share it covers.
+!> The dashpot is applied implicitly, m (v - v*) = -dt c v with v* the velocity of the nodal
+!> update: v = v* / (1 + 2 v dt / dx), stable at any time step and any nodal mass. Its work,
+!> booked as work of the faces, is its impulse at the mean velocity of the step,
+!> m (v - v*) . (v0 + v) / 2 with v0 = v* - dt a* the velocity at the start of the step, as
+!> the nodal update books the work of damping.
+!>
+!> A plain dashpot holds no static load: under gravity the material on an absorbing base
+!> sinks at the speed the dashpot needs to carry its weight (a known limit of viscous
+!> boundaries; a Kelvin-Voigt face adds a spring, issue 22). Particles moved past the face
+!> are put back on it.
+module mpm_boundary_absorbing
+    use mpm_kinds, only: wp
+    use mpm_error, only: error_type
+    use mpm_strings, only: fmt_real
+    use mpm_case_cursor, only: cursor_type
+    use mpm_boundary, only: boundary_type, face_nodes_type, boundary_key_width
+    implicit none
+    private
+    public :: absorbing_boundary_type
+
+    !> Normal and tangential dashpots of the impedances of the material beyond the face.
+    type, extends(boundary_type) :: absorbing_boundary_type
+        real(wp) :: vp = 0.0_wp
+            !! P-wave speed of the material beyond the face, sqrt((K + 4 G / 3) / rho) [m/s]
+        real(wp) :: vs = 0.0_wp
+            !! S-wave speed, sqrt(G / rho) [m/s]
+    contains
+        procedure, nopass :: names => absorbing_names
+        procedure, nopass :: keys => absorbing_keys
+        procedure, nopass :: example => absorbing_example
+        procedure, nopass :: purpose => absorbing_purpose
+        procedure, nopass :: needs => absorbing_needs
+        procedure :: read => absorbing_read
+        procedure :: summary => absorbing_summary
+        procedure :: nodes => absorbing_nodes
+        procedure :: act => absorbing_act
+    end type absorbing_boundary_type
+
+contains
+
+    !> "absorbing"
+    pure subroutine absorbing_names(list)
+        character(len=boundary_key_width), allocatable, intent(out) :: list(:)
+            !! the names
+
+        list = [character(len=boundary_key_width) :: "absorbing"]
+    end subroutine absorbing_names
+
+    !> "vp", "vs"
+    pure subroutine absorbing_keys(list)
+        character(len=boundary_key_width), allocatable, intent(out) :: list(:)
+            !! the keys
+
+        list = [character(len=boundary_key_width) :: "vp", "vs"]
+    end subroutine absorbing_keys
+
+    !> The object form, for messages.
+    pure function absorbing_example() result(text)
+        character(len=:), allocatable :: text
+            !! an example face object
+
+        text = '{"type": "absorbing", "vp": 300, "vs": 160}'
+    end function absorbing_example
+
+    !> What it is for, for messages.
+    pure function absorbing_purpose() result(text)
+        character(len=:), allocatable :: text
+            !! "a face ..."
+
+        text = "a face through which waves leave the domain"
+    end function absorbing_purpose
+
+    !> What the name alone lacks.
+    pure function absorbing_needs() result(text)
+        character(len=:), allocatable :: text
+            !! the missing parameters
+
+        text = "the P- and S-wave speeds vp and vs"
+    end function absorbing_needs
+
+    !> `vp` and `vs`, required, above 0 [m/s]; vs below vp (a material with nu > -1 has
+    !> vs / vp < 1).
+    subroutine absorbing_read(self, face, dim, error)
+        class(absorbing_boundary_type), intent(inout) :: self
+            !! the condition
+        type(cursor_type), intent(in) :: face
+            !! the face object, its keys checked
+        integer, intent(in) :: dim
+            !! space dimensions
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        call face%get_real("vp", self%vp, error, required=.true., above=0.0_wp, unit="m/s")
+        if (allocated(error)) return
+        call face%get_real("vs", self%vs, error, required=.true., above=0.0_wp, unit="m/s")
+        if (allocated(error)) return
+        if (self%vs >= self%vp) then
+            call face%fail(error, face%key_path("vs")//" = "//fmt_real(self%vs)//" m/s is not "// &
+                "below vp = "//fmt_real(self%vp)//" m/s: the S-wave speed of a material is "// &
+                "below its P-wave speed (vs / vp = sqrt((1 - 2 nu) / (2 (1 - nu))))")
+        end if
+    end subroutine absorbing_read
+
+    !> " (vp = 300 m/s, vs = 160 m/s)"
+    pure function absorbing_summary(self) result(text)
+        class(absorbing_boundary_type), intent(in) :: self
+            !! the condition
+        character(len=:), allocatable :: text
+            !! the words after the name
+
+        text = " (vp = "//fmt_real(self%vp)//" m/s, vs = "//fmt_real(self%vs)//" m/s)"
+    end function absorbing_summary
+
+    !> Nothing held: the face acts on its nodes after the nodal update; a wall.
+    pure function absorbing_nodes(self, axis, dim) result(nodes)
+        class(absorbing_boundary_type), intent(in) :: self
+            !! the condition
+        integer, intent(in) :: axis
+            !! axis normal to the face
+        integer, intent(in) :: dim
+            !! space dimensions
+        type(face_nodes_type) :: nodes
+            !! its action on the face's nodes
+
+        nodes%acts = .true.
+        nodes%keeps_particles = .true.
+    end function absorbing_nodes
+
+    !> The dashpots, implicit: v = v* / (1 + 2 v_wave dt / dx) per component, vp normal to
+    !> the face and vs along it; the work is the impulse at the mean velocity of the step.
+    pure subroutine absorbing_act(self, axis, dim, dt, dx, mass, momentum, velocity, &
+        acceleration, work)
+        class(absorbing_boundary_type), intent(in) :: self
+            !! the condition
+        integer, intent(in) :: axis
+            !! axis normal to the face
+        integer, intent(in) :: dim
+            !! space dimensions
+        real(wp), intent(in) :: dt
+            !! time step [s]
+        real(wp), intent(in) :: dx
+            !! grid spacing [m]
+        real(wp), intent(in) :: mass(:)
+            !! mass of each node of the face (n) [kg]
+        real(wp), intent(inout) :: momentum(:, :)
+            !! momentum (dim, n) [kg m/s]
+        real(wp), intent(inout) :: velocity(:, :)
+            !! velocity (dim, n) [m/s]
+        real(wp), intent(inout) :: acceleration(:, :)
+            !! acceleration of the step (dim, n) [m/s2]
+        real(wp), intent(out) :: work
+            !! work of the dashpots in this step (negative: energy taken) [J]
+
+        real(wp) :: factor(3), v(3), v0(3)
+        integer :: i
+
+        factor = 1.0_wp/(1.0_wp + 2.0_wp*self%vs*dt/dx)
+        factor(axis) = 1.0_wp/(1.0_wp + 2.0_wp*self%vp*dt/dx)
+        work = 0.0_wp
+        do i = 1, size(mass)
+            v(1:dim) = factor(1:dim)*velocity(:, i)
+            v0(1:dim) = velocity(:, i) - dt*acceleration(:, i)
+            work = work + 0.5_wp*mass(i)*dot_product(v(1:dim) - velocity(:, i), &
+                v0(1:dim) + v(1:dim))
+            acceleration(:, i) = acceleration(:, i) + (v(1:dim) - velocity(:, i))/dt
+            velocity(:, i) = v(1:dim)
+            momentum(:, i) = mass(i)*v(1:dim)
+        end do
+    end subroutine absorbing_act
+
+end module mpm_boundary_absorbing
