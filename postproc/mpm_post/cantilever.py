@@ -39,9 +39,13 @@ def cantilever_case(dx, shape, scheme, transfer, ppc, tend=3.0, interval=0.01):
     """The case file (a dict) of one run.
 
     ``dx`` the cell size [m], ``shape`` solver.shape_function, ``scheme`` solver.scheme,
-    ``transfer`` solver.transfer, ``ppc`` particles per cell and axis, ``tend`` the simulated
-    time [s], ``interval`` the output interval [s] (the peak is read at the output times).
+    ``transfer`` solver.transfer (``xpicM``: "xpic" with solver.xpic_order M), ``ppc``
+    particles per cell and axis, ``tend`` the simulated time [s], ``interval`` the output
+    interval [s] (the peak is read at the output times).
     """
+    solver = {"scheme": scheme, "shape_function": shape, "transfer": transfer}
+    if transfer.startswith("xpic") and transfer[4:].isdigit():
+        solver.update(transfer="xpic", xpic_order=int(transfer[4:]))
     return {
         "name": case_name(dx, shape, scheme, transfer, ppc),
         "domain": {"nx": round(4.5 / dx), "ny": round(5.5 / dx), "dx": dx,
@@ -53,7 +57,7 @@ def cantilever_case(dx, shape, scheme, transfer, ppc, tend=3.0, interval=0.01):
                        "rho": 1050.0}],
         "bodies": [{"name": "beam", "material": "beam", "min": [0.0, 4.0], "max": [4.0, 5.0]}],
         "gravity": [0.0, -10.0],
-        "solver": {"scheme": scheme, "shape_function": shape, "transfer": transfer},
+        "solver": solver,
         "time": {"tend": tend, "cfl": 0.5},
         "damping": {"type": "none"},
         "output": {"interval": interval, "fields": ["position", "displacement"]},

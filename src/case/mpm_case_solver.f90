@@ -20,7 +20,7 @@ module mpm_case_solver
         !! longest value of solver.shape_function kept
 
     character(len=*), parameter :: solver_keys(*) = [character(len=18) :: "scheme", &
-        "shape_function", "locking_correction", "transfer", "flip_fraction"]
+        "shape_function", "locking_correction", "transfer", "flip_fraction", "xpic_order"]
         !! keys of `solver`
 
     !> `solver`: how a step is computed.
@@ -32,6 +32,12 @@ module mpm_case_solver
             !! (mpm_shape_factory, above the case layer) checks it
         logical :: apic = .false.
             !! affine particle-in-cell transfer (solver.transfer = "apic") instead of FLIP
+        logical :: xpic = .false.
+            !! XPIC(m) transfer (solver.transfer = "xpic", Hammerquist and Nairn 2017): the FLIP
+            !! update of the particles' start velocities with their null-space part removed
+        integer :: xpic_order = 2
+            !! m of XPIC(m): 1 is PIC; larger keeps more of FLIP and still filters the null
+            !! space (solver.xpic_order, 1 to 10)
         real(wp) :: flip_fraction = 1.0_wp
             !! particle velocity update: this fraction FLIP (v_p + dt a), the rest PIC (the
             !! nodal velocity interpolated) [-]
@@ -77,16 +83,31 @@ contains
         solver%fbar = choice == 1
         if (allocated(error)) return
         choice = merge(1, 0, solver%apic)
-        call cur%get_choice("transfer", [character(len=4) :: "flip", "apic"], [0, 1], choice, &
-            error)
+        if (solver%xpic) choice = 2
+        call cur%get_choice("transfer", [character(len=4) :: "flip", "apic", "xpic"], [0, 1, 2], &
+            choice, error)
         if (allocated(error)) return
         solver%apic = choice == 1
+        solver%xpic = choice == 2
         call cur%get_real("flip_fraction", solver%flip_fraction, error, at_least=0.0_wp, &
             at_most=1.0_wp, unit="-", found=found)
         if (allocated(error)) return
         if (found .and. solver%apic) then
             call cur%fail(error, "solver.flip_fraction applies to solver.transfer = " &
                 //'"flip" only (here "apic", whose velocity update has no FLIP part); remove it')
+            return
+        end if
+        if (found .and. solver%xpic) then
+            call cur%fail(error, "solver.flip_fraction applies to solver.transfer = " &
+                //'"flip" only (here "xpic", which filters the FLIP update itself: set its ' &
+                //"order with solver.xpic_order); remove it")
+            return
+        end if
+        call cur%get_int("xpic_order", solver%xpic_order, error, at_least=1, at_most=10)
+        if (allocated(error)) return
+        if (cur%has("xpic_order") .and. .not. solver%xpic) then
+            call cur%fail(error, 'solver.xpic_order applies to solver.transfer = "xpic" only; ' &
+                //'remove it or set "transfer": "xpic"')
         end if
     end subroutine read_solver
 

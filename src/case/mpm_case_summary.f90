@@ -82,6 +82,7 @@ contains
             //trim(case%solver%shape_function)
         if (case%solver%fbar) text = text//", F-bar locking correction"
         if (case%solver%apic) text = text//", APIC transfer"
+        if (case%solver%xpic) text = text//", XPIC("//int_text(case%solver%xpic_order)//") transfer"
         if (case%solver%flip_fraction < 1.0_wp) text = text//", velocity update " &
             //fmt_real(case%solver%flip_fraction)//" FLIP + " &
             //fmt_real(1.0_wp - case%solver%flip_fraction)//" PIC"

@@ -43,6 +43,9 @@ module mpm_grid
             !! nodal velocity after the update (dim, nnodes) [m/s]
         real(wp), allocatable :: acceleration(:, :)
             !! nodal acceleration of the step (dim, nnodes) [m/s2]
+        real(wp), allocatable :: xpic(:, :)
+            !! with solver.transfer = "xpic": the filtered start velocity of the step that G2P
+            !! gives the particles with the step's accelerations (dim, nnodes) [m/s]
         real(wp), allocatable :: scratch(:)
             !! buffers of the scatter passes (mpm_transfer), kept from step to step: a fresh
             !! allocation per pass costs page faults and the zeroing of new pages

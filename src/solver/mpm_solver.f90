@@ -39,7 +39,8 @@ module mpm_solver
         nodal_boundary, nodal_kinetic
     use mpm_kernel_contact, only: keep_contact_start, contact_particle_work
     use mpm_halo, only: halo_sum, halo_box, halo_contact_gaps, settle_light_nodes, fold_light
-    use mpm_step_passes, only: step_passes, grid_velocity, update_nodes, pass_p2g, &
+    use mpm_step_passes, only: step_passes, grid_velocity, update_nodes, xpic_field, pass_xpic, &
+        pass_p2g, &
         pass_p2g_mass, pass_start_velocity, pass_p2g_force, pass_nodes, pass_g2p, &
         pass_g2p_stress, pass_g2p_remap, pass_stress, pass_stress_move
     use mpm_clock, only: wall_time
@@ -670,7 +671,7 @@ contains
             cells=sim%case%solver%fbar)
         if (allocated(error)) return
         call lap(sim, phase_stencils, clock)
-        passes = step_passes(scheme, sim%case%solver%fbar)
+        passes = step_passes(scheme, sim%case%solver%fbar, xpic=sim%case%solver%xpic)
         associate (grid => sim%grid, particles => sim%particles, stc => sim%stencils, &
                    fbar => sim%case%solver%fbar)
             do k = 1, size(passes)
@@ -708,25 +709,31 @@ contains
                         contact_particle_work(grid, nodal_work(nodal_friction), &
                         nodal_work(nodal_boundary))
                     call lap(sim, phase_nodal, clock)
+                case (pass_xpic)
+                    ! the start velocities G2P gives the particles, their null space removed
+                    call xpic_field(grid, particles, stc, dt, sim%case%solver%xpic_order, &
+                        sim%shape%halo_width())
+                    call lap(sim, phase_nodal, clock)
                 case (pass_g2p_stress)
                     ! USL without F-bar: the stress update needs the nodal velocities of the
                     ! moves, in the same pass
                     call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, &
                         sim%case%gravity, remap=.false., motion=motion, kinetic=kinetic, &
-                        materials=sim%materials, strain_work=work, blend_loss=blend_loss)
+                        materials=sim%materials, strain_work=work, blend_loss=blend_loss, &
+                        xpic=sim%case%solver%xpic)
                     call lap(sim, phase_g2p, clock)
                 case (pass_g2p)
                     ! USL with F-bar, USF: the particles move here
                     call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, &
                         sim%case%gravity, remap=.false., motion=motion, kinetic=kinetic, &
-                        blend_loss=blend_loss)
+                        blend_loss=blend_loss, xpic=sim%case%solver%xpic)
                     call lap(sim, phase_g2p, clock)
                 case (pass_g2p_remap)
                     ! MUSL: the same pass maps the updated particle momentum back to the nodes;
                     ! the particles move in the stress update
                     call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, &
                         sim%case%gravity, remap=.true., motion=motion, kinetic=kinetic, &
-                        blend_loss=blend_loss)
+                        blend_loss=blend_loss, xpic=sim%case%solver%xpic)
                     ! the remapped momentum of the shared nodes, then the velocities of the
                     ! remap
                     call halo_sum(grid, sim%shape%halo_width(), momentum=.true.)

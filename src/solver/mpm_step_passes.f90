@@ -8,32 +8,40 @@ module mpm_step_passes
     use mpm_case, only: scheme_usf, scheme_usl
     use mpm_grid, only: grid_type, node_owned
     use mpm_boundary, only: boundary_holder_type
-    use mpm_halo, only: fold_light, slave_light
+    use mpm_halo, only: fold_light, slave_light, halo_sum
+    use mpm_particles, only: particles_type
+    use mpm_stencil, only: stencils_type
+    use mpm_transfer, only: map_through_particles
     use mpm_kernel_nodal, only: nodal_velocity, integrate_nodes, nnodal_sums, nodal_faces
     implicit none
     private
-    public :: step_passes, grid_velocity, update_nodes, act_on_faces
+    public :: step_passes, grid_velocity, update_nodes, act_on_faces, xpic_field
     public :: pass_p2g, pass_p2g_mass, pass_start_velocity, pass_p2g_force, pass_nodes, &
-        pass_g2p, pass_g2p_stress, pass_g2p_remap, pass_stress, pass_stress_move
+        pass_g2p, pass_g2p_stress, pass_g2p_remap, pass_stress, pass_stress_move, pass_xpic
 
     integer, parameter :: pass_p2g = 1, pass_p2g_mass = 2, pass_start_velocity = 3, &
         pass_p2g_force = 4, pass_nodes = 5, pass_g2p = 6, pass_g2p_stress = 7, &
-        pass_g2p_remap = 8, pass_stress = 9, pass_stress_move = 10
+        pass_g2p_remap = 8, pass_stress = 9, pass_stress_move = 10, pass_xpic = 11
         !! the passes of a step (step_passes gives each scheme's list): P2G of mass, momentum
         !! and forces; USF's P2G of mass and momentum, its nodal velocities and its P2G of the
         !! internal force; the nodal update; G2P with the moves (and USL's stress update in
         !! the same pass); MUSL's G2P with the remap and the remapped velocities; the stress
-        !! update (MUSL's with the moves)
+        !! update (MUSL's with the moves); with XPIC, after the nodal update, the filtered
+        !! start velocities (xpic_field)
 contains
 
     !> The passes of a step of `scheme`, in order (advance runs them).
-    pure function step_passes(scheme, fbar) result(passes)
+    pure function step_passes(scheme, fbar, xpic) result(passes)
         integer, intent(in) :: scheme
             !! scheme_usf, scheme_usl or scheme_musl
         logical, intent(in) :: fbar
             !! F-bar: the stress update averages over a cell, after all the particles' gathers
+        logical, intent(in), optional :: xpic
+            !! XPIC transfer: its filtered start velocities after the nodal update
         integer, allocatable :: passes(:)
             !! pass_* codes
+
+        integer :: k
 
         select case (scheme)
         case (scheme_usf)
@@ -50,6 +58,12 @@ contains
             ! MUSL: the stress with the velocities of the remapped momentum
             passes = [pass_p2g, pass_nodes, pass_g2p_remap, pass_stress_move]
         end select
+        if (present(xpic)) then
+            if (xpic) then
+                k = findloc(passes, pass_nodes, dim=1)
+                passes = [passes(1:k), pass_xpic, passes(k + 1:)]
+            end if
+        end if
     end function step_passes
 
     !> The nodal velocities (mpm_kernel_nodal::nodal_velocity) with the light nodes: their
@@ -163,5 +177,77 @@ contains
             grid%acceleration(:, at) = acceleration
         end subroutine act_on
     end subroutine act_on_faces
+
+    !> XPIC(m) (Hammerquist and Nairn 2017, "A new method for material point method particle
+    !> updates that reduces noise and enhances stability"): the start velocity that G2P gives
+    !> the particles, with the step's accelerations, sum N_ip (xpic_i + dt a_i), in
+    !> grid%xpic.
+    !>
+    !> FLIP keeps v_p of the start of the step, and with it the velocities the grid does not
+    !> see (the null space of the particle-to-grid map: particles beside each other moving
+    !> opposite ways); PIC replaces v_p by S v_g (v_g the nodal velocity of the start, S the
+    !> interpolation to the particles), which removes them and damps every mode the grid
+    !> resolves but poorly. XPIC(m) replaces v_p by [I - (I - A)^m] v_p, A = S M^-1 S^T M_p
+    !> the map particles -> grid -> particles: m = 1 is PIC, and as m grows only the null
+    !> space is taken out. On the grid: xpic = sum_k=1..m (-1)^(k+1) C(m, k) A_g^(k-1) v_g,
+    !> A_g u = M^-1 sum_p m_p N_ip (S u)_p (one gather and one scatter per power), each power
+    !> with the held components of v_g (v_g = v - dt a after the nodal update: zero at a
+    !> fixed component, the face's velocity at a velocity face, so that the sum, whose
+    !> coefficients add up to 1, keeps them) and slaved at the light nodes. The momentum is
+    !> kept: the passes borrow grid%momentum.
+    subroutine xpic_field(grid, particles, stc, dt, order, layers)
+        type(grid_type), intent(inout) :: grid
+            !! grid after the nodal update
+        type(particles_type), intent(in) :: particles
+            !! particles of the step
+        type(stencils_type), intent(in) :: stc
+            !! stencils of the step
+        real(wp), intent(in) :: dt
+            !! time step [s]
+        integer, intent(in) :: order
+            !! m >= 1
+        integer, intent(in) :: layers
+            !! node layers shared at a cut (shape_type%halo_width)
+
+        real(wp), allocatable :: kept(:, :), u(:, :), start(:, :)
+        real(wp) :: coefficient
+        integer :: k, i
+
+        if (.not. allocated(grid%xpic)) then
+            allocate (grid%xpic(grid%dim, grid%nnodes))
+        else if (size(grid%xpic, 2) /= grid%nnodes) then
+            deallocate (grid%xpic)
+            allocate (grid%xpic(grid%dim, grid%nnodes))
+        end if
+        ! the nodal velocity of the start of the step, as the nodal update formed it: zero on
+        ! the empty nodes and in the fixed components, the face's at a velocity face, slaved
+        ! at the light nodes
+        start = grid%velocity - dt*grid%acceleration
+        coefficient = real(order, wp)
+        grid%xpic = coefficient*start
+        if (order == 1) return
+        kept = grid%momentum
+        u = start
+        do k = 2, order
+            call map_through_particles(grid, particles, stc, u)
+            call halo_sum(grid, layers, momentum=.true.)
+            call fold_light(grid, grid%momentum)
+            do i = 1, grid%nnodes
+                if (grid%mass(i) > grid%small_mass) then
+                    u(:, i) = grid%momentum(:, i)/grid%mass(i)
+                else
+                    u(:, i) = 0.0_wp
+                end if
+            end do
+            ! the light nodes (no mass of their own) from their masters, the held components
+            ! at their values; then sum_k (-1)^(k+1) C(m, k) u_k, the binomial coefficient
+            ! from C(m, k) = C(m, k - 1) (m - k + 1) / k
+            call slave_light(grid, u)
+            where (grid%constrained) u = start
+            coefficient = -coefficient*real(order - k + 1, wp)/real(k, wp)
+            grid%xpic = grid%xpic + coefficient*u
+        end do
+        grid%momentum = kept
+    end subroutine xpic_field
 
 end module mpm_step_passes

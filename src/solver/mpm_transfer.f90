@@ -33,6 +33,7 @@ module mpm_transfer
     implicit none
     private
     public :: p2g, p2g_options_type, g2p, motion_type, report_lost, update_stress, nstress_sums
+    public :: map_through_particles
 
     !> What a P2G pass scatters.
     type :: p2g_options_type
@@ -283,6 +284,52 @@ contains
         !$omp end parallel do
     end subroutine fold
 
+    !> One pass of a nodal field through the particles, for XPIC: the momentum
+    !> grid%momentum_i = sum_p m_p N_ip (sum_j N_jp u_j) of this image's particles (the
+    !> images' parts of the shared nodes still to be added, mpm_halo::halo_sum), for the nodes
+    !> of the step's box, in the fixed order of the chunk buffers.
+    subroutine map_through_particles(grid, particles, stc, u)
+        type(grid_type), intent(inout), target :: grid
+            !! grid of the step (its momentum is replaced)
+        type(particles_type), intent(in) :: particles
+            !! particles
+        type(stencils_type), intent(in) :: stc
+            !! stencils of the step
+        real(wp), intent(in), contiguous :: u(:, :)
+            !! nodal field (dim, nnodes)
+
+        integer :: k, q, p, dim, shift, qlo, qhi
+        real(wp) :: w(3), unused(3), none(3, 3), xp(3), aff(3, 3), bf(3), vs(6)
+        real(wp), pointer, contiguous :: buf(:, :)
+
+        dim = grid%dim
+        call scatter_buffer(grid, dim, stc%chunk_offset(stc%nchunks + 1), buf)
+        !$omp parallel do default(none) schedule(dynamic, 1) &
+        !$omp shared(grid, particles, stc, u, buf, dim) &
+        !$omp private(k, q, p, shift, w, unused, none, qlo, qhi, xp, aff, bf, vs)
+        do k = 1, stc%nchunks
+            call group_range(stc, .true., k, qlo, qhi)
+            shift = stc%chunk_base(k)
+            buf(:, stc%chunk_offset(k) + 1:stc%chunk_offset(k + 1)) = 0.0_wp
+            xp = 0.0_wp
+            aff = 0.0_wp
+            bf = 0.0_wp
+            vs = 0.0_wp
+            w = 0.0_wp
+            do q = qlo, qhi
+                p = stc%order(q)
+                call gather_particle(stc, p, u, u, with_a=.true., with_v=.false., &
+                    with_gradient=.false., a=w, v=unused, gradient=none)
+                call scatter_particle(stc, grid%origin, grid%dx, p, shift, particles%mass(p), &
+                    xp, w, aff, .false., mass_row=0, momentum_row=1, vs=vs, fint_row=0, bf=bf, &
+                    body_row=0, buf=buf)
+            end do
+        end do
+        !$omp end parallel do
+        call fold(grid, stc, buf, mass_rows=.true., fint_row=0, body_row=0, &
+            only_momentum=.true.)
+    end subroutine map_through_particles
+
     !> Gather nodal accelerations and velocities: v_p += dt sum N_i a_i (FLIP), and, unless
     !> `remap`, move the particle by dx_p = dt sum N_i v_i (the later passes of the step use
     !> the stencils of the start-of-step positions, not the positions).
@@ -294,7 +341,7 @@ contains
     !> as the moves), the same pass also updates the stresses: one gather per particle and step
     !> instead of two; the blocks and the order of the work sums are those of update_stress.
     subroutine g2p(grid, particles, stc, dt, flip, gravity, remap, motion, kinetic, materials, &
-            strain_work, blend_loss)
+            strain_work, blend_loss, xpic)
         type(grid_type), intent(inout), target :: grid
             !! grid after the nodal update (momentum replaced with `remap`)
         type(particles_type), intent(inout) :: particles
@@ -322,13 +369,16 @@ contains
             !! work kind (nstress_sums) [J] (per metre in 2D)
         real(wp), intent(out), optional :: blend_loss
             !! a FLIP-PIC blend (0 < flip < 1): the kinetic energy its PIC part takes from the
-            !! FLIP velocities, sum_p m (|v_FLIP|^2 - |v|^2) / 2 [J] (per metre in 2D); 0
-            !! otherwise
+            !! FLIP velocities, sum_p m (|v_FLIP|^2 - |v|^2) / 2 [J] (per metre in 2D); with
+            !! `xpic` the same for the XPIC update; 0 otherwise
+        logical, intent(in), optional :: xpic
+            !! XPIC(m) update (solver.transfer = "xpic"): v_p = sum N_i (grid%xpic_i + dt a_i),
+            !! with grid%xpic set by the XPIC pass of the step (default .false.)
 
         integer :: k, q, p, dim, shift, ng, qlo, qhi
         real(wp) :: xp(3), vp(3), aff(3, 3), bf(3), vs(6), dx(3), gradv(3, 3), ke, loss, &
             blended, ldts(3, 3, gather_block), work(nstress_sums)
-        logical :: apic, stress
+        logical :: apic, stress, extended
         real(wp), allocatable :: partial(:, :), partial_ke(:), partial_loss(:)
         real(wp), pointer, contiguous :: buf(:, :)
         type(motion_type), allocatable :: moved(:)
@@ -336,6 +386,8 @@ contains
 
         dim = grid%dim
         apic = allocated(particles%affine)
+        extended = .false.
+        if (present(xpic)) extended = xpic
         stress = present(materials) .and. .not. remap
         ! the remap scatters: chunks; otherwise only gathers: small blocks balance the threads
         ng = group_count(stc, remap)
@@ -348,7 +400,7 @@ contains
         end if
         !$omp parallel do default(none) schedule(dynamic, 1) &
         !$omp shared(grid, particles, stc, dt, flip, gravity, remap, buf, dim, apic, moved, ng, &
-        !$omp materials, stress, partial, partial_ke, partial_loss) &
+        !$omp materials, stress, partial, partial_ke, partial_loss, extended) &
         !$omp private(k, q, p, shift, xp, vp, aff, bf, vs, dx, qlo, qhi, mine, gradv, work, ldts, &
         !$omp ke, loss, blended)
         do k = 1, ng
@@ -373,7 +425,7 @@ contains
                 p = stc%order(q)
                 call update_particle_velocity(grid, particles, stc, p, dt, flip, apic, &
                     need_v=.not. remap, with_gradient=stress, dx=dx, gradv=gradv, &
-                    blend_loss=blended)
+                    blend_loss=blended, xpic=extended)
                 ke = ke + 0.5_wp*particles%mass(p)*sum(particles%v(:, p)**2)
                 loss = loss + blended
                 if (.not. remap) call move_particle(grid, particles, p, dx, gravity, mine)
@@ -425,7 +477,7 @@ contains
     !> The G2P update of one particle: velocity (FLIP, PIC blend or APIC) and the position
     !> increment dt sum N_i v_i; the velocity gradient too with `with_gradient` (or APIC).
     subroutine update_particle_velocity(grid, particles, stc, p, dt, flip, apic, need_v, &
-            with_gradient, dx, gradv, blend_loss)
+            with_gradient, dx, gradv, blend_loss, xpic)
         type(grid_type), intent(in) :: grid
         type(particles_type), intent(inout) :: particles
         type(stencils_type), intent(in) :: stc
@@ -437,10 +489,13 @@ contains
         real(wp), intent(out) :: dx(3), gradv(3, 3)
         real(wp), intent(out) :: blend_loss
             !! a FLIP-PIC blend: m (|v_FLIP|^2 - |v|^2) / 2, the kinetic energy the PIC part
-            !! takes from the FLIP update (it can give some to a particle); 0 otherwise [J]
+            !! takes from the FLIP update (it can give some to a particle); with `xpic` the
+            !! same for the XPIC update; 0 otherwise [J]
+        logical, intent(in) :: xpic
+            !! XPIC(m): v_p = sum N_i (grid%xpic_i + dt a_i)
 
         integer :: dim
-        real(wp) :: a(3), v(3), kept, vflip(3)
+        real(wp) :: a(3), v(3), kept, vflip(3), start(3), unused(3), none(3, 3)
 
         dim = grid%dim
         blend_loss = 0.0_wp
@@ -468,6 +523,18 @@ contains
             else
                 particles%affine(:, :, p) = 0.0_wp
             end if
+        else if (xpic) then
+            ! XPIC(m) (Hammerquist and Nairn 2017): the FLIP increment on the particle's start
+            ! velocity with its null-space part taken out, sum N_i xpic_i (mpm_step_passes::
+            ! xpic_field)
+            call gather_particle(stc, p, grid%xpic, grid%xpic, with_a=.true., with_v=.false., &
+                with_gradient=.false., a=start, v=unused, gradient=none)
+            vflip(1:dim) = particles%v(:, p)
+            particles%v(:, p) = start(1:dim) + dt*a(1:dim)
+            ! the velocity the filter removes, v_p - sum N_i xpic_i, times the mean velocity
+            ! of the step, (v_p + v_new) / 2, as the nodal update books damping
+            blend_loss = 0.5_wp*particles%mass(p)*dot_product(vflip(1:dim) - start(1:dim), &
+                vflip(1:dim) + particles%v(:, p))
         else if (flip < 1.0_wp) then
             ! the velocity as FLIP alone would give it, for the loss only (the blend keeps its
             ! own expression: the moves are those of the runs before the loss was booked)

@@ -338,6 +338,16 @@ contains
             //'only'], "flip_fraction with APIC")
         call expect_error(suite, case_text(extra='"solver": {"flip_fraction": 1.5}'), &
             [character(len=200) :: "solver.flip_fraction = 1.5"], "flip_fraction above 1")
+        call expect_error(suite, case_text(extra='"solver": {"transfer": "xpic", "flip_fraction": 0.9}'), &
+            [character(len=200) :: 'solver.flip_fraction applies to solver.transfer = "flip" ' &
+            //'only (here "xpic"'], "flip_fraction with XPIC")
+        call expect_error(suite, case_text(extra='"solver": {"xpic_order": 3}'), &
+            [character(len=200) :: 'solver.xpic_order applies to solver.transfer = "xpic" only'], &
+            "xpic_order with FLIP")
+        call expect_error(suite, case_text(extra='"solver": {"transfer": "xpic", "xpic_order": 0}'), &
+            [character(len=200) :: "solver.xpic_order = 0 is out of range"], "xpic_order 0")
+        call expect_error(suite, case_text(extra='"solver": {"transfer": "xpic", "xpic_order": 2.5}'), &
+            [character(len=200) :: "solver.xpic_order"], "xpic_order not an integer")
         call expect_error(suite, soil_case(mc//'"phi": 90'), [character(len=200) :: &
             "materials[1].phi = 90 is out of range: must be >= 0 and < 90 [deg]"], "phi = 90")
         call expect_error(suite, soil_case(mc//'"phi": -1'), [character(len=200) :: &
