@@ -2,8 +2,9 @@
 # Runs on 2 images against the serial build (CTest in the coarray build, make test-coarray):
 #  - each case of tests/parallel/cases/ (2D and 3D, particles crossing the cut, an image that
 #    starts empty, cuts that move with the particles, blocks sliding on an STL terrain across
-#    the cut): particle count, ids and masses exactly, positions, velocities and stresses to
-#    round-off, the energy history column by column (compare_runs.py);
+#    the cut, XPIC and absorbing faces whose nodes lie on both sides of the cut): particle
+#    count, ids and masses exactly, positions, velocities and stresses to round-off, the
+#    energy history column by column (compare_runs.py);
 #  - a state saved on 2 images continues serially, and a serial state on 2 images, as the
 #    serial run does;
 #  - failures: a broken case file, a particle lost on one image and an STL terrain that misses
