@@ -7,7 +7,8 @@
 !> their value, whether its nodes are frictional contact pairs, whether it acts on them each
 !> step). The case reads it (mpm_case_domain); the grid takes the face's nodal description and
 !> the nodal update applies it; a condition that `acts` applies its own nodal action (`act`)
-!> to the face's nodes after each nodal update, on plain arrays of those nodes. A condition
+!> to the face's nodes after each nodal update, on plain arrays of those nodes (and the
+!> time, for a law that changes in time). A condition
 !> sees no model data, only the axis of its face, the dimension and its nodes' values.
 module mpm_boundary
     use mpm_kinds, only: wp
@@ -131,34 +132,42 @@ contains
     !>
     !> A condition that acts receives the nodes of its face that hold material, after the
     !> nodal update of the step (forces, gravity, damping, the held components and the
-    !> contacts applied): their masses, momenta, velocities and accelerations. It changes
-    !> them as its law says, keeping momentum = mass velocity, and returns the work its
-    !> impulses did on the nodes in this step (the change of their kinetic energy it made),
-    !> which the energy balance books as work of the faces.
-    pure subroutine boundary_act(self, axis, dim, dt, dx, mass, momentum, velocity, &
-        acceleration, work)
+    !> contacts applied): their masses, momenta, velocities, accelerations and which of their
+    !> components another face holds (those it must leave as they are), and the time at the
+    !> start of the step. It changes them as its law says, keeping momentum = mass velocity,
+    !> and returns the energy its impulses took from the nodes in this step (positive: taken),
+    !> which the energy balance books with the energy the faces stop (`boundary_work`). Its
+    !> law sees only these values and its own parameters: a law with a state of its own (a
+    !> spring's stretch) needs a place for that state first.
+    pure subroutine boundary_act(self, axis, dim, time, dt, dx, mass, held, momentum, velocity, &
+        acceleration, taken)
         class(boundary_type), intent(in) :: self
             !! the condition
         integer, intent(in) :: axis
             !! axis normal to the face
         integer, intent(in) :: dim
             !! space dimensions
+        real(wp), intent(in) :: time
+            !! time at the start of the step [s]
         real(wp), intent(in) :: dt
             !! time step [s]
         real(wp), intent(in) :: dx
             !! grid spacing [m]
         real(wp), intent(in) :: mass(:)
             !! mass of each node of the face (n) [kg]
+        logical, intent(in) :: held(:, :)
+            !! components held by a condition (fixed, sliding, velocity faces; dim, n): left
+            !! as they are
         real(wp), intent(inout) :: momentum(:, :)
             !! momentum (dim, n) [kg m/s]
         real(wp), intent(inout) :: velocity(:, :)
             !! velocity (dim, n) [m/s]
         real(wp), intent(inout) :: acceleration(:, :)
             !! acceleration of the step (dim, n) [m/s2]
-        real(wp), intent(out) :: work
-            !! work of the condition on these nodes in this step [J]
+        real(wp), intent(out) :: taken
+            !! energy the condition took from these nodes in this step [J]
 
-        work = 0.0_wp
+        taken = 0.0_wp
     end subroutine boundary_act
 
     !> Default: nothing after the name.

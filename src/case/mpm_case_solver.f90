@@ -103,12 +103,12 @@ contains
                 //"order with solver.xpic_order); remove it")
             return
         end if
-        call cur%get_int("xpic_order", solver%xpic_order, error, at_least=1, at_most=10)
-        if (allocated(error)) return
         if (cur%has("xpic_order") .and. .not. solver%xpic) then
             call cur%fail(error, 'solver.xpic_order applies to solver.transfer = "xpic" only; ' &
                 //'remove it or set "transfer": "xpic"')
+            return
         end if
+        call cur%get_int("xpic_order", solver%xpic_order, error, at_least=1, at_most=10)
     end subroutine read_solver
 
 end module mpm_case_solver

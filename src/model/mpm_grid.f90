@@ -482,6 +482,8 @@ contains
             !! the grid
         grid_bytes = (storage_size(1.0_wp)/8)*(1 + 5*grid%dim) &
             + (storage_size(.true.)/8)*grid%dim
+        ! XPIC: its field and the three of xpic_field (start, momentum kept, power)
+        if (allocated(grid%xpic)) grid_bytes = grid_bytes + (storage_size(1.0_wp)/8)*4*grid%dim
     end function grid_bytes
 
 end module mpm_grid

@@ -698,8 +698,8 @@ contains
                     if (.not. grid_energy) call keep_contact_start(grid)
                     call lap(sim, phase_p2g, clock)
                 case (pass_nodes)
-                    call update_nodes(grid, sim%case%domain%face, dt, sim%case%gravity, &
-                        local_damping=sim%case%damping%type == damping_local, &
+                    call update_nodes(grid, sim%case%domain%face, sim%time, dt, &
+                        sim%case%gravity, local_damping=sim%case%damping%type == damping_local, &
                         alpha=sim%case%damping%value, dissipated=nodal_work)
                     nodal_work(nodal_boundary) = nodal_work(nodal_boundary) + stopped
                     if (grid_energy) grid_kinetic(2) = nodal_kinetic(grid)

@@ -12,7 +12,7 @@ module mpm_step_passes
     use mpm_particles, only: particles_type
     use mpm_stencil, only: stencils_type
     use mpm_transfer, only: map_through_particles
-    use mpm_kernel_nodal, only: nodal_velocity, integrate_nodes, nnodal_sums, nodal_faces
+    use mpm_kernel_nodal, only: nodal_velocity, integrate_nodes, nnodal_sums, nodal_absorbed
     implicit none
     private
     public :: step_passes, grid_velocity, update_nodes, act_on_faces, xpic_field
@@ -85,11 +85,13 @@ contains
     !> The nodal update (mpm_kernel_nodal::integrate_nodes) with the light nodes: their
     !> momentum and forces to their masters before, their velocities and accelerations
     !> slaved after; in between, the conditions that act on their faces' nodes.
-    subroutine update_nodes(grid, faces, dt, gravity, local_damping, alpha, dissipated)
+    subroutine update_nodes(grid, faces, time, dt, gravity, local_damping, alpha, dissipated)
         type(grid_type), intent(inout) :: grid
             !! grid with mass, momentum and forces set
         type(boundary_holder_type), intent(in) :: faces(2, 3)
             !! the condition of each face (case%domain%face; unallocated: free)
+        real(wp), intent(in) :: time
+            !! time at the start of the step [s]
         real(wp), intent(in) :: dt
             !! time step [s]
         real(wp), intent(in) :: gravity(3)
@@ -101,15 +103,16 @@ contains
         real(wp), intent(out) :: dissipated(nnodal_sums)
             !! the nodal sums of the step (mpm_kernel_nodal::nnodal_sums) [J]
 
-        real(wp) :: work
+        real(wp) :: taken
 
         call fold_light(grid, grid%momentum)
         call fold_light(grid, grid%fint)
         call fold_light(grid, grid%fext)
         call integrate_nodes(grid, dt, gravity, local_damping, alpha, dissipated)
         if (grid%nacting > 0) then
-            call act_on_faces(grid, faces, dt, work)
-            dissipated(nodal_faces) = dissipated(nodal_faces) + work
+            ! what leaves through the faces, booked with what the faces stop (boundary_work)
+            call act_on_faces(grid, faces, time, dt, taken)
+            dissipated(nodal_absorbed) = taken
         end if
         call slave_light(grid, grid%velocity)
         call slave_light(grid, grid%acceleration)
@@ -117,24 +120,27 @@ contains
 
     !> Each face whose condition acts on its nodes (grid%acting_*) applies its `act` to the
     !> nodes of the face that hold material (above grid%small_mass), on copies of their
-    !> masses, momenta, velocities and accelerations; the work is summed over this image's
-    !> nodes (node_owned). A node on two acting faces (an edge) takes both, in face order.
-    subroutine act_on_faces(grid, faces, dt, work)
+    !> masses, momenta, velocities, accelerations and held components; the energy they take
+    !> is summed over this image's nodes (node_owned). A node on two acting faces (an edge)
+    !> takes both, in face order.
+    subroutine act_on_faces(grid, faces, time, dt, taken)
         type(grid_type), intent(inout) :: grid
             !! grid after the nodal update
         type(boundary_holder_type), intent(in) :: faces(2, 3)
             !! the condition of each face
+        real(wp), intent(in) :: time
+            !! time at the start of the step [s]
         real(wp), intent(in) :: dt
             !! time step [s]
-        real(wp), intent(out) :: work
-            !! work of the conditions on the nodes in this step [J]
+        real(wp), intent(out) :: taken
+            !! energy the conditions took from the nodes in this step [J]
 
         integer, allocatable :: ids(:)
         logical, allocatable :: owned(:)
         real(wp) :: shared_work, owned_work
         integer :: first, last, side, axis, k
 
-        work = 0.0_wp
+        taken = 0.0_wp
         first = 1
         do while (first <= grid%nacting)
             side = grid%acting_face(1, first)
@@ -151,7 +157,7 @@ contains
             ! the nodes shared with another image count on the image that owns them
             call act_on(pack(ids, owned), owned_work)
             call act_on(pack(ids, .not. owned), shared_work)
-            work = work + owned_work
+            taken = taken + owned_work
         end do
 
     contains
@@ -161,7 +167,7 @@ contains
             integer, intent(in) :: at(:)
                 !! the nodes
             real(wp), intent(out) :: face_work
-                !! the condition's work on them [J]
+                !! the energy the condition took from them [J]
 
             real(wp), allocatable :: momentum(:, :), velocity(:, :), acceleration(:, :)
 
@@ -170,8 +176,8 @@ contains
             momentum = grid%momentum(:, at)
             velocity = grid%velocity(:, at)
             acceleration = grid%acceleration(:, at)
-            call faces(side, axis)%b%act(axis, grid%dim, dt, grid%dx, grid%mass(at), momentum, &
-                velocity, acceleration, face_work)
+            call faces(side, axis)%b%act(axis, grid%dim, time, dt, grid%dx, grid%mass(at), &
+                grid%constrained(:, at), momentum, velocity, acceleration, face_work)
             grid%momentum(:, at) = momentum
             grid%velocity(:, at) = velocity
             grid%acceleration(:, at) = acceleration

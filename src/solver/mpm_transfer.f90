@@ -370,7 +370,8 @@ contains
         real(wp), intent(out), optional :: blend_loss
             !! a FLIP-PIC blend (0 < flip < 1): the kinetic energy its PIC part takes from the
             !! FLIP velocities, sum_p m (|v_FLIP|^2 - |v|^2) / 2 [J] (per metre in 2D); with
-            !! `xpic` the same for the XPIC update; 0 otherwise
+            !! `xpic` the velocity its filter removes at the mean velocity of the step,
+            !! sum_p m (v_p - v_x) . (v_p + v_new) / 2; 0 otherwise
         logical, intent(in), optional :: xpic
             !! XPIC(m) update (solver.transfer = "xpic"): v_p = sum N_i (grid%xpic_i + dt a_i),
             !! with grid%xpic set by the XPIC pass of the step (default .false.)
@@ -489,8 +490,9 @@ contains
         real(wp), intent(out) :: dx(3), gradv(3, 3)
         real(wp), intent(out) :: blend_loss
             !! a FLIP-PIC blend: m (|v_FLIP|^2 - |v|^2) / 2, the kinetic energy the PIC part
-            !! takes from the FLIP update (it can give some to a particle); with `xpic` the
-            !! same for the XPIC update; 0 otherwise [J]
+            !! takes from the FLIP update (it can give some to a particle); with `xpic`
+            !! m (v_p - v_x) . (v_p + v_new) / 2, the velocity the filter removes at the mean
+            !! velocity of the step (as damping is booked); 0 otherwise [J]
         logical, intent(in) :: xpic
             !! XPIC(m): v_p = sum N_i (grid%xpic_i + dt a_i)
 

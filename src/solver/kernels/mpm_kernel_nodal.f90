@@ -11,14 +11,17 @@ module mpm_kernel_nodal
     implicit none
     private
     public :: nodal_velocity, integrate_nodes, box_middle, box_row, nodal_kinetic
-    public :: nodal_damping, nodal_friction, nodal_boundary, nodal_faces, nnodal_sums
+    public :: nodal_damping, nodal_friction, nodal_boundary, nodal_faces, nodal_absorbed, &
+        nnodal_sums
 
     integer, parameter :: nodal_damping = 1, nodal_friction = 2, nodal_boundary = 3, &
-        nodal_faces = 4, nnodal_sums = 4
+        nodal_faces = 4, nodal_absorbed = 5, nnodal_sums = 5
         !! sums of the nodal update (integrate_nodes): work of local damping, of the friction
         !! of frictional faces and the terrain, and the kinetic energy the fixed components
         !! and the normal constraint of the contacts stop (positive: energy removed); the
-        !! work of the velocity faces on the material (positive: energy given)
+        !! work of the velocity faces on the material (positive: energy given); the energy the
+        !! faces that act on their nodes took (absorbing faces, mpm_step_passes::
+        !! act_on_faces; positive: removed), booked with what the faces stop
 
 
 contains
