@@ -128,7 +128,7 @@ contains
             !! first error found
     end subroutine boundary_read
 
-    !> Default: no action of its own on the nodes.
+    !> The default action on the nodes: none.
     !>
     !> A condition that acts receives the nodes of its face that hold material, after the
     !> nodal update of the step (forces, gravity, damping, the held components and the

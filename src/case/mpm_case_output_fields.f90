@@ -30,8 +30,8 @@ module mpm_case_output_fields
             !! the particle field it shows (a name of the field table of mpm_particles, which
             !! gives its units and whether its values are integers)
         integer :: row = 0
-            !! 0: every value of the source; r > 0: its row r only, a scalar (no dataset when
-            !! the source has fewer rows)
+            !! which values of the source: every one for 0, its row r only (a scalar) for
+            !! r > 0 (no dataset when the source has fewer rows)
         integer :: layout = layout_scalar
             !! layout_vector, layout_voigt or layout_scalar
         logical :: geometry = .false.
