@@ -467,7 +467,6 @@ contains
         type(error_type), allocatable, intent(out) :: error
             !! set when memory cannot be allocated
 
-        type(change_job_type) :: release
         real(wp), allocatable :: values(:, :)
         integer, allocatable :: integers(:)
         type(particle_field_type) :: described
@@ -477,7 +476,6 @@ contains
         to%dim = from%dim
         to%nstress = from%nstress
         to%nstate = from%nstate
-        release%action = job_release
         do k = 1, particle_field_count()
             if (.not. field_held(from, k)) cycle
             described = particle_field(k)
@@ -486,7 +484,7 @@ contains
             else
                 call get_field(from, k, values)
             end if
-            call change_field(from, k, release)
+            call release_field(from, k)
             call hold_field(to, k, error)
             if (allocated(error)) return
             if (described%whole) then

@@ -17,6 +17,7 @@ program test_absorbing_face
     use mpm_kinds, only: wp
     use mpm_testing, only: test_suite_type, new_suite, check, check_close, finish
     use mpm_error, only: error_type
+    use mpm_strings, only: fmt_real
     use mpm_case, only: case_type, read_case_string
     use mpm_solver, only: simulation_type, new_simulation, advance, stable_time_step, &
         start_energy_balance, energy_residual
@@ -31,8 +32,8 @@ program test_absorbing_face
     modulus = young*(1 - nu)/((1 + nu)*(1 - 2*nu))
     vp = sqrt(modulus/rho)
     vs = sqrt(young/(2*(1 + nu))/rho)
-    call run_pulse('{"type": "absorbing", "vp": '//real_json(vp)//', "vs": '// &
-        real_json(vs)//'}', e0, left, taken, loads, residual)
+    call run_pulse('{"type": "absorbing", "vp": '//fmt_real(vp)//', "vs": '// &
+        fmt_real(vs)//'}', e0, left, taken, loads, residual)
     call check(suite, left < 0.05_wp*e0, "absorbing base: below 5 % of the pulse's energy left")
     call check_close(suite, taken, e0 - left, 0.05_wp*(e0 - left), &
         "absorbing base: the energy the dashpots took is what left, within 5 %")
@@ -112,18 +113,5 @@ contains
         loads = sim%energy%loads
         residual = energy_residual(sim%energy)
     end subroutine run_pulse
-
-    !> A number as JSON text, to full precision.
-    function real_json(x) result(text)
-        real(wp), intent(in) :: x
-            !! the number
-        character(len=:), allocatable :: text
-            !! its text
-
-        character(len=32) :: buffer
-
-        write (buffer, "(es24.16e3)") x
-        text = trim(adjustl(buffer))
-    end function real_json
 
 end program test_absorbing_face

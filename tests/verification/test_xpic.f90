@@ -27,6 +27,7 @@ program test_xpic
     use mpm_kinds, only: wp
     use mpm_testing, only: test_suite_type, new_suite, check, finish
     use mpm_error, only: error_type
+    use mpm_strings, only: int_text
     use mpm_case, only: case_type, read_case_string, case_summary
     use mpm_solver, only: simulation_type, new_simulation, advance, start_energy_balance
     implicit none
@@ -57,20 +58,20 @@ program test_xpic
         "XPIC(1) is PIC")
     do k = 1, 4
         m = orders(k)
-        call one_step('"transfer": "xpic", "xpic_order": '//achar(48 + m), .false., v0, got, &
+        call one_step('"transfer": "xpic", "xpic_order": '//int_text(m), .false., v0, got, &
             loss, kinetic0, kinetic)
         expected = closed_form(m)
         call check(suite, maxval(abs(got - expected)) <= 1.0e-12_wp*maxval(abs(v0)), &
-            "XPIC("//achar(48 + m)//"): v = [I - (I - A)^m] v0")
+            "XPIC("//int_text(m)//"): v = [I - (I - A)^m] v0")
         call check(suite, abs(loss - (kinetic0 - kinetic)) <= 1.0e-12_wp*kinetic0 .and. &
-            loss > 0.0_wp, "XPIC("//achar(48 + m)//"): the kinetic energy removed is booked")
+            loss > 0.0_wp, "XPIC("//int_text(m)//"): the kinetic energy removed is booked")
         print "(a,i0,2(a,es10.3))", "XPIC(", m, "): largest error ", &
             maxval(abs(got - expected)), ", kinetic energy kept ", kinetic/kinetic0
         kept(k) = kinetic/kinetic0
-        call one_step('"transfer": "xpic", "xpic_order": '//achar(48 + m), .true., v0, got, &
+        call one_step('"transfer": "xpic", "xpic_order": '//int_text(m), .true., v0, got, &
             loss, kinetic0, kinetic)
         call check(suite, maxval(abs(got - v0)) <= 1.0e-13_wp .and. &
-            abs(loss) <= 1.0e-13_wp*kinetic0, "XPIC("//achar(48 + m)//"): a uniform velocity is kept")
+            abs(loss) <= 1.0e-13_wp*kinetic0, "XPIC("//int_text(m)//"): a uniform velocity is kept")
     end do
     call check(suite, all(kept(2:) > kept(:3)) .and. kept(4) < 0.25_wp, &
         "a higher order keeps more kinetic energy, none keeps the checkerboard")
@@ -108,9 +109,9 @@ contains
         logical, allocatable :: held(:)
         real(wp) :: coefficient, expected_loss, flip_loss
         integer :: n, i, k, ix, iy, p, c
-        character :: label
+        character(len=:), allocatable :: label
 
-        label = achar(48 + m)
+        label = int_text(m)
         call one_step('"transfer": "xpic", "xpic_order": '//label, .false., v0, got, loss, &
             kinetic0, kinetic, floor=.true.)
         n = size(masses)
