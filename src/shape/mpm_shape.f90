@@ -27,7 +27,7 @@ module mpm_shape
     implicit none
     private
     public :: shape_type, stencil_type, tensor_product, max_nodes_per_axis, max_stencil_nodes
-    public :: shape_name_width, fold_ghost_nodes
+    public :: shape_name_width, fold_ghost_nodes, full_shape_type
 
     integer, parameter :: max_nodes_per_axis = 4
         !! widest shape function the kernels take, in nodes per axis (4: a cubic B-spline);
@@ -70,6 +70,50 @@ module mpm_shape
         procedure :: evaluate
             !! nodes, weights and gradients of one particle
     end type shape_type
+
+    !> A shape function that is not a tensor product (CPDI: the weights of a particle follow
+    !> its deformed domain, a parallelogram or parallelepiped, whose edges need not lie along
+    !> the axes). Its stencil is still a box of nodes_per_axis nodes per axis, the box of the
+    !> tensor shape functions, but it states a weight and a gradient for every node of the
+    !> box (`weights_full`), from the particle's position, deformation gradient and initial
+    !> domain; mpm_stencil keeps them and the kernels take them node by node. `weights_1d`
+    !> gives its weights for a domain along the axes (F diagonal), which are then a tensor
+    !> product: `evaluate` (tests and diagnostics) uses them.
+    type, abstract, extends(shape_type) :: full_shape_type
+    contains
+        procedure(weights_full_interface), deferred :: weights_full
+            !! the weights and gradients of every node of every particle's box
+    end type full_shape_type
+
+    abstract interface
+        !> Weights and gradients of the nodes of each particle's box: nodes first(a, p) ..
+        !> first(a, p) + nper(a) - 1 along axis a (0-based, inside the grid), x fastest.
+        !> `bad` is the first particle whose weights do not fit in its box (its domain
+        !> spans more nodes than nper along an axis), 0 when all fit.
+        subroutine weights_full_interface(self, grid, x, f, lp0, nper, first, w, dw, bad)
+            import :: full_shape_type, grid_type, wp
+            class(full_shape_type), intent(in) :: self
+                !! the shape function
+            type(grid_type), intent(in) :: grid
+                !! grid geometry
+            real(wp), intent(in) :: x(:, :)
+                !! particle positions (dim, n) [m]
+            real(wp), intent(in) :: f(:, :, :)
+                !! deformation gradients (dim, dim, n) [-]
+            real(wp), intent(in) :: lp0(:, :)
+                !! half-sizes of the initial domains (dim, n) [m]
+            integer, intent(in) :: nper(3)
+                !! nodes of the box per axis (1 on axis 3 in 2D)
+            integer, intent(out) :: first(:, :)
+                !! first node of the box per axis, 0-based (dim, n)
+            real(wp), intent(out) :: w(:, :)
+                !! weights (product(nper), n) [-]
+            real(wp), intent(out) :: dw(:, :, :)
+                !! gradients (dim, product(nper), n) [1/m]
+            integer, intent(out) :: bad
+                !! first particle whose domain does not fit its box, 0 if none
+        end subroutine weights_full_interface
+    end interface
 
     abstract interface
         !> 1D weights of the nodes first .. first + nodes_per_axis - 1 (0-based) around the

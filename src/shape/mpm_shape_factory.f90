@@ -17,6 +17,7 @@ module mpm_shape_factory
     use mpm_shape_ugimp, only: ugimp_shape_type
     use mpm_shape_bspline2, only: bspline2_shape_type
     use mpm_shape_bspline3, only: bspline3_shape_type
+    use mpm_shape_cpdi, only: cpdi_shape_type
     implicit none
     private
     public :: new_shape, shape_models, shape_choices, shape_holder_type
@@ -33,12 +34,13 @@ contains
     pure function shape_models() result(models)
         type(shape_holder_type), allocatable :: models(:)
 
-        allocate (models(5))
+        allocate (models(6))
         allocate (linear_shape_type :: models(1)%s)
         allocate (gimp_shape_type :: models(2)%s)
         allocate (ugimp_shape_type :: models(3)%s)
         allocate (bspline2_shape_type :: models(4)%s)
         allocate (bspline3_shape_type :: models(5)%s)
+        allocate (cpdi_shape_type :: models(6)%s)
     end function shape_models
 
     !> Every name solver.shape_function accepts (aliases included), in registry order.

@@ -20,10 +20,11 @@
 !> sum is therefore fixed, and a run gives the same bits on 1, 2 or 64 threads.
 module mpm_stencil
     use mpm_kinds, only: wp
-    use mpm_error, only: error_type, fatal_error, exit_other
+    use mpm_error, only: error_type, fatal_error, exit_other, exit_numerical
+    use mpm_strings, only: int_text
     use mpm_grid, only: grid_type
-    use mpm_particles, only: particles_type
-    use mpm_shape, only: shape_type, max_nodes_per_axis
+    use mpm_particles, only: particles_type, particle_number
+    use mpm_shape, only: shape_type, full_shape_type, max_nodes_per_axis
     implicit none
     private
     public :: stencils_type, compute_stencils, particle_nodes, particle_weights, stencil_bytes, axis_derivatives, &
@@ -68,6 +69,14 @@ module mpm_stencil
             !! 1D weights (nps, dim, n) [-]
         real(wp), allocatable :: dw(:, :, :)
             !! 1D weight derivatives of the first nps - 1 nodes (nps - 1, dim, n) [1/m]
+        logical :: tensor = .true.
+            !! the weights are products of the 1D factors w, dw; false for a shape function
+            !! that is no tensor product (mpm_shape::full_shape_type, CPDI), whose weights
+            !! and gradients of the nodes of the box first .. first + nper - 1 are wn, dwn
+        real(wp), allocatable :: wn(:, :)
+            !! weights of the box's nodes, x fastest (count, n) [-]; only when not tensor
+        real(wp), allocatable :: dwn(:, :, :)
+            !! their gradients (dim, count, n) [1/m]; only when not tensor
         integer, allocatable :: order(:)
             !! particles sorted by cell layer along the slowest axis, then by index (n)
         integer :: nchunks = 0
@@ -120,27 +129,54 @@ contains
         logical, intent(in), optional :: cells
             !! also keep the cell of each particle (stc%cell; F-bar)
 
-        integer :: p, a, k, dim, nps, kept, first, shift, c, q, nlayers, nb, b
+        integer :: p, a, k, dim, nps, kept, first, shift, c, q, nlayers, nb, b, bad
         integer :: cell_stride(3)
 
         dim = grid%dim
         nps = shape%nodes_per_axis()
         stc%with_cells = .false.
         if (present(cells)) stc%with_cells = cells
+        select type (shape)
+        class is (full_shape_type)
+            stc%tensor = .false.
+        class default
+            stc%tensor = .true.
+        end select
         call allocate_stencils(stc, grid, particles%n, nps, error)
         if (allocated(error)) return
-        if (shape%initial_domain()) then
-            ! uGIMP: the particle domain at its initial size
-            call shape%weights_all(grid, particles%x, particles%lp0, stc%first, stc%w, stc%dw)
-        else
-            call shape%weights_all(grid, particles%x, particles%lp, stc%first, stc%w, stc%dw)
-        end if
+        select type (shape)
+        class is (full_shape_type)
+            ! weights and gradients per node of the box (CPDI)
+            call shape%weights_full(grid, particles%x, particles%f, particles%lp0, stc%nper, &
+                stc%first, stc%wn, stc%dwn, bad)
+            if (bad > 0) then
+                call domain_error(grid, particles, bad, stc%nper, error)
+                return
+            end if
+        class default
+            if (shape%initial_domain()) then
+                ! uGIMP: the particle domain at its initial size
+                call shape%weights_all(grid, particles%x, particles%lp0, stc%first, stc%w, stc%dw)
+            else
+                call shape%weights_all(grid, particles%x, particles%lp, stc%first, stc%w, stc%dw)
+            end if
+        end select
         cell_stride = [1, grid%ncells(1), grid%ncells(1)*grid%ncells(2)]
         !$omp parallel do default(none) schedule(static) &
         !$omp shared(stc, grid, particles, dim, nps, cell_stride) &
         !$omp private(p, a, k, kept, first, shift, c)
         do p = 1, particles%n
             c = 1
+            if (.not. stc%tensor) then
+                ! the box of a full stencil lies inside the grid already
+                if (stc%with_cells) then
+                    do a = 1, dim
+                        c = c + axis_cell(grid, particles%x(a, p), a)*cell_stride(a)
+                    end do
+                    stc%cell(p) = c
+                end if
+                cycle
+            end if
             do a = 1, dim
                 ! keep the stencil inside the grid: the nodes it drops have zero weight
                 first = stc%first(a, p)
@@ -199,6 +235,53 @@ contains
         !$omp end parallel do
         call cut_chunks(stc, grid)
     end subroutine compute_stencils
+
+    !> The error of a particle whose full (CPDI) stencil does not fit its box: its domain,
+    !> the image of its initial box under F, spans more than the box's nodes along an axis,
+    !> or F has turned it inside out (det F <= 0). A numerical failure of the run (exit 3).
+    subroutine domain_error(grid, particles, p, nper, error)
+        type(grid_type), intent(in) :: grid
+        type(particles_type), intent(in) :: particles
+        integer, intent(in) :: p, nper(3)
+        type(error_type), allocatable, intent(out) :: error
+
+        integer :: a, b, dim
+        real(wp) :: span(3), det
+        character(len=:), allocatable :: spans
+        character(len=32) :: text
+
+        dim = grid%dim
+        span = 0.0_wp
+        do a = 1, dim
+            do b = 1, dim
+                span(a) = span(a) + 2.0_wp*abs(particles%f(a, b, p))*particles%lp0(b, p)
+            end do
+        end do
+        if (dim == 2) then
+            det = particles%f(1, 1, p)*particles%f(2, 2, p) - particles%f(1, 2, p)*particles%f(2, 1, p)
+        else
+            det = particles%f(1, 1, p)*(particles%f(2, 2, p)*particles%f(3, 3, p) &
+                - particles%f(2, 3, p)*particles%f(3, 2, p)) &
+                - particles%f(1, 2, p)*(particles%f(2, 1, p)*particles%f(3, 3, p) &
+                - particles%f(2, 3, p)*particles%f(3, 1, p)) &
+                + particles%f(1, 3, p)*(particles%f(2, 1, p)*particles%f(3, 2, p) &
+                - particles%f(2, 2, p)*particles%f(3, 1, p))
+        end if
+        spans = ""
+        do a = 1, dim
+            write (text, "(f0.2)") span(a)/grid%dx
+            if (a > 1) spans = spans//", "
+            spans = spans//trim(text)
+        end do
+        write (text, "(es10.3)") det
+        text = adjustl(text)
+        call fatal_error(error, "particle "//int_text(particle_number(particles, p))//": its CPDI domain "// &
+            "does not fit the "//int_text(nper(1))//" nodes per axis of its stencil (it spans "// &
+            spans//" cells along the axes, det F = "//trim(text)//"; a domain may span "// &
+            "corners in three consecutive cells and must not be inverted): the particle is "// &
+            "stretched beyond what CPDI1 represents; a finer particle spacing (more particles "// &
+            "per cell) or another shape function (solver.shape_function) avoids it", exit_numerical)
+    end subroutine domain_error
 
     !> The 1D factors of one particle and axis moved by `shift` nodes (node k takes what node
     !> k + shift had), only the first `kept` nodes kept, the others zero.
@@ -271,15 +354,19 @@ contains
         stc%stride = [1, grid%nn(1), grid%nn(1)*grid%nn(2)]
         stc%slow = dim
         if (allocated(stc%first) .and. stc%n == n) then
-            if (size(stc%w, 1) == nps .and. (allocated(stc%cell) .eqv. stc%with_cells)) return
+            if (size(stc%w, 1) == nps .and. (allocated(stc%cell) .eqv. stc%with_cells) .and. &
+                (allocated(stc%wn) .neqv. stc%tensor)) return
         end if
         if (allocated(stc%first)) deallocate (stc%first, stc%w, stc%dw, stc%order, &
             stc%layer_chunks)
         if (allocated(stc%cell)) deallocate (stc%cell)
+        if (allocated(stc%wn)) deallocate (stc%wn, stc%dwn)
         stc%n = n
         allocate (stc%first(dim, n), stc%w(nps, dim, n), stc%dw(nps - 1, dim, n), stc%order(n), &
             stc%layer_chunks(2, 0:grid%nn(dim) - 1), stat=stat, errmsg=msg)
         if (stat == 0 .and. stc%with_cells) allocate (stc%cell(n), stat=stat, errmsg=msg)
+        if (stat == 0 .and. .not. stc%tensor) allocate (stc%wn(stc%count, n), &
+            stc%dwn(dim, stc%count, n), stat=stat, errmsg=msg)
         if (stat /= 0) then
             call fatal_error(error, "cannot allocate the particle stencils: "//trim(msg), &
                 exit_other)
@@ -402,6 +489,11 @@ contains
         call particle_weights(stc, p, node_all, w_all)
         node(1:stc%count) = node_all(1:stc%count)
         w(1:stc%count) = w_all(1:stc%count)
+        if (.not. stc%tensor) then
+            dw(:, 1:stc%count) = 0.0_wp
+            dw(1:stc%dim, 1:stc%count) = stc%dwn(:, :, p)
+            return
+        end if
         call axis_factors(stc, 1, p, stc%nper(1), wx, dwx)
         call axis_factors(stc, 2, p, stc%nper(2), wy, dwy)
         if (stc%dim == 3) then
@@ -441,7 +533,21 @@ contains
         integer :: i, j, k, c, base, basej
         real(wp) :: wjk
 
-        if (stc%dim == 2) then
+        if (.not. stc%tensor) then
+            base = 1 + stc%first(1, p) + stc%stride(2)*stc%first(2, p)
+            if (stc%dim == 3) base = base + stc%stride(3)*stc%first(3, p)
+            c = 0
+            do k = 1, stc%nper(3)
+                do j = 1, stc%nper(2)
+                    basej = base + stc%stride(2)*(j - 1) + stc%stride(3)*(k - 1)
+                    do i = 1, stc%nper(1)
+                        c = c + 1
+                        node(c) = basej + i - 1
+                    end do
+                end do
+            end do
+            w(1:c) = stc%wn(1:c, p)
+        else if (stc%dim == 2) then
             base = 1 + stc%first(1, p) + stc%stride(2)*stc%first(2, p)
             c = 0
             do j = 1, stc%nper(2)
@@ -531,6 +637,8 @@ contains
             !! stencils of the run
         stencil_bytes = (storage_size(1.0_wp)/8)*(2*stc%nps - 1)*stc%dim &
             + (storage_size(1)/8)*(stc%dim + 1 + merge(1, 0, stc%with_cells))
+        if (.not. stc%tensor) stencil_bytes = stencil_bytes &
+            + (storage_size(1.0_wp)/8)*stc%count*(1 + stc%dim)
     end function stencil_bytes
 
 end module mpm_stencil

@@ -23,7 +23,8 @@ module mpm_transfer
     use mpm_error, only: error_type, fatal_error, exit_numerical
     use mpm_grid, only: grid_type
     use mpm_particles, only: particles_type, particle_number
-    use mpm_stencil, only: stencils_type
+    use mpm_stencil, only: stencils_type, particle_weights
+    use mpm_shape, only: max_stencil_nodes
     use mpm_material, only: material_holder_type
     use mpm_kernel_stress, only: stress_block, determinant, gather_block, nstress_sums
     use mpm_kernel_scatter, only: scatter_particle
@@ -800,6 +801,10 @@ contains
         ! particle, every step)
         held = .false.
         unheld_weight = 0.0_wp
+        if (.not. stc%tensor) then
+            unheld_weight = unheld_weight_full(grid, stc, p, m)
+            return
+        end if
         nk = 1
         if (stc%dim == 3) nk = stc%nper(3)
         do k = 1, nk
@@ -825,6 +830,34 @@ contains
         end do
         if (.not. held) unheld_weight = 1.0_wp
     end function unheld_weight
+
+    !> unheld_weight for a stencil that is no tensor product (CPDI), from its node weights.
+    pure real(wp) function unheld_weight_full(grid, stc, p, m)
+        type(grid_type), intent(in) :: grid
+            !! grid with nodal masses
+        type(stencils_type), intent(in) :: stc
+            !! stencils of the step
+        integer, intent(in) :: p
+            !! particle
+        real(wp), intent(in) :: m
+            !! particle mass [kg]
+        integer :: c
+        integer :: node(max_stencil_nodes)
+        real(wp) :: w(max_stencil_nodes)
+        logical :: held
+        call particle_weights(stc, p, node, w)
+        held = .false.
+        unheld_weight_full = 0.0_wp
+        do c = 1, stc%count
+            if (w(c) <= 0.0_wp) cycle
+            if (m*w(c) > 0.5_wp*grid%mass(node(c))) then
+                held = .true.
+            else
+                unheld_weight_full = unheld_weight_full + w(c)
+            end if
+        end do
+        if (.not. held) unheld_weight_full = 1.0_wp
+    end function unheld_weight_full
 
     !> Deformation gradient increment I + dt L (the identity outside the first dim axes).
     pure function increment(gradv, dt, dim) result(dF)

@@ -40,7 +40,9 @@ contains
         case (22)
             call gather_w2_2d(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
         case default
-            if (stc%nps <= narrow_width) then
+            if (.not. stc%tensor) then
+                call gather_full(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
+            else if (stc%nps <= narrow_width) then
                 call gather_narrow(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient, &
                     stc%nper(1), stc%nper(2), stc%nper(3))
             else
@@ -131,5 +133,47 @@ contains
             !! nodal fields (dim, nodes)
         include "mpm_kernel_gather.inc"
     end subroutine gather_any
+
+    !> gather_particle for a stencil that is no tensor product (CPDI): the weight and the
+    !> gradient of every node of the box from stc%wn and stc%dwn.
+    pure subroutine gather_full(stc, p, fa, fv, with_a, with_v, with_gradient, a, v, gradient)
+        type(stencils_type), intent(in) :: stc
+            !! stencils of the step
+        integer, intent(in) :: p
+            !! particle
+        real(wp), intent(in), contiguous :: fa(:, :), fv(:, :)
+            !! nodal fields (dim, nodes)
+        logical, intent(in) :: with_a, with_v, with_gradient
+            !! gather fa; gather fv; gather the gradient of fv
+        real(wp), intent(out) :: a(3), v(3), gradient(3, 3)
+            !! results (first dim components)
+
+        integer :: i, j, k, q, id, dim, c
+        real(wp) :: wq
+
+        dim = stc%dim
+        a = 0.0_wp
+        v = 0.0_wp
+        gradient = 0.0_wp
+        q = 0
+        do k = 1, stc%nper(3)
+            do j = 1, stc%nper(2)
+                id = 1 + stc%first(1, p) + stc%stride(2)*(stc%first(2, p) + j - 1)
+                if (dim == 3) id = id + stc%stride(3)*(stc%first(3, p) + k - 1)
+                do i = 1, stc%nper(1)
+                    q = q + 1
+                    wq = stc%wn(q, p)
+                    if (with_a) a(1:dim) = a(1:dim) + wq*fa(1:dim, id)
+                    if (with_v .or. with_gradient) v(1:dim) = v(1:dim) + wq*fv(1:dim, id)
+                    if (with_gradient) then
+                        do c = 1, dim
+                            gradient(1:dim, c) = gradient(1:dim, c) + fv(1:dim, id)*stc%dwn(c, q, p)
+                        end do
+                    end if
+                    id = id + 1
+                end do
+            end do
+        end do
+    end subroutine gather_full
 
 end module mpm_kernel_gather

@@ -79,7 +79,10 @@ contains
             call scatter_w2_2d(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, vs, &
                 fint_row, bf, body_row, buf)
         case default
-            if (stc%nps <= narrow_width) then
+            if (.not. stc%tensor) then
+                call scatter_full(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, &
+                    momentum_row, vs, fint_row, bf, body_row, buf)
+            else if (stc%nps <= narrow_width) then
                 call scatter_narrow(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, &
                     momentum_row, vs, fint_row, bf, body_row, buf, stc%nper(1), stc%nper(2), &
                     stc%nper(3))
@@ -152,6 +155,74 @@ contains
             !! buffer (rows, nodes)
         include "mpm_kernel_scatter.inc"
     end subroutine scatter_any
+
+    !> scatter_particle for a stencil that is no tensor product (CPDI): the weight and the
+    !> gradient of every node of the box from stc%wn and stc%dwn.
+    pure subroutine scatter_full(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, &
+            momentum_row, vs, fint_row, bf, body_row, buf)
+        type(stencils_type), intent(in) :: stc
+        real(wp), intent(in) :: origin(3), dx
+        integer, intent(in) :: p, shift
+        real(wp), intent(in) :: m, xp(3), vp(3), aff(3, 3)
+        logical, intent(in) :: apic
+        integer, intent(in) :: mass_row, momentum_row
+        real(wp), intent(in) :: vs(6)
+        integer, intent(in) :: fint_row
+        real(wp), intent(in) :: bf(3)
+        integer, intent(in) :: body_row
+        real(wp), intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes)
+
+        integer :: i, j, k, q, id, dim, f, b
+        real(wp) :: wq, mw, g(3), vn(3), r(3), fq(3)
+
+        dim = stc%dim
+        f = fint_row
+        b = body_row
+        g = 0.0_wp
+        r = 0.0_wp
+        q = 0
+        do k = 1, stc%nper(3)
+            do j = 1, stc%nper(2)
+                id = shift + 1 + stc%first(1, p) + stc%bstride(2)*(stc%first(2, p) + j - 1)
+                if (dim == 3) id = id + stc%bstride(3)*(stc%first(3, p) + k - 1)
+                do i = 1, stc%nper(1)
+                    q = q + 1
+                    wq = stc%wn(q, p)
+                    g(1:dim) = stc%dwn(:, q, p)
+                    mw = m*wq
+                    vn = vp
+                    if (apic) then
+                        r(1) = origin(1) + dx*real(stc%first(1, p) + i - 1, wp) - xp(1)
+                        r(2) = origin(2) + dx*real(stc%first(2, p) + j - 1, wp) - xp(2)
+                        if (dim == 3) r(3) = origin(3) + dx*real(stc%first(3, p) + k - 1, wp) &
+                            - xp(3)
+                        vn = vn + matmul(aff, r)
+                    end if
+                    if (mass_row > 0) then
+                        buf(1, id) = buf(1, id) + mw
+                        buf(2:1 + dim, id) = buf(2:1 + dim, id) + mw*vn(1:dim)
+                    else if (momentum_row > 0) then
+                        buf(1:dim, id) = buf(1:dim, id) + mw*vn(1:dim)
+                    end if
+                    if (f > 0) then
+                        ! - V sigma . grad N_i (vs = - V sigma, Voigt xx yy zz xy yz xz)
+                        if (dim == 2) then
+                            fq(1) = vs(1)*g(1) + vs(4)*g(2)
+                            fq(2) = vs(4)*g(1) + vs(2)*g(2)
+                        else
+                            fq(1) = vs(1)*g(1) + vs(4)*g(2) + vs(6)*g(3)
+                            fq(2) = vs(4)*g(1) + vs(2)*g(2) + vs(5)*g(3)
+                            fq(3) = vs(6)*g(1) + vs(5)*g(2) + vs(3)*g(3)
+                        end if
+                        buf(f:f + dim - 1, id) = buf(f:f + dim - 1, id) + fq(1:dim)
+                    end if
+                    if (b > 0) buf(b:b + dim - 1, id) = buf(b:b + dim - 1, id) + mw*bf(1:dim)
+                    id = id + 1
+                end do
+            end do
+        end do
+    end subroutine scatter_full
 
     !> APIC: the parts C_p(:, a) (x_i,a - x_p,a) of the node velocity, per axis and node.
     pure subroutine apic_terms(stc, origin, dx, p, xp, aff, cx, cy, cz)
