@@ -15,8 +15,8 @@
 #   STUDY_COLUMN_CELLS  cells over the column's height (default "4 8 16 32 64 128")
 #   STUDY_BUI_DX        cell sizes of the Bui runs [m] (default "0.01 0.005 0.0025"; a shorter
 #                       ladder: "0.01 0.005", about 5 min)
-#   STUDY_CANTILEVER_RUNS  "cells:shape:scheme:transfer:ppc ..." (default: the cubic B-spline,
-#                       MUSL FLIP and APIC, 2 x 2, at 0.25 and 0.125 m cells)
+#   STUDY_CANTILEVER_RUNS  "cells:shape:scheme:transfer:ppc ..." (default: CPDI and the cubic
+#                       B-spline, MUSL FLIP, 2 x 2, at 0.25 and 0.125 m cells)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
@@ -25,8 +25,8 @@ python=.venv/bin/python
 parts=${STUDY_PARTS:-mms column bui}
 column_cells=${STUDY_COLUMN_CELLS:-4 8 16 32 64 128}
 bui_dx=${STUDY_BUI_DX:-0.01 0.005 0.0025}
-cantilever_runs=${STUDY_CANTILEVER_RUNS:-0.25:bspline3:MUSL:flip:2 0.25:bspline3:MUSL:apic:2 \
-0.125:bspline3:MUSL:flip:2 0.125:bspline3:MUSL:apic:2}
+cantilever_runs=${STUDY_CANTILEVER_RUNS:-0.25:cpdi:MUSL:flip:2 0.125:cpdi:MUSL:flip:2 \
+0.25:bspline3:MUSL:flip:2 0.125:bspline3:MUSL:flip:2}
 export OMP_NUM_THREADS=1
 mkdir -p "$out"
 [ -x "$python" ] || { echo "study: $python not found; run 'make deps'" >&2; exit 1; }

@@ -23,7 +23,7 @@ python=.venv/bin/python
 # the Bui case with its regression band, check.py --coarse).
 declare -A extra_runs=(
     [bui2008]="--refined --floors --numerics"
-    [cantilever]="--two-per-cell"
+    [cantilever]="--bspline2-three"
 )
 
 failed=()
