@@ -5,8 +5,8 @@ Shared by the study (bench/study_cantilever.py) and the validation case
 
 - ``cantilever_case``: the case file (a dict) of one run;
 - ``measure``: the peak deflection of the free end and the energy residual of a run's outputs;
-- ``richardson``: the discretisation error of a ladder of refinements (observed order,
-  extrapolated value, Roache's grid convergence index);
+- ``richardson`` (from mpm_post.study): the discretisation error of a ladder of refinements
+  (observed order, extrapolated value, Roache's grid convergence index);
 - ``peak_bands``: the pass bands of the peaks and of the energy residuals derived from the
   spread of the published peaks and the discretisation error of the ladder.
 
@@ -16,18 +16,14 @@ plane strain, no damping, CFL 0.5; domain 4.5 m x 5.5 m with the beam at y = 4..
 faces free and out of reach).
 """
 
-import math
-from typing import NamedTuple
-
 import numpy as np
 
 from .io import list_outputs, load_history, load_particles
+from .study import Richardson, richardson  # noqa: F401 (part of this module's interface)
 
 PUBLISHED_PEAK = 3.31     # [m] Sadeghirad et al. (2011), CPDI
 PUBLISHED_PEAK_CPGIMP = 3.32  # [m] the same paper, cpGIMP
 CORNER = (4.0, 4.0)       # [m] bottom corner of the free end
-SAFETY_FACTOR_THREE = 1.25  # Roache's factor of safety with three grids and an observed order
-SAFETY_FACTOR_TWO = 3.0     # and without one (two grids, or a ladder that is not monotone)
 
 
 def case_name(dx, shape, scheme, transfer, ppc):
@@ -101,54 +97,6 @@ def measure(output):
         "times_s": times,
         "tip_deflection_m": deflection.tolist(),
     }
-
-
-class Richardson(NamedTuple):
-    """Discretisation error of a ladder of refinements (coarse to fine, constant ratio).
-
-    ``order`` the observed order (NaN when it cannot be observed), ``extrapolated`` the
-    Richardson value at zero cell size, ``errors`` the estimated error |value - extrapolated|
-    of each rung, ``safety`` the factor of safety used (1.25 or 3), ``monotone`` whether the
-    successive differences have one sign and shrink, ``gci_fine`` the grid convergence index
-    of the finest rung (safety x its estimated error, the uncertainty of ``extrapolated``).
-    """
-
-    order: float
-    extrapolated: float
-    errors: list
-    safety: float
-    monotone: bool
-    gci_fine: float
-
-
-def richardson(values, ratio=2.0):
-    """Richardson extrapolation of the last three ``values`` (coarse to fine, cell ratio
-    ``ratio``), after Roache's grid convergence index.
-
-    When the last two differences have one sign and shrink, the observed order is
-    p = ln(d_coarse / d_fine) / ln(ratio), the extrapolated value is
-    v_fine + d_fine / (ratio^p - 1) and the factor of safety 1.25. Otherwise (or with two
-    values) no order is observed: the extrapolated value is the finest, its error is taken as
-    the last difference, and the factor of safety is 3.
-    """
-    v = [float(x) for x in values]
-    if len(v) < 2:
-        raise ValueError("richardson: at least two values are needed")
-    d_fine = v[-1] - v[-2]
-    d_coarse = v[-2] - v[-3] if len(v) >= 3 else math.nan
-    monotone = (len(v) >= 3 and d_fine * d_coarse > 0.0 and abs(d_fine) < abs(d_coarse))
-    if monotone:
-        order = math.log(d_coarse / d_fine) / math.log(ratio)
-        extrapolated = v[-1] + d_fine / (ratio ** order - 1.0)
-        safety = SAFETY_FACTOR_THREE
-        errors = [abs(x - extrapolated) for x in v]
-    else:
-        order = math.nan
-        extrapolated = v[-1]
-        safety = SAFETY_FACTOR_TWO
-        # no asymptotic range: each rung's error at least the largest change seen below it
-        errors = [max(abs(x - v[-1]), abs(d_fine)) for x in v]
-    return Richardson(order, extrapolated, errors, safety, monotone, safety * errors[-1])
 
 
 def peak_bands(peaks, ratio=2.0, reference=PUBLISHED_PEAK,

@@ -8,10 +8,63 @@ writes the figures and the Markdown page of ``make study``.
 import csv
 import math
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+
+
+SAFETY_FACTOR_THREE = 1.25  # Roache's factor of safety with three grids and an observed order
+SAFETY_FACTOR_TWO = 3.0     # and without one (two grids, or a ladder that is not monotone)
+
+
+class Richardson(NamedTuple):
+    """Discretisation error of a ladder of refinements (coarse to fine, constant ratio).
+
+    ``order`` the observed order (NaN when it cannot be observed), ``extrapolated`` the
+    Richardson value at zero cell size, ``errors`` the estimated error |value - extrapolated|
+    of each rung, ``safety`` the factor of safety used (1.25 or 3), ``monotone`` whether the
+    successive differences have one sign and shrink, ``gci_fine`` the grid convergence index
+    of the finest rung (safety x its estimated error, the uncertainty of ``extrapolated``).
+    """
+
+    order: float
+    extrapolated: float
+    errors: list
+    safety: float
+    monotone: bool
+    gci_fine: float
+
+
+def richardson(values, ratio=2.0):
+    """Richardson extrapolation of the last three ``values`` (coarse to fine, cell ratio
+    ``ratio``), after Roache's grid convergence index.
+
+    When the last two differences have one sign and shrink, the observed order is
+    p = ln(d_coarse / d_fine) / ln(ratio), the extrapolated value is
+    v_fine + d_fine / (ratio^p - 1) and the factor of safety 1.25. Otherwise (or with two
+    values) no order is observed: the extrapolated value is the finest, its error is taken as
+    the last difference, and the factor of safety is 3.
+    """
+    v = [float(x) for x in values]
+    if len(v) < 2:
+        raise ValueError("richardson: at least two values are needed")
+    d_fine = v[-1] - v[-2]
+    d_coarse = v[-2] - v[-3] if len(v) >= 3 else math.nan
+    monotone = (len(v) >= 3 and d_fine * d_coarse > 0.0 and abs(d_fine) < abs(d_coarse))
+    if monotone:
+        order = math.log(d_coarse / d_fine) / math.log(ratio)
+        extrapolated = v[-1] + d_fine / (ratio ** order - 1.0)
+        safety = SAFETY_FACTOR_THREE
+        errors = [abs(x - extrapolated) for x in v]
+    else:
+        order = math.nan
+        extrapolated = v[-1]
+        safety = SAFETY_FACTOR_TWO
+        # no asymptotic range: each rung's error at least the largest change seen below it
+        errors = [max(abs(x - v[-1]), abs(d_fine)) for x in v]
+    return Richardson(order, extrapolated, errors, safety, monotone, safety * errors[-1])
 
 
 def load_study(path):
