@@ -20,7 +20,7 @@ PYTEST_DIRS      = $(wildcard postproc/tests tests/python)
 LINT_DIRS        = $(wildcard src app)
 
 .PHONY: help deps deps-paraview deps-test build build-exe run test test-fortran test-python check lint \
-        debug test-debug coarray caf-build test-coarray fuzz bench study validate docs clean
+        debug test-debug coarray caf-build test-coarray fuzz bench bench-peers study validate docs clean
 
 help:
 	@echo "mpm-geo make targets:"
@@ -39,6 +39,7 @@ help:
 	@echo "                   FUZZ_SECONDS=$(FUZZ_SECONDS) s; fails on a crash or hang (docs/testing.md)"
 	@echo "  make check       Fortran linter (fortitude) on src/ and app/; 'make lint' is the same"
 	@echo "  make bench       run the benchmarks (bench/run_bench.sh)"
+	@echo "  make bench-peers B1 beside MPM-Geomechanics: PEER_SOURCE=/path/to/its/clone"
 	@echo "  make study       accuracy against cost (bench/run_study.sh -> docs/accuracy-vs-cost.md)"
 	@echo "  make validate    run the validation cases (validation/run_all.sh)"
 	@echo "  make docs        API pages from the doc comments (FORD, docs/ford.md) -> build/docs/"
@@ -147,6 +148,11 @@ bench: deps
 	else \
 	    echo "no benchmarks yet (bench/run_bench.sh is missing)"; \
 	fi
+
+# B1 beside MPM-Geomechanics built from PEER_SOURCE (a clone the user gives; skipped without it)
+bench-peers: deps
+	@$(MAKE) --no-print-directory build
+	bash bench/run_peers.sh "$(PEER_SOURCE)"
 
 # Accuracy against cost (bench/run_study.sh): writes docs/accuracy-vs-cost.md and its figures.
 study: deps
