@@ -49,5 +49,41 @@ cat "$out/phases"
 echo
 cat "$out/lines"
 echo
+# Cost against size (issue 20: particle-steps per second should not fall as the particle arrays
+# leave the caches): the B2 block at 2 x 2 particles per cell with n cells per metre, so
+# 4 n^2 particles (n = 64, 125, 250, 500: 16 384, 62 500, 250 000 and 1 000 000), the time step
+# scaled with the cell (the CFL number of B2), 200 steps, one thread, no output.
+sizes=${BENCH_SIZES:-64 125 250 500}
+echo
+echo "B2 against size (1 thread, 200 steps)"
+printf '%-10s %10s %9s %14s %9s\n' cells/m particles wall_s particle-steps/s relative
+first_pps=""
+for n in $sizes; do
+    python3 - "$n" "$out/b2_n$n.json" <<'PY'
+import json, sys
+n = int(sys.argv[1])
+case = json.load(open("bench/cases/b2_elastic_2d.json"))
+dx = 1.0 / n
+case["name"] = f"b2_elastic_2d_n{n}"
+case["domain"].update(nx=2 * n, ny=2 * n, dx=dx)
+dt = 2.4e-5 * dx / 0.004          # B2's step at its 0.004 m cells, scaled with the cell
+case["time"] = {"tend": 200 * dt, "dt": dt}
+json.dump(case, open(sys.argv[2], "w"))
+PY
+    log="$out/b2_n$n.log"
+    OMP_NUM_THREADS=1 OMP_DYNAMIC=false OMP_PROC_BIND=true "$exe" "$out/b2_n$n.json" \
+        --output "$out/b2_n$n" > "$log" 2>&1 || { echo "bench: B2 at n = $n failed:"; cat "$log"; exit 1; }
+    parts=$(awk '$1 == "particles" {print $2}' "$log")
+    wall=$(awk '$1 == "wall" {print $3}' "$log")
+    pps=$(awk '$1 == "particle-steps/s" {print $2}' "$log")
+    [ -n "$first_pps" ] || first_pps=$pps
+    printf '%-10s %10s %9.2f %14.4g %9.2f\n' "$n" "$parts" "$wall" "$pps" \
+        "$(awk -v a="$pps" -v b="$first_pps" 'BEGIN { print a / b }')"
+    echo "BENCH case=b2_elastic_2d_n$n threads=1 particles=$parts wall_s=$wall" \
+         "particle_steps_per_s=$pps" >> "$out/size_lines"
+    rm -rf "$out/b2_n$n"
+done
+cat "$out/size_lines"
+echo
 # the default case beside a busy process, with the thread count chosen per step (mpm_threads)
 bash bench/run_shared_cores.sh "$exe"
