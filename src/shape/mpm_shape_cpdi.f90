@@ -176,7 +176,8 @@ contains
         integer, intent(out) :: bad
             !! first particle whose domain does not fit its box, 0 if none
 
-        integer :: p, dim, nc, c, a, i, j, k, q, lo(3), cell, bad_p
+        integer :: p, dim, nc, c, a, i, j, k, q, lo(3), cell, bad_p, ii, jj, kk, nx, ny, nz, &
+            ix(width), iy(width), iz(width)
         real(wp) :: xc(3, 8), g(3, 8), det, lo_x, hi_x, inv_dx, weight, hx(width), hy(width), &
             hz(width), wc
         logical :: fits
@@ -189,7 +190,7 @@ contains
         !$omp parallel do default(none) schedule(static) &
         !$omp shared(grid, x, f, lp0, nper, first, w, dw, dim, nc, inv_dx, wc) &
         !$omp private(p, c, a, i, j, k, q, lo, cell, xc, g, det, lo_x, hi_x, weight, hx, hy, hz, &
-        !$omp fits) reduction(min: bad_p)
+        !$omp fits, ii, jj, kk, nx, ny, nz, ix, iy, iz) reduction(min: bad_p)
         do p = 1, size(x, 2)
             call cpdi_gradient_factors(dim, f(:, :, p), lp0(:, p), g, det)
             fits = det > 0.0_wp
@@ -225,11 +226,19 @@ contains
                     fits)
                 if (dim == 3) call cpdi_corner_hat(xc(3, c), grid%ncells(3), lo(3), nper(3), &
                     hz(1:nper(3)), fits)
-                q = 0
-                do k = 1, nper(3)
-                    do j = 1, nper(2)
-                        do i = 1, nper(1)
-                            q = q + 1
+                ! a corner's hat is nonzero on at most 3 nodes per axis (2, or 3 with a fold):
+                ! only those products are formed (each node of the box takes one term per
+                ! corner, in corner order, as over the whole box)
+                call nonzero(hx(1:nper(1)), ix, nx)
+                call nonzero(hy(1:nper(2)), iy, ny)
+                call nonzero(hz(1:nper(3)), iz, nz)
+                do kk = 1, nz
+                    k = iz(kk)
+                    do jj = 1, ny
+                        j = iy(jj)
+                        do ii = 1, nx
+                            i = ix(ii)
+                            q = i + nper(1)*((j - 1) + nper(2)*(k - 1))
                             weight = hx(i)*hy(j)*hz(k)
                             if (weight == 0.0_wp) cycle
                             w(q, p) = w(q, p) + wc*weight
@@ -244,6 +253,24 @@ contains
         bad = 0
         if (bad_p /= huge(1)) bad = bad_p
     end subroutine cpdi_weights_full
+
+    !> The positions k of the nonzero entries of h, in order, and their count.
+    pure subroutine nonzero(h, index, count)
+        real(wp), intent(in) :: h(:)
+            !! weights
+        integer, intent(out) :: index(:)
+            !! positions of the nonzero ones (first count)
+        integer, intent(out) :: count
+            !! how many
+        integer :: k
+        count = 0
+        do k = 1, size(h)
+            if (h(k) /= 0.0_wp) then
+                count = count + 1
+                index(count) = k
+            end if
+        end do
+    end subroutine nonzero
 
     !> The weights of a domain along the axes, half-size lp (F diagonal): along an axis the
     !> mean of the hats at the two corners, N = (S(x - lp) + S(x + lp)) / 2, and the mean of
