@@ -4,6 +4,7 @@
 program test_mpm_shape
     use mpm_kinds, only: wp
     use mpm_testing, only: test_suite_type, new_suite, check, check_close, finish
+    use mpm_testing_grid, only: made_up_grid, dims
     use mpm_grid, only: grid_type, node_position
     use mpm_shape, only: shape_type, stencil_type
     use mpm_shape_linear, only: linear_shape_type
@@ -83,14 +84,7 @@ contains
         integer :: trial, c, a, k, ntrial
         real(wp) :: base(3)
 
-        grid%dim = dim
-        grid%ncells = 1
-        grid%ncells(1:dim) = [6, 5, 4]
-        grid%nn = 1
-        grid%nn(1:dim) = grid%ncells(1:dim) + 1
-        grid%nnodes = product(grid%nn)
-        grid%dx = 0.1_wp
-        grid%origin = [1.0_wp, -2.0_wp, 0.5_wp]
+        call made_up_grid(grid, dim, [6, 5, 4], 0.1_wp, [1.0_wp, -2.0_wp, 0.5_wp])
         lp = 0.25_wp*grid%dx   ! 2 particles per cell
         worst_pu = 0.0_wp
         worst_dw = 0.0_wp
@@ -154,12 +148,6 @@ contains
         end if
         call check(suite, k >= 1, name//" stencil not empty")
     end subroutine check_shape
-
-    function dims(dim) result(text)
-        integer, intent(in) :: dim
-        character(len=2) :: text
-        write (text, "(i1,a)") dim, "D"
-    end function dims
 
     real(wp) function weight_of(st, node)
         type(stencil_type), intent(in) :: st

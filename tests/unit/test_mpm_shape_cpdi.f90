@@ -10,6 +10,7 @@
 program test_mpm_shape_cpdi
     use mpm_kinds, only: wp
     use mpm_testing, only: test_suite_type, new_suite, check, finish
+    use mpm_testing_grid, only: made_up_grid, dims
     use mpm_error, only: error_type, exit_numerical
     use mpm_grid, only: grid_type, node_position
     use mpm_particles, only: particles_type
@@ -40,15 +41,16 @@ contains
     subroutine make_grid(grid, dim)
         type(grid_type), intent(out) :: grid
         integer, intent(in) :: dim
-        grid%dim = dim
-        grid%ncells = 1
-        grid%ncells(1:dim) = [7, 6, 5]
-        grid%nn = 1
-        grid%nn(1:dim) = grid%ncells(1:dim) + 1
-        grid%nnodes = product(grid%nn)
-        grid%dx = 0.1_wp
-        grid%origin = [1.0_wp, -2.0_wp, 0.5_wp]
+        call made_up_grid(grid, dim, [7, 6, 5], 0.1_wp, [1.0_wp, -2.0_wp, 0.5_wp])
     end subroutine make_grid
+
+    !> The node (1-based linear index) of entry (i, j, k) of a box from first.
+    pure integer function box_node(grid, first, i, j, k)
+        type(grid_type), intent(in) :: grid
+        integer, intent(in) :: first(:), i, j, k
+        box_node = 1 + first(1) + i - 1 + grid%nn(1)*(first(2) + j - 1)
+        if (grid%dim == 3) box_node = box_node + grid%nn(1)*grid%nn(2)*(first(3) + k - 1)
+    end function box_node
 
     !> A deformation gradient: a turn by angle t (about z, then about x in 3D) times a stretch
     !> s1, s2, s3 along the axes and a shear g.
@@ -126,8 +128,7 @@ contains
                 do j = 1, nper(2)
                     do i = 1, nper(1)
                         q = q + 1
-                        node = 1 + first(1, p) + i - 1 + grid%nn(1)*(first(2, p) + j - 1)
-                        if (dim == 3) node = node + grid%nn(1)*grid%nn(2)*(first(3, p) + k - 1)
+                        node = box_node(grid, first(:, p), i, j, k)
                         pos = node_position(grid, node)
                         rec(1:dim) = rec(1:dim) + w(q, p)*pos(1:dim)
                         do b = 1, dim
@@ -183,8 +184,7 @@ contains
                 do j = 1, nper(2)
                     do i = 1, nper(1)
                         q = q + 1
-                        node = 1 + first(1, p) + i - 1 + grid%nn(1)*(first(2, p) + j - 1)
-                        if (dim == 3) node = node + grid%nn(1)*grid%nn(2)*(first(3, p) + k - 1)
+                        node = box_node(grid, first(:, p), i, j, k)
                         wq = 0.0_wp
                         dwq = 0.0_wp
                         do c = 1, st%count
@@ -235,7 +235,7 @@ contains
             do j = 1, 4
                 do i = 1, 4
                     q = q + 1
-                    node = 1 + first(1, p) + i - 1 + grid%nn(1)*(first(2, p) + j - 1)
+                    node = box_node(grid, first(:, p), i, j, 1)
                     wq = 0.0_wp
                     do c = 1, st%count
                         if (st%node(c) == node) wq = st%w(c)
@@ -330,11 +330,5 @@ contains
         pos = node_position(grid, node)
         node_position_x = pos(1)
     end function node_position_x
-
-    function dims(dim) result(text)
-        integer, intent(in) :: dim
-        character(len=2) :: text
-        write (text, "(i1,a)") dim, "D"
-    end function dims
 
 end program test_mpm_shape_cpdi

@@ -10,6 +10,7 @@
 program test_mpm_stencil
     use mpm_kinds, only: wp
     use mpm_testing, only: test_suite_type, new_suite, check, finish
+    use mpm_testing_grid, only: made_up_grid, dims
     use mpm_error, only: error_type
     use mpm_grid, only: grid_type
     use mpm_particles, only: particles_type
@@ -54,15 +55,7 @@ contains
         type(grid_type), intent(out) :: grid
         integer, intent(in) :: dim
         integer, intent(in) :: ncells(3)
-
-        grid%dim = dim
-        grid%ncells = 1
-        grid%ncells(1:dim) = ncells(1:dim)
-        grid%nn = 1
-        grid%nn(1:dim) = grid%ncells(1:dim) + 1
-        grid%nnodes = product(grid%nn)
-        grid%dx = 0.1_wp
-        grid%origin = [1.0_wp, -2.0_wp, 0.5_wp]
+        call made_up_grid(grid, dim, ncells, 0.1_wp, [1.0_wp, -2.0_wp, 0.5_wp])
     end subroutine make_grid
 
     !> n particles spread over the grid (a quasi-random sweep), a tenth of them within half a
@@ -274,12 +267,6 @@ contains
         end do
         call check(suite, worst <= round_off, name//" narrow axis: weights sum to one")
     end subroutine check_narrow_axis
-
-    function dims(dim) result(text)
-        integer, intent(in) :: dim
-        character(len=2) :: text
-        write (text, "(i1,a)") dim, "D"
-    end function dims
 
     function int_str(i) result(text)
         integer, intent(in) :: i
