@@ -69,6 +69,10 @@ module mpm_stencil
             !! 1D weights (nps, dim, n) [-]
         real(wp), allocatable :: dw(:, :, :)
             !! 1D weight derivatives of the first nps - 1 nodes (nps - 1, dim, n) [1/m]
+        integer, allocatable :: window(:)
+            !! per particle, the window of its nonzero weights when the stencils are tensor
+            !! products of width 3 (`nonzero_window`): bits 0 .. dim - 1 set where an axis keeps
+            !! 2 nodes, bits 3 .. 2 + dim where the window starts one node past `first` (n)
         logical :: tensor = .true.
             !! the weights are products of the 1D factors w, dw; false for a shape function
             !! that is no tensor product (mpm_shape::full_shape_type, CPDI), whose weights
@@ -131,6 +135,7 @@ contains
 
         integer :: p, a, k, dim, nps, kept, first, shift, c, q, nlayers, nb, b, bad
         integer :: cell_stride(3)
+        logical :: windowed_stencils
 
         dim = grid%dim
         nps = shape%nodes_per_axis()
@@ -162,8 +167,9 @@ contains
             end if
         end select
         cell_stride = [1, grid%ncells(1), grid%ncells(1)*grid%ncells(2)]
+        windowed_stencils = windowed(stc)
         !$omp parallel do default(none) schedule(static) &
-        !$omp shared(stc, grid, particles, dim, nps, cell_stride) &
+        !$omp shared(stc, grid, particles, dim, nps, cell_stride, windowed_stencils) &
         !$omp private(p, a, k, kept, first, shift, c)
         do p = 1, particles%n
             c = 1
@@ -192,6 +198,7 @@ contains
                 if (stc%with_cells) c = c + axis_cell(grid, particles%x(a, p), a)*cell_stride(a)
             end do
             if (stc%with_cells) stc%cell(p) = c
+            if (windowed_stencils) stc%window(p) = nonzero_window(stc, p)
         end do
         !$omp end parallel do
 
@@ -355,16 +362,19 @@ contains
         stc%slow = dim
         if (allocated(stc%first) .and. stc%n == n) then
             if (size(stc%w, 1) == nps .and. (allocated(stc%cell) .eqv. stc%with_cells) .and. &
-                (allocated(stc%wn) .neqv. stc%tensor)) return
+                (allocated(stc%wn) .neqv. stc%tensor) .and. &
+                (allocated(stc%window) .eqv. windowed(stc))) return
         end if
         if (allocated(stc%first)) deallocate (stc%first, stc%w, stc%dw, stc%order, &
             stc%layer_chunks)
         if (allocated(stc%cell)) deallocate (stc%cell)
+        if (allocated(stc%window)) deallocate (stc%window)
         if (allocated(stc%wn)) deallocate (stc%wn, stc%dwn)
         stc%n = n
         allocate (stc%first(dim, n), stc%w(nps, dim, n), stc%dw(nps - 1, dim, n), stc%order(n), &
             stc%layer_chunks(2, 0:grid%nn(dim) - 1), stat=stat, errmsg=msg)
         if (stat == 0 .and. stc%with_cells) allocate (stc%cell(n), stat=stat, errmsg=msg)
+        if (stat == 0 .and. windowed(stc)) allocate (stc%window(n), stat=stat, errmsg=msg)
         if (stat == 0 .and. .not. stc%tensor) allocate (stc%wn(stc%count, n), &
             stc%dwn(dim, stc%count, n), stat=stat, errmsg=msg)
         if (stat /= 0) then
@@ -611,6 +621,40 @@ contains
         include "mpm_stencil_axis_derivatives.inc"
     end subroutine axis_derivatives_any
 
+    !> Whether the kernels take the stencils by the window of their nonzero weights
+    !> (`nonzero_window`): tensor products of width 3 on a grid that keeps all 3 nodes per axis.
+    pure logical function windowed(stc)
+        type(stencils_type), intent(in) :: stc
+            !! stencils (nps, nper, tensor set)
+        windowed = stc%tensor .and. stc%width == 3
+    end function windowed
+
+    !> The window of particle p's stencil of width 3 that holds its nonzero weights: along
+    !> each axis the 3 nodes, or 2 when the first or the last weight is zero (a cpGIMP domain
+    !> inside one cell: at 2 particles per cell about half of the particles and axes of a flow,
+    !> all of them in an undeformed body). The kernels then skip the node of zero weight and
+    !> zero derivative, whose products add nothing. Bit a - 1 of the result is set when axis a
+    !> keeps 2 nodes, bit 2 + a when its window starts one node past `first` (the first weight
+    !> is the zero one); stored per particle and step in stc%window.
+    pure integer function nonzero_window(stc, p) result(window)
+        type(stencils_type), intent(in) :: stc
+            !! stencils of the step (width 3)
+        integer, intent(in) :: p
+            !! particle
+
+        integer :: a
+        logical :: zero_first, zero_last
+
+        window = 0
+        do a = 1, stc%dim
+            ! exact zeros only: a weight of round-off size still counts
+            zero_first = stc%w(1, a, p) == 0.0_wp
+            zero_last = stc%w(3, a, p) == 0.0_wp
+            if (zero_first .or. zero_last) window = ibset(window, a - 1)
+            if (zero_first .and. .not. zero_last) window = ibset(window, 2 + a)
+        end do
+    end function nonzero_window
+
     !> The 1D weights and derivatives of particle p along axis a, nodes 1 .. n (n = nper(a)),
     !> the derivatives from axis_derivatives.
     pure subroutine axis_factors(stc, a, p, n, w, dw)
@@ -636,7 +680,8 @@ contains
         type(stencils_type), intent(in) :: stc
             !! stencils of the run
         stencil_bytes = (storage_size(1.0_wp)/8)*(2*stc%nps - 1)*stc%dim &
-            + (storage_size(1)/8)*(stc%dim + 1 + merge(1, 0, stc%with_cells))
+            + (storage_size(1)/8)*(stc%dim + 1 + merge(1, 0, stc%with_cells) &
+            + merge(1, 0, windowed(stc)))
         if (.not. stc%tensor) stencil_bytes = stencil_bytes &
             + (storage_size(1.0_wp)/8)*stc%count*(1 + stc%dim)
     end function stencil_bytes

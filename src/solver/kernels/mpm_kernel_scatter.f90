@@ -1,13 +1,19 @@
 !> The scatter kernel: one particle's share of mass, momentum, internal force and extra body
 !> force to the nodes of its stencil, summed into a chunk buffer (P2G, the MUSL remap).
 !>
-!> The body (mpm_kernel_scatter.inc) is compiled once per stencil width that has loops of
-!> constant length (widths 2 and 3, in 2D and 3D: the compiler unrolls them) and once for any
-!> width (`scatter_narrow` for the stencils of widths up to 3 on a grid with an axis of fewer
-!> nodes, `scatter_any` for wider ones). The variant is chosen by the width the shape function
-!> declares and every axis keeps (`stencils_type%width`), never by counting nodes. The kernel sees the
-!> stencils, the grid geometry as numbers (APIC: origin and cell size), the particle's values
-!> and the buffer: no grid, particles, case, I/O or coarrays.
+!> The body (mpm_kernel_scatter.inc) is compiled once per case with loops of constant length
+!> along x and once for any width. Stencils of width 3 (cpGIMP, uGIMP, quadratic B-splines)
+!> run over the window of the particle's nonzero weights (mpm_stencil::nonzero_window: 2 or 3
+!> nodes per axis), in a variant per window length along x (the innermost loop, unrolled) and
+!> per pass: P2G and the MUSL remap, with FLIP or APIC, have variants that know what they
+!> scatter at compile time (`pass_kind`); any other scatter (a body force, the USF passes,
+!> XPIC's map) takes the variant with the rows as arguments. Stencils of width 2 (linear)
+!> have their variants of constant length; `scatter_narrow` serves the stencils of widths up
+!> to 3 on a grid with an axis of fewer nodes and `scatter_any` wider ones. The variant is
+!> chosen by the width the shape function declares and every axis keeps
+!> (`stencils_type%width`). The kernel sees the stencils, the grid geometry as numbers (APIC:
+!> origin and cell size), the particle's values and the buffer: no grid, particles, case, I/O
+!> or coarrays.
 module mpm_kernel_scatter
     use mpm_kinds, only: wp
     use mpm_stencil, only: stencils_type, axis_derivatives, fixed_width
@@ -64,14 +70,94 @@ contains
         real(wp), contiguous, intent(inout) :: buf(:, :)
             !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
 
-        ! the variant of the stencils' width (0: an axis keeps fewer nodes) and dimension
+        integer :: window, n1, n2, n3, o1, o2, o3, pass
+
+        ! the variant of the stencils' width (0: an axis keeps fewer nodes) and dimension; a
+        ! width-3 stencil by the window of its nonzero weights (2 or 3 nodes per axis: along x
+        ! a variant each, the loops along y and z of runtime length) and by the pass
         select case (10*stc%width + stc%dim)
-        case (33)
-            call scatter_w3_3d(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, vs, &
-                fint_row, bf, body_row, buf)
-        case (32)
-            call scatter_w3_2d(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, vs, &
-                fint_row, bf, body_row, buf)
+        case (33, 32)
+            window = stc%window(p)
+            n1 = 3 - ibits(window, 0, 1)
+            n2 = 3 - ibits(window, 1, 1)
+            n3 = 1
+            if (stc%dim == 3) n3 = 3 - ibits(window, 2, 1)
+            o1 = ibits(window, 3, 1)
+            o2 = ibits(window, 4, 1)
+            o3 = ibits(window, 5, 1)
+            pass = pass_kind(stc%dim, apic, mass_row, momentum_row, fint_row, body_row)
+
+            if (stc%dim == 3) then
+                select case (10*pass + n1)
+                case (3)
+                    call scatter_rows_3d_x3(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, &
+                        momentum_row, vs, fint_row, bf, body_row, buf, n2, n3, o1, o2, o3)
+                case (2)
+                    call scatter_rows_3d_x2(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, &
+                        momentum_row, vs, fint_row, bf, body_row, buf, n2, n3, o1, o2, o3)
+                case (13)
+                    call scatter_p2g_3d_x3(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, &
+                        n2, n3, o1, o2, o3)
+                case (12)
+                    call scatter_p2g_3d_x2(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, &
+                        n2, n3, o1, o2, o3)
+                case (23)
+                    call scatter_remap_3d_x3(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, &
+                        n2, n3, o1, o2, o3)
+                case (22)
+                    call scatter_remap_3d_x2(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, &
+                        n2, n3, o1, o2, o3)
+                case (33)
+                    call scatter_p2g_apic_3d_x3(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, &
+                        n2, n3, o1, o2, o3)
+                case (32)
+                    call scatter_p2g_apic_3d_x2(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, &
+                        n2, n3, o1, o2, o3)
+                case (43)
+                    call scatter_remap_apic_3d_x3(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, &
+                        n2, n3, o1, o2, o3)
+                case (42)
+                    call scatter_remap_apic_3d_x2(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, &
+                        n2, n3, o1, o2, o3)
+                case default
+                    error stop "mpm_kernel_scatter: a window of 2 or 3 nodes and a known pass"
+                end select
+            else
+                select case (10*pass + n1)
+                case (3)
+                    call scatter_rows_2d_x3(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, &
+                        momentum_row, vs, fint_row, bf, body_row, buf, n2, o1, o2)
+                case (2)
+                    call scatter_rows_2d_x2(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, &
+                        momentum_row, vs, fint_row, bf, body_row, buf, n2, o1, o2)
+                case (13)
+                    call scatter_p2g_2d_x3(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, &
+                        n2, o1, o2)
+                case (12)
+                    call scatter_p2g_2d_x2(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, &
+                        n2, o1, o2)
+                case (23)
+                    call scatter_remap_2d_x3(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, &
+                        n2, o1, o2)
+                case (22)
+                    call scatter_remap_2d_x2(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, &
+                        n2, o1, o2)
+                case (33)
+                    call scatter_p2g_apic_2d_x3(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, &
+                        n2, o1, o2)
+                case (32)
+                    call scatter_p2g_apic_2d_x2(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, &
+                        n2, o1, o2)
+                case (43)
+                    call scatter_remap_apic_2d_x3(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, &
+                        n2, o1, o2)
+                case (42)
+                    call scatter_remap_apic_2d_x2(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, &
+                        n2, o1, o2)
+                case default
+                    error stop "mpm_kernel_scatter: a window of 2 or 3 nodes and a known pass"
+                end select
+            end if
         case (23)
             call scatter_w2_3d(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, vs, &
                 fint_row, bf, body_row, buf)
@@ -85,39 +171,322 @@ contains
             else if (stc%nps <= narrow_width) then
                 call scatter_narrow(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, &
                     momentum_row, vs, fint_row, bf, body_row, buf, stc%nper(1), stc%nper(2), &
-                    stc%nper(3))
+                    stc%nper(3), stc%nper(1), stc%nper(2), stc%nper(3))
             else
                 call scatter_any(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, &
                     momentum_row, vs, fint_row, bf, body_row, buf, stc%nper(1), stc%nper(2), &
-                    stc%nper(3), stc%nper(1), stc%nper(2), stc%nper(3))
+                    stc%nper(3), stc%nper(1), stc%nper(2), stc%nper(3), stc%nper(1), stc%nper(2), &
+                    stc%nper(3))
             end if
         end select
     end subroutine scatter_particle
 
-    !> scatter_particle for full stencils of width 3 in 3D.
-    pure subroutine scatter_w3_3d(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
-            vs, fint_row, bf, body_row, buf)
-        integer, parameter :: n1 = 3, n2 = 3, n3 = 3
+    !> scatter_particle for any pass: the window of 3 nodes along x of a stencil of width 3
+    !> in 3D.
+    pure subroutine scatter_rows_3d_x3(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, &
+            momentum_row, vs, fint_row, bf, body_row, buf, n2, n3, o1, o2, o3)
+        include "mpm_kernel_scatter_rows.inc"
+        integer, parameter :: n1 = 3, f1 = 3, f2 = 3, f3 = 3
+        integer, intent(in) :: n2, n3, o1, o2, o3
+            !! nodes of the window along y and z; its first node per axis past the stencil's
+            !! first
         integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
         real(wp), contiguous, intent(inout) :: buf(:, :)
             !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
         include "mpm_kernel_scatter.inc"
-    end subroutine scatter_w3_3d
+    end subroutine scatter_rows_3d_x3
 
-    !> scatter_particle for full stencils of width 3 in 2D.
-    pure subroutine scatter_w3_2d(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
-            vs, fint_row, bf, body_row, buf)
-        integer, parameter :: n1 = 3, n2 = 3, n3 = 1
+    !> scatter_particle for any pass: the window of 2 nodes along x of a stencil of width 3
+    !> in 3D.
+    pure subroutine scatter_rows_3d_x2(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, &
+            momentum_row, vs, fint_row, bf, body_row, buf, n2, n3, o1, o2, o3)
+        include "mpm_kernel_scatter_rows.inc"
+        integer, parameter :: n1 = 2, f1 = 3, f2 = 3, f3 = 3
+        integer, intent(in) :: n2, n3, o1, o2, o3
+            !! nodes of the window along y and z; its first node per axis past the stencil's
+            !! first
         integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
         real(wp), contiguous, intent(inout) :: buf(:, :)
             !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
         include "mpm_kernel_scatter.inc"
-    end subroutine scatter_w3_2d
+    end subroutine scatter_rows_3d_x2
+
+    !> scatter_particle for any pass: the window of 3 nodes along x of a stencil of width 3
+    !> in 2D.
+    pure subroutine scatter_rows_2d_x3(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, &
+            momentum_row, vs, fint_row, bf, body_row, buf, n2, o1, o2)
+        include "mpm_kernel_scatter_rows.inc"
+        integer, parameter :: n1 = 3, n3 = 1, f1 = 3, f2 = 3, f3 = 1, o3 = 0
+        integer, intent(in) :: n2, o1, o2
+            !! nodes of the window along y; its first node per axis past the stencil's
+            !! first
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
+        include "mpm_kernel_scatter.inc"
+    end subroutine scatter_rows_2d_x3
+
+    !> scatter_particle for any pass: the window of 2 nodes along x of a stencil of width 3
+    !> in 2D.
+    pure subroutine scatter_rows_2d_x2(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, &
+            momentum_row, vs, fint_row, bf, body_row, buf, n2, o1, o2)
+        include "mpm_kernel_scatter_rows.inc"
+        integer, parameter :: n1 = 2, n3 = 1, f1 = 3, f2 = 3, f3 = 1, o3 = 0
+        integer, intent(in) :: n2, o1, o2
+            !! nodes of the window along y; its first node per axis past the stencil's
+            !! first
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
+        include "mpm_kernel_scatter.inc"
+    end subroutine scatter_rows_2d_x2
+
+    !> scatter_particle for P2G (FLIP): the window of 3 nodes along x of a stencil of width 3
+    !> in 3D.
+    pure subroutine scatter_p2g_3d_x3(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, n2, n3, o1, o2, o3)
+        logical, parameter :: apic = .false.
+        integer, parameter :: mass_row = 1, momentum_row = 2, fint_row = 5, body_row = 0
+        integer, parameter :: n1 = 3, f1 = 3, f2 = 3, f3 = 3
+        integer, intent(in) :: n2, n3, o1, o2, o3
+            !! nodes of the window along y and z; its first node per axis past the stencil's
+            !! first
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
+        include "mpm_kernel_scatter.inc"
+    end subroutine scatter_p2g_3d_x3
+
+    !> scatter_particle for P2G (FLIP): the window of 2 nodes along x of a stencil of width 3
+    !> in 3D.
+    pure subroutine scatter_p2g_3d_x2(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, n2, n3, o1, o2, o3)
+        logical, parameter :: apic = .false.
+        integer, parameter :: mass_row = 1, momentum_row = 2, fint_row = 5, body_row = 0
+        integer, parameter :: n1 = 2, f1 = 3, f2 = 3, f3 = 3
+        integer, intent(in) :: n2, n3, o1, o2, o3
+            !! nodes of the window along y and z; its first node per axis past the stencil's
+            !! first
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
+        include "mpm_kernel_scatter.inc"
+    end subroutine scatter_p2g_3d_x2
+
+    !> scatter_particle for P2G (FLIP): the window of 3 nodes along x of a stencil of width 3
+    !> in 2D.
+    pure subroutine scatter_p2g_2d_x3(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, n2, o1, o2)
+        logical, parameter :: apic = .false.
+        integer, parameter :: mass_row = 1, momentum_row = 2, fint_row = 4, body_row = 0
+        integer, parameter :: n1 = 3, n3 = 1, f1 = 3, f2 = 3, f3 = 1, o3 = 0
+        integer, intent(in) :: n2, o1, o2
+            !! nodes of the window along y; its first node per axis past the stencil's
+            !! first
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
+        include "mpm_kernel_scatter.inc"
+    end subroutine scatter_p2g_2d_x3
+
+    !> scatter_particle for P2G (FLIP): the window of 2 nodes along x of a stencil of width 3
+    !> in 2D.
+    pure subroutine scatter_p2g_2d_x2(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, n2, o1, o2)
+        logical, parameter :: apic = .false.
+        integer, parameter :: mass_row = 1, momentum_row = 2, fint_row = 4, body_row = 0
+        integer, parameter :: n1 = 2, n3 = 1, f1 = 3, f2 = 3, f3 = 1, o3 = 0
+        integer, intent(in) :: n2, o1, o2
+            !! nodes of the window along y; its first node per axis past the stencil's
+            !! first
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
+        include "mpm_kernel_scatter.inc"
+    end subroutine scatter_p2g_2d_x2
+
+    !> scatter_particle for the MUSL remap (FLIP): the window of 3 nodes along x of a stencil of width 3
+    !> in 3D.
+    pure subroutine scatter_remap_3d_x3(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, n2, n3, o1, o2, o3)
+        logical, parameter :: apic = .false.
+        integer, parameter :: mass_row = 0, momentum_row = 1, fint_row = 0, body_row = 0
+        integer, parameter :: n1 = 3, f1 = 3, f2 = 3, f3 = 3
+        integer, intent(in) :: n2, n3, o1, o2, o3
+            !! nodes of the window along y and z; its first node per axis past the stencil's
+            !! first
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
+        include "mpm_kernel_scatter.inc"
+    end subroutine scatter_remap_3d_x3
+
+    !> scatter_particle for the MUSL remap (FLIP): the window of 2 nodes along x of a stencil of width 3
+    !> in 3D.
+    pure subroutine scatter_remap_3d_x2(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, n2, n3, o1, o2, o3)
+        logical, parameter :: apic = .false.
+        integer, parameter :: mass_row = 0, momentum_row = 1, fint_row = 0, body_row = 0
+        integer, parameter :: n1 = 2, f1 = 3, f2 = 3, f3 = 3
+        integer, intent(in) :: n2, n3, o1, o2, o3
+            !! nodes of the window along y and z; its first node per axis past the stencil's
+            !! first
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
+        include "mpm_kernel_scatter.inc"
+    end subroutine scatter_remap_3d_x2
+
+    !> scatter_particle for the MUSL remap (FLIP): the window of 3 nodes along x of a stencil of width 3
+    !> in 2D.
+    pure subroutine scatter_remap_2d_x3(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, n2, o1, o2)
+        logical, parameter :: apic = .false.
+        integer, parameter :: mass_row = 0, momentum_row = 1, fint_row = 0, body_row = 0
+        integer, parameter :: n1 = 3, n3 = 1, f1 = 3, f2 = 3, f3 = 1, o3 = 0
+        integer, intent(in) :: n2, o1, o2
+            !! nodes of the window along y; its first node per axis past the stencil's
+            !! first
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
+        include "mpm_kernel_scatter.inc"
+    end subroutine scatter_remap_2d_x3
+
+    !> scatter_particle for the MUSL remap (FLIP): the window of 2 nodes along x of a stencil of width 3
+    !> in 2D.
+    pure subroutine scatter_remap_2d_x2(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, n2, o1, o2)
+        logical, parameter :: apic = .false.
+        integer, parameter :: mass_row = 0, momentum_row = 1, fint_row = 0, body_row = 0
+        integer, parameter :: n1 = 2, n3 = 1, f1 = 3, f2 = 3, f3 = 1, o3 = 0
+        integer, intent(in) :: n2, o1, o2
+            !! nodes of the window along y; its first node per axis past the stencil's
+            !! first
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
+        include "mpm_kernel_scatter.inc"
+    end subroutine scatter_remap_2d_x2
+
+    !> scatter_particle for P2G (APIC): the window of 3 nodes along x of a stencil of width 3
+    !> in 3D.
+    pure subroutine scatter_p2g_apic_3d_x3(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, n2, n3, o1, o2, o3)
+        logical, parameter :: apic = .true.
+        integer, parameter :: mass_row = 1, momentum_row = 2, fint_row = 5, body_row = 0
+        integer, parameter :: n1 = 3, f1 = 3, f2 = 3, f3 = 3
+        integer, intent(in) :: n2, n3, o1, o2, o3
+            !! nodes of the window along y and z; its first node per axis past the stencil's
+            !! first
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
+        include "mpm_kernel_scatter.inc"
+    end subroutine scatter_p2g_apic_3d_x3
+
+    !> scatter_particle for P2G (APIC): the window of 2 nodes along x of a stencil of width 3
+    !> in 3D.
+    pure subroutine scatter_p2g_apic_3d_x2(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, n2, n3, o1, o2, o3)
+        logical, parameter :: apic = .true.
+        integer, parameter :: mass_row = 1, momentum_row = 2, fint_row = 5, body_row = 0
+        integer, parameter :: n1 = 2, f1 = 3, f2 = 3, f3 = 3
+        integer, intent(in) :: n2, n3, o1, o2, o3
+            !! nodes of the window along y and z; its first node per axis past the stencil's
+            !! first
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
+        include "mpm_kernel_scatter.inc"
+    end subroutine scatter_p2g_apic_3d_x2
+
+    !> scatter_particle for P2G (APIC): the window of 3 nodes along x of a stencil of width 3
+    !> in 2D.
+    pure subroutine scatter_p2g_apic_2d_x3(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, n2, o1, o2)
+        logical, parameter :: apic = .true.
+        integer, parameter :: mass_row = 1, momentum_row = 2, fint_row = 4, body_row = 0
+        integer, parameter :: n1 = 3, n3 = 1, f1 = 3, f2 = 3, f3 = 1, o3 = 0
+        integer, intent(in) :: n2, o1, o2
+            !! nodes of the window along y; its first node per axis past the stencil's
+            !! first
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
+        include "mpm_kernel_scatter.inc"
+    end subroutine scatter_p2g_apic_2d_x3
+
+    !> scatter_particle for P2G (APIC): the window of 2 nodes along x of a stencil of width 3
+    !> in 2D.
+    pure subroutine scatter_p2g_apic_2d_x2(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, n2, o1, o2)
+        logical, parameter :: apic = .true.
+        integer, parameter :: mass_row = 1, momentum_row = 2, fint_row = 4, body_row = 0
+        integer, parameter :: n1 = 2, n3 = 1, f1 = 3, f2 = 3, f3 = 1, o3 = 0
+        integer, intent(in) :: n2, o1, o2
+            !! nodes of the window along y; its first node per axis past the stencil's
+            !! first
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
+        include "mpm_kernel_scatter.inc"
+    end subroutine scatter_p2g_apic_2d_x2
+
+    !> scatter_particle for the MUSL remap (APIC): the window of 3 nodes along x of a stencil of width 3
+    !> in 3D.
+    pure subroutine scatter_remap_apic_3d_x3(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, n2, n3, o1, o2, o3)
+        logical, parameter :: apic = .true.
+        integer, parameter :: mass_row = 0, momentum_row = 1, fint_row = 0, body_row = 0
+        integer, parameter :: n1 = 3, f1 = 3, f2 = 3, f3 = 3
+        integer, intent(in) :: n2, n3, o1, o2, o3
+            !! nodes of the window along y and z; its first node per axis past the stencil's
+            !! first
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
+        include "mpm_kernel_scatter.inc"
+    end subroutine scatter_remap_apic_3d_x3
+
+    !> scatter_particle for the MUSL remap (APIC): the window of 2 nodes along x of a stencil of width 3
+    !> in 3D.
+    pure subroutine scatter_remap_apic_3d_x2(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, n2, n3, o1, o2, o3)
+        logical, parameter :: apic = .true.
+        integer, parameter :: mass_row = 0, momentum_row = 1, fint_row = 0, body_row = 0
+        integer, parameter :: n1 = 2, f1 = 3, f2 = 3, f3 = 3
+        integer, intent(in) :: n2, n3, o1, o2, o3
+            !! nodes of the window along y and z; its first node per axis past the stencil's
+            !! first
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
+        include "mpm_kernel_scatter.inc"
+    end subroutine scatter_remap_apic_3d_x2
+
+    !> scatter_particle for the MUSL remap (APIC): the window of 3 nodes along x of a stencil of width 3
+    !> in 2D.
+    pure subroutine scatter_remap_apic_2d_x3(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, n2, o1, o2)
+        logical, parameter :: apic = .true.
+        integer, parameter :: mass_row = 0, momentum_row = 1, fint_row = 0, body_row = 0
+        integer, parameter :: n1 = 3, n3 = 1, f1 = 3, f2 = 3, f3 = 1, o3 = 0
+        integer, intent(in) :: n2, o1, o2
+            !! nodes of the window along y; its first node per axis past the stencil's
+            !! first
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
+        include "mpm_kernel_scatter.inc"
+    end subroutine scatter_remap_apic_2d_x3
+
+    !> scatter_particle for the MUSL remap (APIC): the window of 2 nodes along x of a stencil of width 3
+    !> in 2D.
+    pure subroutine scatter_remap_apic_2d_x2(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, n2, o1, o2)
+        logical, parameter :: apic = .true.
+        integer, parameter :: mass_row = 0, momentum_row = 1, fint_row = 0, body_row = 0
+        integer, parameter :: n1 = 2, n3 = 1, f1 = 3, f2 = 3, f3 = 1, o3 = 0
+        integer, intent(in) :: n2, o1, o2
+            !! nodes of the window along y; its first node per axis past the stencil's
+            !! first
+        integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
+        include "mpm_kernel_scatter.inc"
+    end subroutine scatter_remap_apic_2d_x2
 
     !> scatter_particle for full stencils of width 2 in 3D.
     pure subroutine scatter_w2_3d(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
             vs, fint_row, bf, body_row, buf)
-        integer, parameter :: n1 = 2, n2 = 2, n3 = 2
+        include "mpm_kernel_scatter_rows.inc"
+        integer, parameter :: n1 = 2, n2 = 2, n3 = 2, f1 = 2, f2 = 2, f3 = 2
+        integer, parameter :: o1 = 0, o2 = 0, o3 = 0
         integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
         real(wp), contiguous, intent(inout) :: buf(:, :)
             !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
@@ -127,7 +496,9 @@ contains
     !> scatter_particle for full stencils of width 2 in 2D.
     pure subroutine scatter_w2_2d(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
             vs, fint_row, bf, body_row, buf)
-        integer, parameter :: n1 = 2, n2 = 2, n3 = 1
+        include "mpm_kernel_scatter_rows.inc"
+        integer, parameter :: n1 = 2, n2 = 2, n3 = 1, f1 = 2, f2 = 2, f3 = 1
+        integer, parameter :: o1 = 0, o2 = 0, o3 = 0
         integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
         real(wp), contiguous, intent(inout) :: buf(:, :)
             !! buffer (rows, nodes; contiguous: unit stride along the rows of a node)
@@ -137,9 +508,12 @@ contains
     !> scatter_particle for the stencils of a shape function of width up to narrow_width on a
     !> grid with an axis of fewer nodes (n1, n2, n3 <= narrow_width; scratch of that width).
     pure subroutine scatter_narrow(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, &
-            momentum_row, vs, fint_row, bf, body_row, buf, n1, n2, n3)
-        integer, intent(in) :: n1, n2, n3
+            momentum_row, vs, fint_row, bf, body_row, buf, n1, n2, n3, f1, f2, f3)
+        include "mpm_kernel_scatter_rows.inc"
+        integer, intent(in) :: n1, n2, n3, f1, f2, f3
+            !! nodes per axis (the window is the whole stencil: f = n)
         integer, parameter :: m1 = fixed_width, m2 = fixed_width, m3 = fixed_width
+        integer, parameter :: o1 = 0, o2 = 0, o3 = 0
         real(wp), intent(inout) :: buf(:, :)
             !! buffer (rows, nodes)
         include "mpm_kernel_scatter.inc"
@@ -148,9 +522,12 @@ contains
     !> scatter_particle for any stencil (a shape function wider than narrow_width without
     !> loops of its width here; scratch of the stencil's width, m = n).
     pure subroutine scatter_any(stc, origin, dx, p, shift, m, xp, vp, aff, apic, mass_row, momentum_row, &
-            vs, fint_row, bf, body_row, buf, n1, n2, n3, m1, m2, m3)
+            vs, fint_row, bf, body_row, buf, n1, n2, n3, f1, f2, f3, m1, m2, m3)
         use mpm_stencil, only: axis_derivatives => axis_derivatives_any
-        integer, intent(in) :: n1, n2, n3, m1, m2, m3
+        include "mpm_kernel_scatter_rows.inc"
+        integer, intent(in) :: n1, n2, n3, f1, f2, f3, m1, m2, m3
+            !! nodes per axis (the window is the whole stencil: f = n) and scratch extents
+        integer, parameter :: o1 = 0, o2 = 0, o3 = 0
         real(wp), intent(inout) :: buf(:, :)
             !! buffer (rows, nodes)
         include "mpm_kernel_scatter.inc"
@@ -223,6 +600,25 @@ contains
             end do
         end do
     end subroutine scatter_full
+
+    !> Which variant serves a scatter: 1 P2G (mass, momentum and internal force), 2 the MUSL
+    !> remap (momentum alone), 3 and 4 the same with APIC, 0 any other (the rows as arguments).
+    pure integer function pass_kind(dim, apic, mass_row, momentum_row, fint_row, body_row)
+        integer, intent(in) :: dim
+            !! space dimensions
+        logical, intent(in) :: apic
+            !! add C_p (x_i - x_p) to the node velocity
+        integer, intent(in) :: mass_row, momentum_row, fint_row, body_row
+            !! the rows of the scatter (see scatter_particle)
+
+        pass_kind = 0
+        if (body_row /= 0) return
+        if (mass_row == 1 .and. momentum_row == 2 .and. fint_row == 2 + dim) then
+            pass_kind = merge(3, 1, apic)
+        else if (mass_row == 0 .and. momentum_row == 1 .and. fint_row == 0) then
+            pass_kind = merge(4, 2, apic)
+        end if
+    end function pass_kind
 
     !> APIC: the parts C_p(:, a) (x_i,a - x_p,a) of the node velocity, per axis and node.
     pure subroutine apic_terms(stc, origin, dx, p, xp, aff, cx, cy, cz)
