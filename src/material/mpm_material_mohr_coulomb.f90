@@ -113,6 +113,9 @@ module mpm_material_mohr_coulomb
     !> Relative round-off allowed in the yield check and in the tests of a candidate [-].
     real(wp), parameter :: tol_yield = 16.0_wp*epsilon(1.0_wp)
     real(wp), parameter :: tol_candidate = 64.0_wp*epsilon(1.0_wp)
+    !> Particles per chunk of mohr_coulomb_update_stress_block (structure-of-arrays copies of
+    !> this size on the stack: a multiple of the vector length, small enough for L1).
+    integer, parameter :: block_chunk = 32
 
     !> The planes of one step: the strength with the trigonometric values the return uses.
     type :: mohr_coulomb_surface_type
@@ -180,6 +183,8 @@ module mpm_material_mohr_coulomb
         procedure :: summary => mohr_coulomb_summary
         procedure :: update_stress => mohr_coulomb_update_stress
             !! exact return mapping of one particle over one step
+        procedure :: update_stress_block => mohr_coulomb_update_stress_block
+            !! the same for a block: predictor, principal values and elastic test vectorised
         procedure :: nstate => mohr_coulomb_nstate
             !! two state values: eps_q and the plastic volumetric strain
         procedure :: strength_after => mohr_coulomb_strength
@@ -410,10 +415,9 @@ contains
         type(mohr_coulomb_surface_type) :: surface
         real(wp) :: friction, cohesion, dilatancy, dvol, de(6)
         integer :: n
-        real(wp) :: p(3), ps(3), dp(3), vec(3, 3), cos2, sin2, radius
+        real(wp) :: p(3), radius
         real(wp) :: m, b(3), off(3), mu(3), s1, s3, magnitude
-        integer :: order(3)
-        logical :: plastic, open
+        logical :: open
 
         if (self%strength%softening == softening_none) then
             surface = self%peak
@@ -456,46 +460,339 @@ contains
         ! stresses clearly inside the surface need no eigen-decomposition and no return
         if (clearly_elastic(s1, s3, magnitude, surface)) return
 
-        if (n == 6 .and. .not. self%jacobi_only) then
-            if (well_separated(mu, magnitude)) then
-                ! 3D, distinct principal values: spectral projectors, no eigenvectors
-                call refine_pair(b, off, mu)
-                p = m + mu
+        if (n == 6) then
+            call return_3d(self, surface, stress, state, m, mu, magnitude)
+        else
+            call return_2d(self, surface, stress, state, p, radius)
+        end if
+    end subroutine mohr_coulomb_update_stress
+
+    !> mohr_coulomb_update_stress of a block of particles: the objective elastic predictor,
+    !> the closed-form principal values and the elastic test run as one loop over the block
+    !> that the compiler vectorises (acos and cos from the vector math library); the
+    !> particles that may yield then take the return one by one (return_3d, return_2d), as
+    !> mohr_coulomb_update_stress. Softening (the planes differ per particle), separation
+    !> and `jacobi_only` take mohr_coulomb_update_stress particle by particle.
+    pure subroutine mohr_coulomb_update_stress_block(self, n, stress, dstrain, omega, dt, state)
+        class(mohr_coulomb_material_type), intent(in) :: self
+            !! the material
+        integer, intent(in) :: n
+            !! particles in the block
+        real(wp), intent(inout) :: stress(:, :)
+            !! Cauchy stresses (4 or 6, at least n), tension positive [Pa]
+        real(wp), intent(in) :: dstrain(:, :)
+            !! strain increments D dt (tensor components, as stress) [-]
+        real(wp), intent(in) :: omega(:, :)
+            !! spin increments W dt (xy, yz, zx; 3, at least n) [-]
+        real(wp), intent(in) :: dt
+            !! time step [s] (unused: rate independent)
+        real(wp), intent(inout) :: state(:, :)
+            !! states (see mohr_coulomb_update_stress; at least n)
+
+        real(wp) :: t(block_chunk, 6), d(block_chunk, 6), w(block_chunk, 3)
+        real(wp) :: mean(block_chunk), values(block_chunk, 3), magnitude(block_chunk)
+        real(wp) :: radius(block_chunk)
+        logical :: elastic(block_chunk)
+        integer :: j, j0, nc, ns
+
+        if (self%strength%softening /= softening_none .or. self%strength%separation .or. &
+            self%jacobi_only) then
+            do j = 1, n
+                call self%update_stress(stress(:, j), dstrain(:, j), omega(:, j), dt, &
+                    state(:, j))
+            end do
+            return
+        end if
+        ns = size(stress, 1)
+        do j0 = 1, n, block_chunk
+            nc = min(block_chunk, n - j0 + 1)
+            ! the chunk's stresses, strain increments and spins as structure of arrays
+            do j = 1, nc
+                t(j, 1:ns) = stress(1:ns, j0 + j - 1)
+                d(j, 1:ns) = dstrain(1:ns, j0 + j - 1)
+                w(j, :) = omega(:, j0 + j - 1)
+            end do
+            if (ns == 6) then
+                call trial_chunk_3d(self, nc, t, d, w, mean, values, magnitude, elastic)
+            else
+                call trial_chunk_2d(self, nc, t, d, w, values, radius, elastic)
+            end if
+            do j = 1, nc
+                stress(1:ns, j0 + j - 1) = t(j, 1:ns)
+                if (elastic(j)) cycle
+                if (ns == 6) then
+                    call return_3d(self, self%peak, stress(:, j0 + j - 1), state(:, j0 + j - 1), &
+                        mean(j), values(j, :), magnitude(j))
+                else
+                    call return_2d(self, self%peak, stress(:, j0 + j - 1), state(:, j0 + j - 1), &
+                        values(j, :), radius(j))
+                end if
+            end do
+        end do
+    end subroutine mohr_coulomb_update_stress_block
+
+    !> The elastic predictor of a chunk in 3D (the Jaumann rotation of mpm_stress, then
+    !> Hooke), its principal values in closed form (deviator_eigenvalues) and the test of
+    !> clearly_elastic against the peak planes, written out as one loop over the particles
+    !> that vectorises. The trial stresses replace the stresses.
+    pure subroutine trial_chunk_3d(self, n, stress, dstrain, omega, mean, mu, magnitude, elastic)
+        class(mohr_coulomb_material_type), intent(in) :: self
+            !! the material (no softening)
+        integer, intent(in) :: n
+            !! particles in the chunk
+        real(wp), intent(inout) :: stress(block_chunk, 6)
+            !! stresses (particle, component); on exit the trial stresses [Pa]
+        real(wp), intent(in) :: dstrain(block_chunk, 6)
+            !! strain increments [-]
+        real(wp), intent(in) :: omega(block_chunk, 3)
+            !! spin increments [-]
+        real(wp), intent(out) :: mean(block_chunk)
+            !! mean trial stress [Pa]
+        real(wp), intent(out) :: mu(block_chunk, 3)
+            !! deviatoric principal values, mu(:, 1) >= mu(:, 3) (deviator_eigenvalues) [Pa]
+        real(wp), intent(out) :: magnitude(block_chunk)
+            !! largest absolute component of the trial stress [Pa]
+        logical, intent(out) :: elastic(block_chunk)
+            !! clearly_elastic: the trial stress is the answer
+
+        real(wp), parameter :: third_turn = 2.0_wp*acos(-1.0_wp)/3.0_wp
+        real(wp), parameter :: margin_factor = 1.0e-6_wp
+        real(wp) :: g2, lame, sphi, k, tension, floor, limit
+        real(wp) :: a1, a2, a3, a4, a5, a6, o1, o2, o3, dvol
+        real(wp) :: t1, t2, t3, t4, t5, t6, m, b1, b2, b3, j2, j2safe, radius, r, angle
+        real(wp) :: c1, c3, mu1, mu3, s1, s3, big, margin, deviatoric
+        logical :: cutoff
+        integer :: j
+
+        g2 = 2.0_wp*self%shear
+        lame = self%lame
+        sphi = self%peak%sin_friction
+        k = self%peak%k
+        cutoff = self%peak%cutoff
+        tension = self%peak%tension
+        floor = max(k, sqrt(tiny(1.0_wp)))
+        if (cutoff) floor = max(floor, abs(tension))
+        ! without a cut-off no limit on s1 (huge: s1 - limit stays finite and negative)
+        limit = merge(tension, huge(1.0_wp), cutoff)
+        do j = 1, n
+            a1 = stress(j, 1)
+            a2 = stress(j, 2)
+            a3 = stress(j, 3)
+            a4 = stress(j, 4)
+            a5 = stress(j, 5)
+            a6 = stress(j, 6)
+            o1 = omega(j, 1)
+            o2 = omega(j, 2)
+            o3 = omega(j, 3)
+            ! Omega sigma - sigma Omega (mpm_stress::jaumann_rotation), then Hooke
+            t1 = a1 + 2.0_wp*(o1*a4 - o3*a6)
+            t2 = a2 + 2.0_wp*(o2*a5 - o1*a4)
+            t3 = a3 + 2.0_wp*(o3*a6 - o2*a5)
+            t4 = a4 + (o1*(a2 - a1) + o2*a6 - o3*a5)
+            t5 = a5 + (o2*(a3 - a2) + o3*a4 - o1*a6)
+            t6 = a6 + (o3*(a1 - a3) + o1*a5 - o2*a4)
+            dvol = dstrain(j, 1) + dstrain(j, 2) + dstrain(j, 3)
+            t1 = t1 + g2*dstrain(j, 1) + lame*dvol
+            t2 = t2 + g2*dstrain(j, 2) + lame*dvol
+            t3 = t3 + g2*dstrain(j, 3) + lame*dvol
+            t4 = t4 + g2*dstrain(j, 4)
+            t5 = t5 + g2*dstrain(j, 5)
+            t6 = t6 + g2*dstrain(j, 6)
+            stress(j, 1) = t1
+            stress(j, 2) = t2
+            stress(j, 3) = t3
+            stress(j, 4) = t4
+            stress(j, 5) = t5
+            stress(j, 6) = t6
+            ! deviator_eigenvalues, with a harmless radius where the deviator is zero
+            m = (t1 + t2 + t3)/3.0_wp
+            b1 = t1 - m
+            b2 = t2 - m
+            b3 = t3 - m
+            j2 = 0.5_wp*(b1**2 + b2**2 + b3**2) + t4**2 + t5**2 + t6**2
+            ! (products with a 0/1 flag, not merge: the compiler would move the work of the
+            ! merged values, acos and cos, into a branch, and the loop would not vectorise)
+            deviatoric = merge(1.0_wp, 0.0_wp, j2 > 0.0_wp)
+            j2safe = j2 + 3.0_wp*(1.0_wp - deviatoric)
+            radius = sqrt(j2safe/3.0_wp)
+            r = (b1*(b2*b3 - t5*t5) - t4*(t4*b3 - t5*t6) + t6*(t4*t5 - b2*t6)) &
+                /(2.0_wp*radius**3)
+            angle = acos(max(-1.0_wp, min(1.0_wp, r)))/3.0_wp
+            c1 = cos(angle)
+            c3 = cos(angle + third_turn)
+            mu1 = deviatoric*(2.0_wp*radius*c1)
+            mu3 = deviatoric*(2.0_wp*radius*c3)
+            mean(j) = m
+            mu(j, 1) = mu1
+            mu(j, 2) = (b1 + b2 + b3) - mu1 - mu3
+            mu(j, 3) = mu3
+            ! clearly_elastic
+            s1 = m + mu1
+            s3 = m + mu3
+            big = max(abs(t1), abs(t2), abs(t3), abs(t4), abs(t5), abs(t6))
+            magnitude(j) = big
+            margin = margin_factor*max(big, floor)
+            elastic(j) = max((s1 - s3) + (s1 + s3)*sphi - k, s1 - limit) < -margin
+        end do
+    end subroutine trial_chunk_3d
+
+    !> trial_chunk_3d in plane strain: the predictor, the principal values of the plane
+    !> (principal_plane) and the elastic test, one loop over the particles.
+    pure subroutine trial_chunk_2d(self, n, stress, dstrain, omega, p, radius, elastic)
+        class(mohr_coulomb_material_type), intent(in) :: self
+            !! the material (no softening)
+        integer, intent(in) :: n
+            !! particles in the chunk
+        real(wp), intent(inout) :: stress(block_chunk, 6)
+            !! stresses (particle, component; the first 4); on exit the trial stresses [Pa]
+        real(wp), intent(in) :: dstrain(block_chunk, 6)
+            !! strain increments (the first 4) [-]
+        real(wp), intent(in) :: omega(block_chunk, 3)
+            !! spin increments [-]
+        real(wp), intent(out) :: p(block_chunk, 3)
+            !! in-plane major, in-plane minor and zz trial principal stresses [Pa]
+        real(wp), intent(out) :: radius(block_chunk)
+            !! radius of Mohr's circle in the plane [Pa]
+        logical, intent(out) :: elastic(block_chunk)
+            !! clearly_elastic: the trial stress is the answer
+
+        real(wp), parameter :: margin_factor = 1.0e-6_wp
+        real(wp) :: g2, lame, sphi, k, tension, floor, limit
+        real(wp) :: a1, a2, a4, w1, dvol, t1, t2, t3, t4, centre, half, rad, s1, s3, margin
+        logical :: cutoff
+        integer :: j
+
+        g2 = 2.0_wp*self%shear
+        lame = self%lame
+        sphi = self%peak%sin_friction
+        k = self%peak%k
+        cutoff = self%peak%cutoff
+        tension = self%peak%tension
+        floor = max(k, sqrt(tiny(1.0_wp)))
+        if (cutoff) floor = max(floor, abs(tension))
+        ! without a cut-off no limit on s1 (huge: s1 - limit stays finite and negative)
+        limit = merge(tension, huge(1.0_wp), cutoff)
+        do j = 1, n
+            a1 = stress(j, 1)
+            a2 = stress(j, 2)
+            a4 = stress(j, 4)
+            w1 = omega(j, 1)
+            dvol = dstrain(j, 1) + dstrain(j, 2) + dstrain(j, 3)
+            t1 = a1 + 2.0_wp*w1*a4
+            t2 = a2 - 2.0_wp*w1*a4
+            t4 = a4 + w1*(a2 - a1)
+            t1 = t1 + g2*dstrain(j, 1) + lame*dvol
+            t2 = t2 + g2*dstrain(j, 2) + lame*dvol
+            t3 = stress(j, 3) + g2*dstrain(j, 3) + lame*dvol
+            t4 = t4 + g2*dstrain(j, 4)
+            stress(j, 1) = t1
+            stress(j, 2) = t2
+            stress(j, 3) = t3
+            stress(j, 4) = t4
+            centre = 0.5_wp*(t1 + t2)
+            half = 0.5_wp*(t1 - t2)
+            rad = sqrt(half*half + t4*t4)
+            radius(j) = rad
+            p(j, 1) = centre + rad
+            p(j, 2) = centre - rad
+            p(j, 3) = t3
+            s1 = max(centre + rad, t3)
+            s3 = min(centre - rad, t3)
+            margin = margin_factor*max(abs(t1), abs(t2), abs(t3), abs(t4), floor)
+            elastic(j) = max((s1 - s3) + (s1 + s3)*sphi - k, s1 - limit) < -margin
+        end do
+    end subroutine trial_chunk_2d
+
+    !> The return of a 3D trial stress that may yield, from its mean and deviatoric principal
+    !> values (deviator_eigenvalues): spectral projectors where the values are well apart,
+    !> else the principal directions of Jacobi's method (see the module documentation).
+    pure subroutine return_3d(self, surface, stress, state, m, mu, magnitude)
+        class(mohr_coulomb_material_type), intent(in) :: self
+            !! the material
+        type(mohr_coulomb_surface_type), intent(in) :: surface
+            !! the planes of the step
+        real(wp), intent(inout) :: stress(:)
+            !! the trial stress (6), on exit the returned one [Pa]
+        real(wp), intent(inout) :: state(:)
+            !! state of the particle
+        real(wp), intent(in) :: m
+            !! mean trial stress [Pa]
+        real(wp), intent(in) :: mu(3)
+            !! deviatoric principal values of the trial stress [Pa]
+        real(wp), intent(in) :: magnitude
+            !! largest absolute component of the trial stress [Pa]
+
+        real(wp) :: b(3), off(3), values(3), p(3), ps(3), dp(3), vec(3, 3)
+        integer :: order(3)
+        logical :: plastic
+
+        if (.not. self%jacobi_only) then
+            values = mu
+            if (well_separated(values, magnitude)) then
+                ! distinct principal values: spectral projectors, no eigenvectors
+                b = stress(1:3) - m
+                off = stress(4:6)
+                call refine_pair(b, off, values)
+                p = m + values
                 ps = p
                 call return_to_surface(self, ps, surface, plastic)
                 if (.not. plastic) return
                 dp = p - ps
-                call spectral_correction(stress, b, off, mu, dp)
+                call spectral_correction(stress, b, off, values, dp)
                 call add_plastic_strain(self, dp, ps, p, stress, state)
                 return
             end if
         end if
 
-        ! 2D, and 3D with two principal values close (or `jacobi_only`): principal directions
-        if (n == 6) call symmetric_eigen(stress(1:6), p, vec)
+        ! two principal values close (or `jacobi_only`): principal directions
+        call symmetric_eigen(stress(1:6), p, vec)
         order = descending_order(p)
         ps = p(order)
         call return_to_surface(self, ps, surface, plastic)
         if (.not. plastic) return
-
         ! correction of each principal value, in the order of the eigen-decomposition
         dp(order) = p(order) - ps
-        if (n == 4) then
-            call plane_direction(stress, radius, cos2, sin2)
-            stress(1) = stress(1) - 0.5_wp*(dp(1) + dp(2)) - 0.5_wp*(dp(1) - dp(2))*cos2
-            stress(2) = stress(2) - 0.5_wp*(dp(1) + dp(2)) + 0.5_wp*(dp(1) - dp(2))*cos2
-            stress(3) = stress(3) - dp(3)
-            stress(4) = stress(4) - 0.5_wp*(dp(1) - dp(2))*sin2
-        else
-            stress(1) = stress(1) - sum(dp*vec(1, :)**2)
-            stress(2) = stress(2) - sum(dp*vec(2, :)**2)
-            stress(3) = stress(3) - sum(dp*vec(3, :)**2)
-            stress(4) = stress(4) - sum(dp*vec(1, :)*vec(2, :))
-            stress(5) = stress(5) - sum(dp*vec(2, :)*vec(3, :))
-            stress(6) = stress(6) - sum(dp*vec(3, :)*vec(1, :))
-        end if
+        stress(1) = stress(1) - sum(dp*vec(1, :)**2)
+        stress(2) = stress(2) - sum(dp*vec(2, :)**2)
+        stress(3) = stress(3) - sum(dp*vec(3, :)**2)
+        stress(4) = stress(4) - sum(dp*vec(1, :)*vec(2, :))
+        stress(5) = stress(5) - sum(dp*vec(2, :)*vec(3, :))
+        stress(6) = stress(6) - sum(dp*vec(3, :)*vec(1, :))
         call add_plastic_strain(self, dp, ps, p, stress, state)
-    end subroutine mohr_coulomb_update_stress
+    end subroutine return_3d
+
+    !> The return of a plane-strain trial stress that may yield, from its principal values
+    !> (principal_plane), the correction in the direction of the in-plane pair.
+    pure subroutine return_2d(self, surface, stress, state, p, radius)
+        class(mohr_coulomb_material_type), intent(in) :: self
+            !! the material
+        type(mohr_coulomb_surface_type), intent(in) :: surface
+            !! the planes of the step
+        real(wp), intent(inout) :: stress(:)
+            !! the trial stress (4), on exit the returned one [Pa]
+        real(wp), intent(inout) :: state(:)
+            !! state of the particle
+        real(wp), intent(in) :: p(3)
+            !! in-plane major, in-plane minor and zz trial principal stresses [Pa]
+        real(wp), intent(in) :: radius
+            !! radius of Mohr's circle in the plane [Pa]
+
+        real(wp) :: ps(3), dp(3), cos2, sin2
+        integer :: order(3)
+        logical :: plastic
+
+        order = descending_order(p)
+        ps = p(order)
+        call return_to_surface(self, ps, surface, plastic)
+        if (.not. plastic) return
+        dp(order) = p(order) - ps
+        call plane_direction(stress, radius, cos2, sin2)
+        stress(1) = stress(1) - 0.5_wp*(dp(1) + dp(2)) - 0.5_wp*(dp(1) - dp(2))*cos2
+        stress(2) = stress(2) - 0.5_wp*(dp(1) + dp(2)) + 0.5_wp*(dp(1) - dp(2))*cos2
+        stress(3) = stress(3) - dp(3)
+        stress(4) = stress(4) - 0.5_wp*(dp(1) - dp(2))*sin2
+        call add_plastic_strain(self, dp, ps, p, stress, state)
+    end subroutine return_2d
 
     !> State after a plastic step: the plastic strain D^-1 (sigma_trial - sigma), coaxial with
     !> the stress, added to eps_q and to the plastic volumetric strain; with separation, a

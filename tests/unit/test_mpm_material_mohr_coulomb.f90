@@ -44,6 +44,7 @@ program test_mpm_material_mohr_coulomb
     call check_face_dilatancy()
     call check_returns()
     call check_random_returns()
+    call check_block_update()
     call check_close_eigenvalues()
     call check_rigid_rotation_2d()
     call check_rigid_rotation_3d()
@@ -608,6 +609,118 @@ contains
             call check(suite, nbad_2d == 0, trim(label)//": 2D and 3D agree")
         end do
     end subroutine check_random_returns
+
+    !> The block update (update_stress_block: vectorised predictor, principal values and
+    !> elastic test, then the return particle by particle) against update_stress one particle
+    !> at a time, in 3D and 2D, for 75 particles (chunks of 32 and a remainder): random
+    !> stresses about the surface (principal values about a random mean, random axes), random
+    !> strain increments and spins, some particles at rest with zero stress. Both must agree
+    !> to round-off (the vector acos and cos of the libmvec differ from the scalar ones in the
+    !> last bits): 100 eps times the scale of the trial stress for the stress, that over G
+    !> for the state; the zero stresses stay exactly zero; both see plastic and elastic
+    !> particles. A second round starts from the returned stresses, on the surface, with
+    !> increments of 1e-9: violations far inside the margin of the elastic test (1e-6 of the
+    !> stress), which both must return. It fails when a predictor term, the margin of the
+    !> elastic test or a chunk boundary is wrong.
+    subroutine check_block_update()
+        integer, parameter :: n = 75
+        type(mohr_coulomb_material_type) :: mat
+        real(wp) :: s(6, n), sb(6, n), s0(6, n), de(6, n), om(3, n), st(2, n), stb(2, n)
+        real(wp) :: st0(2, n), pt(3), d(3, 3)
+        real(wp) :: r(3, 3), scale, diff
+        integer :: imat, ndim, ns, j, i, nplastic, nelastic, nbad, round
+        integer(i8) :: seed
+        logical :: zero_ok
+        real(wp), parameter :: phis(3) = [30.0_wp, 40.0_wp, 0.0_wp]
+        real(wp), parameter :: cohs(3) = [0.0_wp, 1.0e4_wp, 2.0e4_wp]
+        real(wp), parameter :: psis(3) = [0.0_wp, 10.0_wp, 0.0_wp]
+        real(wp), parameter :: tcuts(3) = [-1.0_wp, 3.0e3_wp, 5.0e3_wp]
+        character(len=80) :: label
+
+        seed = 777
+        do imat = 1, size(phis)
+            call make_material(mat, phis(imat), cohs(imat), psis(imat), tcuts(imat))
+            do ndim = 2, 3
+                ns = merge(6, 4, ndim == 3)
+                do j = 1, n
+                    pt = 2.0e5_wp*uniform(seed) - 1.8e5_wp + 4.0e4_wp*(2*[uniform(seed), &
+                        uniform(seed), uniform(seed)] - 1)
+                    r = rotation(7*uniform(seed), 7*uniform(seed), 7*uniform(seed))
+                    if (ndim == 2) r = rotation(7*uniform(seed), 0.0_wp, 0.0_wp)
+                    d = 0.0_wp
+                    do i = 1, 3
+                        d(i, i) = pt(i)
+                    end do
+                    s(:, j) = matrix_to_voigt(matmul(r, matmul(d, transpose(r))))
+                    do i = 1, 6
+                        de(i, j) = 4.0e-3_wp*(2*uniform(seed) - 1)
+                    end do
+                    do i = 1, 3
+                        om(i, j) = 1.0e-2_wp*(2*uniform(seed) - 1)
+                    end do
+                    if (ndim == 2) then
+                        s(5:6, j) = 0.0_wp
+                        de(3, j) = 0.0_wp
+                        om(2:3, j) = 0.0_wp
+                    end if
+                    if (mod(j, 11) == 0) then
+                        s(:, j) = 0.0_wp
+                        de(:, j) = 0.0_wp
+                        om(:, j) = 0.0_wp
+                    end if
+                end do
+                st = 0.0_wp
+                do round = 1, 2
+                    if (round == 2) then
+                        ! from the returned stresses, on the surface: increments of 1e-9,
+                        ! a violation far inside the margin of the elastic test
+                        do j = 1, n
+                            do i = 1, 6
+                                de(i, j) = 1.0e-9_wp*(2*uniform(seed) - 1)
+                            end do
+                            if (ndim == 2) de(3, j) = 0.0_wp
+                            if (mod(j, 11) == 0) de(:, j) = 0.0_wp
+                        end do
+                        om = 0.0_wp
+                        st0 = st
+                    end if
+                    sb = s
+                    s0 = s
+                    stb = st
+                    do j = 1, n
+                        call mat%update_stress(s(1:ns, j), de(1:ns, j), om(:, j), 1.0_wp, &
+                            st(:, j))
+                    end do
+                    call mat%update_stress_block(n, sb(1:ns, :), de(1:ns, :), om, 1.0_wp, stb)
+                    nbad = 0
+                    if (round == 1) then
+                        nplastic = count(st(1, :) > 0.0_wp)
+                        nelastic = count(st(1, :) == 0.0_wp)
+                    else
+                        nplastic = count(st(1, :) > st0(1, :))
+                        nelastic = count(st(1, :) == st0(1, :))
+                    end if
+                    zero_ok = .true.
+                    do j = 1, n
+                        ! the trial stress (a return to the apex leaves its round-off)
+                        scale = max(maxval(abs(s0(1:ns, j))), young*maxval(abs(de(1:ns, j))), &
+                            2*cohs(imat), 1.0_wp)
+                        diff = max(maxval(abs(sb(1:ns, j) - s(1:ns, j))), &
+                            shear*maxval(abs(stb(:, j) - st(:, j))))
+                        if (.not. diff <= 100*eps*scale) nbad = nbad + 1
+                        if (mod(j, 11) == 0) zero_ok = zero_ok .and. all(sb(1:ns, j) == 0.0_wp)
+                    end do
+                    write (label, "(a,i0,a,f4.1,a,es8.1,a,es8.1,a,i0)") "block update ", ndim, &
+                        "D phi ", phis(imat), " c ", cohs(imat), " cut-off ", tcuts(imat), &
+                        " round ", round
+                    call check(suite, nbad == 0, trim(label)//": as particle by particle")
+                    call check(suite, zero_ok, trim(label)//": zero stress stays zero")
+                    call check(suite, nplastic > 5 .and. nelastic > 5, &
+                        trim(label)//": plastic and elastic particles")
+                end do
+            end do
+        end do
+    end subroutine check_block_update
 
     !> Nearly repeated principal trial stresses, 3D with random axes: two of them a gap
     !> g |p|max apart (g = 0, 1e-12, 1e-8, 1e-4, 5e-4, 1.05e-3, 1.5e-3, 1e-2; the upper or the
