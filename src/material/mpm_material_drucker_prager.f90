@@ -27,7 +27,7 @@ module mpm_material_drucker_prager
     use mpm_kinds, only: wp
     use mpm_error, only: error_type
     use mpm_case_cursor, only: cursor_type
-    use mpm_softening, only: softened_strength
+    use mpm_softening, only: softened_strength, softening_none
     use mpm_separation, only: close_opening
     use mpm_material, only: material_key_width, work_plastic
     use mpm_elastic_solid, only: elastic_solid_type, elastic_keys, add_elastic_trial
@@ -40,6 +40,9 @@ module mpm_material_drucker_prager
     public :: cone_plane_strain, cone_compression, cone_extension, cone_names
 
     real(wp), parameter :: sqrt3 = sqrt(3.0_wp)
+    !> Particles per chunk of drucker_prager_update_stress_block (structure-of-arrays copies
+    !> of this size on the stack).
+    integer, parameter :: block_chunk = 32
 
     ! Drucker-Prager cone matched to Mohr-Coulomb
     integer, parameter :: cone_plane_strain = 1  !! same collapse load in plane strain
@@ -67,6 +70,8 @@ module mpm_material_drucker_prager
         procedure :: writes_plastic_strain => drucker_prager_writes_plastic_strain
         procedure :: summary => drucker_prager_summary
         procedure :: update_stress => drucker_prager_update_stress
+        procedure :: update_stress_block => drucker_prager_update_stress_block
+            !! the same for a block, without a branch per particle (vectorised)
             !! exact return mapping of one particle over one step
         procedure :: nstate => drucker_prager_nstate
             !! two state values: eps_q and the plastic volumetric strain
@@ -372,5 +377,189 @@ contains
             stress = 0.0_wp
         end if
     end subroutine drucker_prager_update_stress
+
+    !> drucker_prager_update_stress of a block of particles, in chunks copied to structures of
+    !> arrays: the elastic predictor and the return (cone, tension plane, corner or none) as
+    !> one loop without a branch per particle, every region computed and the valid one chosen
+    !> (merge), so that it vectorises; the same operations as drucker_prager_update_stress,
+    !> the cone's constants once per block. Softening (constants per particle) and separation
+    !> take drucker_prager_update_stress particle by particle.
+    pure subroutine drucker_prager_update_stress_block(self, n, stress, dstrain, omega, dt, state)
+        class(drucker_prager_material_type), intent(in) :: self
+            !! the material
+        integer, intent(in) :: n
+            !! particles in the block
+        real(wp), intent(inout) :: stress(:, :)
+            !! Cauchy stresses (4 or 6, at least n), tension positive [Pa]
+        real(wp), intent(in) :: dstrain(:, :)
+            !! strain increments D dt (tensor components, as stress) [-]
+        real(wp), intent(in) :: omega(:, :)
+            !! spin increments W dt (xy, yz, zx; 3, at least n) [-]
+        real(wp), intent(in) :: dt
+            !! time step [s] (unused: rate independent)
+        real(wp), intent(inout) :: state(:, :)
+            !! states (see drucker_prager_update_stress; at least n)
+
+        real(wp) :: t(block_chunk, 6), d(block_chunk, 6), w(block_chunk, 3)
+        real(wp) :: dq(block_chunk), dv(block_chunk)
+        real(wp) :: friction, cohesion, dilatancy, alpha, k, alpha_psi, sigma_t
+        integer :: j, j0, nc, ns
+        logical :: cutoff
+
+        if (self%strength%softening /= softening_none .or. self%strength%separation) then
+            do j = 1, n
+                call self%update_stress(stress(:, j), dstrain(:, j), omega(:, j), dt, &
+                    state(:, j))
+            end do
+            return
+        end if
+        call self%strength_after(0.0_wp, friction, cohesion, dilatancy)
+        call drucker_prager_cone(self%cone, friction, cohesion, dilatancy, alpha, k, alpha_psi)
+        ! tension limit on the mean stress, as drucker_prager_update_stress
+        cutoff = alpha > 0.0_wp .or. self%strength%tension_cutoff >= 0.0_wp
+        sigma_t = 0.0_wp
+        if (alpha > 0.0_wp) then
+            sigma_t = k/alpha
+            if (self%strength%tension_cutoff >= 0.0_wp) sigma_t = min(sigma_t, self%strength%tension_cutoff)
+        else if (cutoff) then
+            sigma_t = self%strength%tension_cutoff
+        end if
+
+        ns = size(stress, 1)
+        t = 0.0_wp
+        d = 0.0_wp
+        do j0 = 1, n, block_chunk
+            nc = min(block_chunk, n - j0 + 1)
+            do j = 1, nc
+                t(j, 1:ns) = stress(1:ns, j0 + j - 1)
+                d(j, 1:ns) = dstrain(1:ns, j0 + j - 1)
+                w(j, :) = omega(:, j0 + j - 1)
+            end do
+            call return_chunk(self, nc, ns, t, d, w, alpha, k, alpha_psi, cutoff, sigma_t, dq, dv)
+            do j = 1, nc
+                stress(1:ns, j0 + j - 1) = t(j, 1:ns)
+                state(1, j0 + j - 1) = state(1, j0 + j - 1) + dq(j)
+                state(2, j0 + j - 1) = state(2, j0 + j - 1) + dv(j)
+            end do
+        end do
+    end subroutine drucker_prager_update_stress_block
+
+    !> The predictor and the return of a chunk (see drucker_prager_update_stress), one loop
+    !> over the particles without branches: the regions' multipliers are computed for every
+    !> particle with safe operands and the valid one is chosen.
+    pure subroutine return_chunk(self, n, ns, stress, dstrain, omega, alpha, k, alpha_psi, &
+            cutoff, sigma_t, dq, dv)
+        class(drucker_prager_material_type), intent(in) :: self
+            !! the material
+        integer, intent(in) :: n
+            !! particles in the chunk
+        integer, intent(in) :: ns
+            !! stress components (4 or 6; the others are zero)
+        real(wp), intent(inout) :: stress(block_chunk, 6)
+            !! stresses (particle, component); on exit the updated ones [Pa]
+        real(wp), intent(in) :: dstrain(block_chunk, 6)
+            !! strain increments [-]
+        real(wp), intent(in) :: omega(block_chunk, 3)
+            !! spin increments [-]
+        real(wp), intent(in) :: alpha, k, alpha_psi
+            !! the cone's constants (drucker_prager_cone)
+        logical, intent(in) :: cutoff
+            !! whether the mean stress is limited
+        real(wp), intent(in) :: sigma_t
+            !! its limit [Pa]
+        real(wp), intent(out) :: dq(block_chunk)
+            !! increments of eps_q [-]
+        real(wp), intent(out) :: dv(block_chunk)
+            !! increments of the plastic volumetric strain [-]
+
+        real(wp) :: g, g2, lame, bulk, limit, rho_c, stiffness
+        real(wp) :: a1, a2, a3, a4, a5, a6, o1, o2, o3, dvol, t1, t2, t3, t4, t5, t6
+        real(wp) :: m_tr, d1, d2, d3, rho_tr, f_tr, dl1c, mc, dl1t, dl2t, rho_t, dl1, dl2, m
+        real(wp) :: rho, ratio, full, corner, opening, rho_cone, dl2_corner
+        real(wp) :: r1, r2, r3, r4, r5, r6
+        logical :: elastic, cone, plane
+        integer :: j
+
+        g = self%shear
+        g2 = 2.0_wp*g
+        lame = self%lame
+        bulk = self%bulk
+        ! without a limit no mean stress exceeds it (huge stays finite in the comparisons)
+        limit = merge(sigma_t, huge(1.0_wp), cutoff)
+        rho_c = max(k - alpha*sigma_t, 0.0_wp)
+        full = merge(1.0_wp, 0.0_wp, ns == 6)
+        stiffness = g + bulk*alpha*alpha_psi
+        do j = 1, n
+            a1 = stress(j, 1)
+            a2 = stress(j, 2)
+            a3 = stress(j, 3)
+            a4 = stress(j, 4)
+            a5 = stress(j, 5)
+            a6 = stress(j, 6)
+            o1 = omega(j, 1)
+            o2 = omega(j, 2)
+            o3 = omega(j, 3)
+            ! the Jaumann rotation of mpm_stress (in 2D o2, o3, a5, a6 are zero), then Hooke
+            t1 = a1 + 2.0_wp*(o1*a4 - o3*a6)
+            t2 = a2 + 2.0_wp*(o2*a5 - o1*a4)
+            t3 = a3 + 2.0_wp*(o3*a6 - o2*a5)
+            t4 = a4 + (o1*(a2 - a1) + o2*a6 - o3*a5)
+            t5 = a5 + (o2*(a3 - a2) + o3*a4 - o1*a6)
+            t6 = a6 + (o3*(a1 - a3) + o1*a5 - o2*a4)
+            dvol = dstrain(j, 1) + dstrain(j, 2) + dstrain(j, 3)
+            t1 = t1 + g2*dstrain(j, 1) + lame*dvol
+            t2 = t2 + g2*dstrain(j, 2) + lame*dvol
+            t3 = t3 + g2*dstrain(j, 3) + lame*dvol
+            t4 = t4 + g2*dstrain(j, 4)
+            t5 = (t5 + g2*dstrain(j, 5))*full
+            t6 = (t6 + g2*dstrain(j, 6))*full
+            ! mean_and_deviator
+            m_tr = (t1 + t2 + t3)/3.0_wp
+            d1 = t1 - m_tr
+            d2 = t2 - m_tr
+            d3 = t3 - m_tr
+            rho_tr = sqrt(0.5_wp*(d1*d1 + d2*d2 + d3*d3 + 2.0_wp*(t4*t4 + t5*t5 + t6*t6)))
+            f_tr = rho_tr + alpha*m_tr - k
+            ! Every region is computed and the valid one chosen. The compiler moves the work
+            ! only one choice needs into a branch of its own and turns it back into a
+            ! selection only when floating-point operations may be run speculatively:
+            ! CMakeLists.txt builds this file with -fno-trapping-math (no value changes),
+            ! without which the loop does not vectorise.
+            elastic = f_tr <= 0.0_wp .and. m_tr <= limit
+            ! the cone
+            dl1c = max(f_tr, 0.0_wp)/stiffness
+            mc = m_tr - bulk*alpha_psi*dl1c
+            rho_cone = max(rho_tr - g*dl1c, 0.0_wp)
+            cone = f_tr > 0.0_wp .and. mc <= limit
+            ! the tension plane (rho_tr <= rho_c) or the corner with the cone
+            plane = rho_tr <= rho_c
+            corner = (rho_tr - rho_c)/g
+            dl1t = merge(0.0_wp, corner, plane)
+            rho_t = merge(rho_tr, rho_c, plane)
+            opening = (m_tr - sigma_t)/bulk
+            dl2_corner = max(opening - alpha_psi*dl1t, 0.0_wp)
+            dl2t = merge(opening, dl2_corner, plane)
+            dl1 = merge(dl1c, dl1t, cone)
+            dl2 = merge(0.0_wp, dl2t, cone)
+            m = merge(mc, sigma_t, cone)
+            rho = merge(rho_cone, rho_t, cone)
+            ! radial return in the deviatoric plane (a zero deviator stays zero)
+            ratio = merge(rho/merge(rho_tr, 1.0_wp, rho_tr > 0.0_wp), 0.0_wp, rho_tr > 0.0_wp)
+            r1 = d1*ratio + m
+            r2 = d2*ratio + m
+            r3 = d3*ratio + m
+            r4 = t4*ratio
+            r5 = t5*ratio
+            r6 = t6*ratio
+            stress(j, 1) = merge(t1, r1, elastic)
+            stress(j, 2) = merge(t2, r2, elastic)
+            stress(j, 3) = merge(t3, r3, elastic)
+            stress(j, 4) = merge(t4, r4, elastic)
+            stress(j, 5) = merge(t5, r5, elastic)
+            stress(j, 6) = merge(t6, r6, elastic)
+            dq(j) = merge(0.0_wp, dl1/sqrt3, elastic)
+            dv(j) = merge(0.0_wp, alpha_psi*dl1 + dl2, elastic)
+        end do
+    end subroutine return_chunk
 
 end module mpm_material_drucker_prager

@@ -50,6 +50,7 @@ program test_mpm_material_drucker_prager
     call check_degenerate()
     call check_softening(softening_linear)
     call check_softening(softening_exponential)
+    call check_block_update()
     call finish(suite)
 
 contains
@@ -683,6 +684,111 @@ contains
         call mat%update_stress(sc, merge(x, de, unknown), zero3, 1.0_wp, stc)
         r = sc(1) - target
     end function mixed_residual
+
+    !> The block update (update_stress_block: predictor and return without a branch per
+    !> particle, vectorised) against update_stress one particle at a time, in 3D and 2D, for
+    !> 75 particles (chunks of 32 and a remainder) and four strengths (cut-off below the apex,
+    !> the cylinder without one, the apex of a cohesionless compression cone, an extension cone
+    !> with dilatancy): random stresses about the surface and random strain increments and
+    !> spins, some particles at rest with zero stress; a second round from the returned
+    !> stresses with increments of 1e-9 (just outside the surface or just inside). The same
+    !> operations in the same order: they agree to 100 eps of the trial stress (FMA contraction
+    !> may differ), the state to that over G; plastic and elastic particles in every round.
+    subroutine check_block_update()
+        integer, parameter :: n = 75
+        type(drucker_prager_material_type) :: mat
+        type(material_spec_type) :: specs(4)
+        real(wp) :: s(6, n), sb(6, n), s0(6, n), de(6, n), om(3, n), st(2, n), stb(2, n)
+        real(wp) :: st0(2, n), pt(6), scale, diff, shear
+        integer :: imat, ndim, ns, j, i, nplastic, nelastic, nbad, round
+        integer :: seed
+        character(len=60) :: label
+
+        specs(1) = make_spec(30.0_wp*deg, coh, 10.0_wp*deg, cone_plane_strain, &
+            tension_cutoff=5.0e3_wp)
+        specs(2) = make_spec(0.0_wp, 2.0_wp*coh, 0.0_wp, cone_plane_strain)
+        specs(3) = make_spec(35.0_wp*deg, 0.0_wp, 0.0_wp, cone_compression)
+        specs(4) = make_spec(20.0_wp*deg, 0.5_wp*coh, 20.0_wp*deg, cone_extension, &
+            tension_cutoff=2.0e3_wp)
+        shear = young/(2.0_wp*(1.0_wp + poisson))
+        seed = 4242
+        do imat = 1, size(specs)
+            call new_material(mat, specs(imat))
+            do ndim = 2, 3
+                ns = merge(6, 4, ndim == 3)
+                do j = 1, n
+                    pt(1:3) = 2.0e5_wp*uniform(seed) - 1.8e5_wp + 4.0e4_wp*(2*[uniform(seed), &
+                        uniform(seed), uniform(seed)] - 1)
+                    pt(4:6) = 0.0_wp
+                    s(:, j) = rotate(rotation_matrix([uniform(seed), uniform(seed), &
+                        uniform(seed)] - 0.5_wp, 7*uniform(seed)), pt)
+                    if (ndim == 2) s(:, j) = rotate(rotation_matrix([0.0_wp, 0.0_wp, 1.0_wp], &
+                        7*uniform(seed)), pt)
+                    do i = 1, 6
+                        de(i, j) = 4.0e-3_wp*(2*uniform(seed) - 1)
+                    end do
+                    do i = 1, 3
+                        om(i, j) = 1.0e-2_wp*(2*uniform(seed) - 1)
+                    end do
+                    if (ndim == 2) then
+                        de(3, j) = 0.0_wp
+                        om(2:3, j) = 0.0_wp
+                    end if
+                    if (mod(j, 11) == 0) then
+                        s(:, j) = 0.0_wp
+                        de(:, j) = 0.0_wp
+                        om(:, j) = 0.0_wp
+                    end if
+                end do
+                st = 0.0_wp
+                do round = 1, 2
+                    if (round == 2) then
+                        do j = 1, n
+                            do i = 1, 6
+                                de(i, j) = 1.0e-9_wp*(2*uniform(seed) - 1)
+                            end do
+                            if (ndim == 2) de(3, j) = 0.0_wp
+                            if (mod(j, 11) == 0) de(:, j) = 0.0_wp
+                        end do
+                        om = 0.0_wp
+                    end if
+                    st0 = st
+                    sb = s
+                    s0 = s
+                    stb = st
+                    do j = 1, n
+                        call mat%update_stress(s(1:ns, j), de(1:ns, j), om(:, j), 1.0_wp, &
+                            st(:, j))
+                    end do
+                    call mat%update_stress_block(n, sb(1:ns, :), de(1:ns, :), om, 1.0_wp, stb)
+                    nbad = 0
+                    nplastic = count(st(2, :) /= st0(2, :) .or. st(1, :) /= st0(1, :))
+                    nelastic = n - nplastic
+                    do j = 1, n
+                        scale = max(maxval(abs(s0(1:ns, j))), young*maxval(abs(de(1:ns, j))), &
+                            1.0_wp)
+                        diff = max(maxval(abs(sb(1:ns, j) - s(1:ns, j))), &
+                            shear*maxval(abs(stb(:, j) - st(:, j))))
+                        if (.not. diff <= 100*eps*scale) nbad = nbad + 1
+                        if (mod(j, 11) == 0 .and. any(sb(1:ns, j) /= 0.0_wp)) nbad = nbad + 1
+                    end do
+                    write (label, "(a,i0,a,i0,a,i0)") "block update, material ", imat, ", ", &
+                        ndim, "D, round ", round
+                    call check(suite, nbad == 0, trim(label)//": as particle by particle")
+                    call check(suite, nplastic > 5 .and. nelastic > 5, &
+                        trim(label)//": plastic and elastic particles")
+                end do
+            end do
+        end do
+    end subroutine check_block_update
+
+    !> Uniform number in (0, 1) of a fixed linear congruential sequence (Park-Miller).
+    real(wp) function uniform(seed)
+        integer, intent(inout) :: seed
+        integer(kind=8), parameter :: mult = 16807, modulus = 2147483647
+        seed = int(mod(mult*int(seed, 8), modulus))
+        uniform = real(seed, wp)/real(modulus, wp)
+    end function uniform
 
     !> A Drucker-Prager material of E, nu of this test, rho = 2000 kg/m3 and `spec`.
     subroutine new_material(mat, spec)
