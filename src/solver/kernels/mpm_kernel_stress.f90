@@ -168,15 +168,15 @@ contains
             !! half-sizes of the current domain [m]
         integer :: a
 
-        ! norm2 of arrays of a size known here: the same scaled sums, element by element in
-        ! the same order, as over f(a, 1:dim)*lp0(1:dim), without a loop of runtime length
-        ! around each (a quarter of the stress block's instructions in 2D)
+        ! the plain root of the sum of squares, not norm2: norm2 rescales element by element
+        ! against overflow (a division and a branch each), which only half-sizes beyond
+        ! 1e150 m would need
         if (dim == 2) then
-            lp(1) = norm2([f(1, 1)*lp0(1), f(1, 2)*lp0(2)])
-            lp(2) = norm2([f(2, 1)*lp0(1), f(2, 2)*lp0(2)])
+            lp(1) = sqrt((f(1, 1)*lp0(1))**2 + (f(1, 2)*lp0(2))**2)
+            lp(2) = sqrt((f(2, 1)*lp0(1))**2 + (f(2, 2)*lp0(2))**2)
         else
             do a = 1, 3
-                lp(a) = norm2([f(a, 1)*lp0(1), f(a, 2)*lp0(2), f(a, 3)*lp0(3)])
+                lp(a) = sqrt((f(a, 1)*lp0(1))**2 + (f(a, 2)*lp0(2))**2 + (f(a, 3)*lp0(3))**2)
             end do
         end if
     end subroutine domain_half_sizes
