@@ -14,12 +14,16 @@ module mpm_material
     private
     public :: material_type, material_holder_type, material_key_width, key_path_width
     public :: work_stored, work_plastic, work_viscous, nwork_kinds
+    public :: update_each, material_chunk, chunk_in
 
     integer, parameter :: material_key_width = 14
         !! longest key or type name of a material ("tension_cutoff", "linear_elastic")
     integer, parameter :: key_path_width = 32
         !! longest key path inside a material ("softening.phi_residual")
 
+    integer, parameter :: material_chunk = 32
+        !! particles per chunk of the block updates that vectorise across particles
+        !! (structure-of-arrays copies of this size on the stack, `chunk_in`)
     integer, parameter :: work_stored = 1, work_plastic = 2, work_viscous = 3
         !! where the work of the stresses goes, beyond the elastic energy the stress stores:
         !! nowhere (an elastic material: every joule is stored), plastic dissipation, viscous
@@ -172,12 +176,59 @@ contains
         real(wp), intent(inout) :: state(:, :)
             !! material states (at least nstate(), at least n)
 
+        call update_each(self, n, stress, dstrain, omega, dt, state)
+    end subroutine material_update_stress_block
+
+    !> update_stress of each of n particles, one by one: the default block update, and what
+    !> a block update that vectorises does for the cases it does not take.
+    pure subroutine update_each(self, n, stress, dstrain, omega, dt, state)
+        class(material_type), intent(in) :: self
+            !! the material
+        integer, intent(in) :: n
+            !! particles in the block
+        real(wp), intent(inout) :: stress(:, :)
+            !! Cauchy stresses (4 or 6, at least n), tension positive [Pa]
+        real(wp), intent(in) :: dstrain(:, :)
+            !! strain increments D dt (tensor components, as stress) [-]
+        real(wp), intent(in) :: omega(:, :)
+            !! spin increments W dt (xy, yz, zx; 3, at least n) [-]
+        real(wp), intent(in) :: dt
+            !! time step [s]
+        real(wp), intent(inout) :: state(:, :)
+            !! material states (at least nstate(), at least n)
+
         integer :: j
 
         do j = 1, n
             call self%update_stress(stress(:, j), dstrain(:, j), omega(:, j), dt, state(:, j))
         end do
-    end subroutine material_update_stress_block
+    end subroutine update_each
+
+    !> Particles j0 to j0 + nc - 1 of a block as structures of arrays (particle, component):
+    !> the first rows of the stresses and strain increments (4 or 6) and the spins.
+    pure subroutine chunk_in(stress, dstrain, omega, j0, nc, t, d, w)
+        real(wp), intent(in) :: stress(:, :)
+            !! stresses of the block (4 or 6, particles) [Pa]
+        real(wp), intent(in) :: dstrain(:, :)
+            !! strain increments of the block [-]
+        real(wp), intent(in) :: omega(:, :)
+            !! spin increments of the block (3, particles) [-]
+        integer, intent(in) :: j0, nc
+            !! first particle and particles of the chunk (nc <= material_chunk)
+        real(wp), intent(inout) :: t(material_chunk, 6), d(material_chunk, 6)
+            !! stresses and strain increments of the chunk (rows 1 : nc; columns 1 : 4 in 2D)
+        real(wp), intent(inout) :: w(material_chunk, 3)
+            !! spin increments of the chunk
+
+        integer :: j, ns
+
+        ns = size(stress, 1)
+        do j = 1, nc
+            t(j, 1:ns) = stress(1:ns, j0 + j - 1)
+            d(j, 1:ns) = dstrain(1:ns, j0 + j - 1)
+            w(j, :) = omega(:, j0 + j - 1)
+        end do
+    end subroutine chunk_in
 
     !> Default: no state variables.
     pure integer function material_nstate(self)

@@ -29,7 +29,7 @@ module mpm_material_drucker_prager
     use mpm_case_cursor, only: cursor_type
     use mpm_softening, only: softened_strength, softening_none
     use mpm_separation, only: close_opening
-    use mpm_material, only: material_key_width, work_plastic
+    use mpm_material, only: material_key_width, work_plastic, update_each, material_chunk, chunk_in
     use mpm_elastic_solid, only: elastic_solid_type, elastic_keys, add_elastic_trial
     use mpm_strength, only: strength_type, read_strength, strength_keys, strength_section_keys, &
         strength_summary
@@ -40,9 +40,6 @@ module mpm_material_drucker_prager
     public :: cone_plane_strain, cone_compression, cone_extension, cone_names
 
     real(wp), parameter :: sqrt3 = sqrt(3.0_wp)
-    !> Particles per chunk of drucker_prager_update_stress_block (structure-of-arrays copies
-    !> of this size on the stack).
-    integer, parameter :: block_chunk = 32
 
     ! Drucker-Prager cone matched to Mohr-Coulomb
     integer, parameter :: cone_plane_strain = 1  !! same collapse load in plane strain
@@ -70,9 +67,9 @@ module mpm_material_drucker_prager
         procedure :: writes_plastic_strain => drucker_prager_writes_plastic_strain
         procedure :: summary => drucker_prager_summary
         procedure :: update_stress => drucker_prager_update_stress
+            !! exact return mapping of one particle over one step
         procedure :: update_stress_block => drucker_prager_update_stress_block
             !! the same for a block, without a branch per particle (vectorised)
-            !! exact return mapping of one particle over one step
         procedure :: nstate => drucker_prager_nstate
             !! two state values: eps_q and the plastic volumetric strain
         procedure :: strength_after => drucker_prager_strength
@@ -321,15 +318,7 @@ contains
         ! elastic trial stress from the rotated stress of the start of the step
         call add_elastic_trial(self, stress, de(1:n), omega)
 
-        ! tension limit on the mean stress (none for a cylinder without a given cut-off)
-        cutoff = alpha > 0.0_wp .or. self%strength%tension_cutoff >= 0.0_wp
-        sigma_t = 0.0_wp
-        if (alpha > 0.0_wp) then
-            sigma_t = k/alpha
-            if (self%strength%tension_cutoff >= 0.0_wp) sigma_t = min(sigma_t, self%strength%tension_cutoff)
-        else if (cutoff) then
-            sigma_t = self%strength%tension_cutoff
-        end if
+        call mean_stress_limit(self, alpha, k, cutoff, sigma_t)
 
         call mean_and_deviator(stress, m_tr, dev(1:n), rho_tr)
         f_tr = rho_tr + alpha*m_tr - k
@@ -378,6 +367,28 @@ contains
         end if
     end subroutine drucker_prager_update_stress
 
+    !> The tension limit on the mean stress: the apex k / alpha, or the cut-off below it; none
+    !> for a cylinder (alpha = 0) without a given cut-off.
+    pure subroutine mean_stress_limit(self, alpha, k, cutoff, sigma_t)
+        class(drucker_prager_material_type), intent(in) :: self
+            !! the material
+        real(wp), intent(in) :: alpha, k
+            !! the cone's constants (drucker_prager_cone)
+        logical, intent(out) :: cutoff
+            !! whether the mean stress is limited
+        real(wp), intent(out) :: sigma_t
+            !! its limit (0 without one) [Pa]
+
+        cutoff = alpha > 0.0_wp .or. self%strength%tension_cutoff >= 0.0_wp
+        sigma_t = 0.0_wp
+        if (alpha > 0.0_wp) then
+            sigma_t = k/alpha
+            if (self%strength%tension_cutoff >= 0.0_wp) sigma_t = min(sigma_t, self%strength%tension_cutoff)
+        else if (cutoff) then
+            sigma_t = self%strength%tension_cutoff
+        end if
+    end subroutine mean_stress_limit
+
     !> drucker_prager_update_stress of a block of particles, in chunks copied to structures of
     !> arrays: the elastic predictor and the return (cone, tension plane, corner or none) as
     !> one loop without a branch per particle, every region computed and the valid one chosen
@@ -400,41 +411,26 @@ contains
         real(wp), intent(inout) :: state(:, :)
             !! states (see drucker_prager_update_stress; at least n)
 
-        real(wp) :: t(block_chunk, 6), d(block_chunk, 6), w(block_chunk, 3)
-        real(wp) :: dq(block_chunk), dv(block_chunk)
+        real(wp) :: t(material_chunk, 6), d(material_chunk, 6), w(material_chunk, 3)
+        real(wp) :: dq(material_chunk), dv(material_chunk)
         real(wp) :: friction, cohesion, dilatancy, alpha, k, alpha_psi, sigma_t
         integer :: j, j0, nc, ns
         logical :: cutoff
 
         if (self%strength%softening /= softening_none .or. self%strength%separation) then
-            do j = 1, n
-                call self%update_stress(stress(:, j), dstrain(:, j), omega(:, j), dt, &
-                    state(:, j))
-            end do
+            call update_each(self, n, stress, dstrain, omega, dt, state)
             return
         end if
         call self%strength_after(0.0_wp, friction, cohesion, dilatancy)
         call drucker_prager_cone(self%cone, friction, cohesion, dilatancy, alpha, k, alpha_psi)
-        ! tension limit on the mean stress, as drucker_prager_update_stress
-        cutoff = alpha > 0.0_wp .or. self%strength%tension_cutoff >= 0.0_wp
-        sigma_t = 0.0_wp
-        if (alpha > 0.0_wp) then
-            sigma_t = k/alpha
-            if (self%strength%tension_cutoff >= 0.0_wp) sigma_t = min(sigma_t, self%strength%tension_cutoff)
-        else if (cutoff) then
-            sigma_t = self%strength%tension_cutoff
-        end if
+        call mean_stress_limit(self, alpha, k, cutoff, sigma_t)
 
         ns = size(stress, 1)
         t = 0.0_wp
         d = 0.0_wp
-        do j0 = 1, n, block_chunk
-            nc = min(block_chunk, n - j0 + 1)
-            do j = 1, nc
-                t(j, 1:ns) = stress(1:ns, j0 + j - 1)
-                d(j, 1:ns) = dstrain(1:ns, j0 + j - 1)
-                w(j, :) = omega(:, j0 + j - 1)
-            end do
+        do j0 = 1, n, material_chunk
+            nc = min(material_chunk, n - j0 + 1)
+            call chunk_in(stress, dstrain, omega, j0, nc, t, d, w)
             call return_chunk(self, nc, ns, t, d, w, alpha, k, alpha_psi, cutoff, sigma_t, dq, dv)
             do j = 1, nc
                 stress(1:ns, j0 + j - 1) = t(j, 1:ns)
@@ -455,11 +451,11 @@ contains
             !! particles in the chunk
         integer, intent(in) :: ns
             !! stress components (4 or 6; the others are zero)
-        real(wp), intent(inout) :: stress(block_chunk, 6)
+        real(wp), intent(inout) :: stress(material_chunk, 6)
             !! stresses (particle, component); on exit the updated ones [Pa]
-        real(wp), intent(in) :: dstrain(block_chunk, 6)
+        real(wp), intent(in) :: dstrain(material_chunk, 6)
             !! strain increments [-]
-        real(wp), intent(in) :: omega(block_chunk, 3)
+        real(wp), intent(in) :: omega(material_chunk, 3)
             !! spin increments [-]
         real(wp), intent(in) :: alpha, k, alpha_psi
             !! the cone's constants (drucker_prager_cone)
@@ -467,9 +463,9 @@ contains
             !! whether the mean stress is limited
         real(wp), intent(in) :: sigma_t
             !! its limit [Pa]
-        real(wp), intent(out) :: dq(block_chunk)
+        real(wp), intent(out) :: dq(material_chunk)
             !! increments of eps_q [-]
-        real(wp), intent(out) :: dv(block_chunk)
+        real(wp), intent(out) :: dv(material_chunk)
             !! increments of the plastic volumetric strain [-]
 
         real(wp) :: g, g2, lame, bulk, limit, rho_c, stiffness

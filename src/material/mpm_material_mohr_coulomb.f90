@@ -80,7 +80,7 @@ module mpm_material_mohr_coulomb
     use mpm_case_cursor, only: cursor_type
     use mpm_softening, only: softened_strength, softening_none
     use mpm_separation, only: close_opening
-    use mpm_material, only: material_key_width, work_plastic
+    use mpm_material, only: material_key_width, work_plastic, update_each, material_chunk, chunk_in
     use mpm_elastic_solid, only: elastic_solid_type, elastic_keys
     use mpm_strength, only: strength_type, read_strength, strength_keys, strength_section_keys, &
         strength_summary
@@ -113,9 +113,6 @@ module mpm_material_mohr_coulomb
     !> Relative round-off allowed in the yield check and in the tests of a candidate [-].
     real(wp), parameter :: tol_yield = 16.0_wp*epsilon(1.0_wp)
     real(wp), parameter :: tol_candidate = 64.0_wp*epsilon(1.0_wp)
-    !> Particles per chunk of mohr_coulomb_update_stress_block (structure-of-arrays copies of
-    !> this size on the stack: a multiple of the vector length, small enough for L1).
-    integer, parameter :: block_chunk = 32
 
     !> The planes of one step: the strength with the trigonometric values the return uses.
     type :: mohr_coulomb_surface_type
@@ -489,29 +486,21 @@ contains
         real(wp), intent(inout) :: state(:, :)
             !! states (see mohr_coulomb_update_stress; at least n)
 
-        real(wp) :: t(block_chunk, 6), d(block_chunk, 6), w(block_chunk, 3)
-        real(wp) :: mean(block_chunk), values(block_chunk, 3), magnitude(block_chunk)
-        real(wp) :: radius(block_chunk)
-        logical :: elastic(block_chunk)
+        real(wp) :: t(material_chunk, 6), d(material_chunk, 6), w(material_chunk, 3)
+        real(wp) :: mean(material_chunk), values(material_chunk, 3), magnitude(material_chunk)
+        real(wp) :: radius(material_chunk)
+        logical :: elastic(material_chunk)
         integer :: j, j0, nc, ns
 
         if (self%strength%softening /= softening_none .or. self%strength%separation .or. &
             self%jacobi_only) then
-            do j = 1, n
-                call self%update_stress(stress(:, j), dstrain(:, j), omega(:, j), dt, &
-                    state(:, j))
-            end do
+            call update_each(self, n, stress, dstrain, omega, dt, state)
             return
         end if
         ns = size(stress, 1)
-        do j0 = 1, n, block_chunk
-            nc = min(block_chunk, n - j0 + 1)
-            ! the chunk's stresses, strain increments and spins as structure of arrays
-            do j = 1, nc
-                t(j, 1:ns) = stress(1:ns, j0 + j - 1)
-                d(j, 1:ns) = dstrain(1:ns, j0 + j - 1)
-                w(j, :) = omega(:, j0 + j - 1)
-            end do
+        do j0 = 1, n, material_chunk
+            nc = min(material_chunk, n - j0 + 1)
+            call chunk_in(stress, dstrain, omega, j0, nc, t, d, w)
             if (ns == 6) then
                 call trial_chunk_3d(self, nc, t, d, w, mean, values, magnitude, elastic)
             else
@@ -531,6 +520,30 @@ contains
         end do
     end subroutine mohr_coulomb_update_stress_block
 
+    !> The constants of the chunk loops (trial_chunk_3d, trial_chunk_2d): 2 G, lambda, and
+    !> the peak planes of clearly_elastic, with the floor of its stress scale and the limit on
+    !> s1 (huge without a cut-off: s1 - limit stays finite and negative).
+    pure subroutine elastic_test_constants(self, g2, lame, sphi, k, floor, limit)
+        class(mohr_coulomb_material_type), intent(in) :: self
+            !! the material (no softening)
+        real(wp), intent(out) :: g2, lame
+            !! 2 G and lambda [Pa]
+        real(wp), intent(out) :: sphi, k
+            !! sin(phi) [-] and 2 c cos(phi) [Pa]
+        real(wp), intent(out) :: floor
+            !! the smallest stress scale of the margin [Pa]
+        real(wp), intent(out) :: limit
+            !! largest principal stress of the cut-off [Pa]
+
+        g2 = 2.0_wp*self%shear
+        lame = self%lame
+        sphi = self%peak%sin_friction
+        k = self%peak%k
+        floor = max(k, sqrt(tiny(1.0_wp)))
+        if (self%peak%cutoff) floor = max(floor, abs(self%peak%tension))
+        limit = merge(self%peak%tension, huge(1.0_wp), self%peak%cutoff)
+    end subroutine elastic_test_constants
+
     !> The elastic predictor of a chunk in 3D (the Jaumann rotation of mpm_stress, then
     !> Hooke), its principal values in closed form (deviator_eigenvalues) and the test of
     !> clearly_elastic against the peak planes, written out as one loop over the particles
@@ -540,40 +553,30 @@ contains
             !! the material (no softening)
         integer, intent(in) :: n
             !! particles in the chunk
-        real(wp), intent(inout) :: stress(block_chunk, 6)
+        real(wp), intent(inout) :: stress(material_chunk, 6)
             !! stresses (particle, component); on exit the trial stresses [Pa]
-        real(wp), intent(in) :: dstrain(block_chunk, 6)
+        real(wp), intent(in) :: dstrain(material_chunk, 6)
             !! strain increments [-]
-        real(wp), intent(in) :: omega(block_chunk, 3)
+        real(wp), intent(in) :: omega(material_chunk, 3)
             !! spin increments [-]
-        real(wp), intent(out) :: mean(block_chunk)
+        real(wp), intent(out) :: mean(material_chunk)
             !! mean trial stress [Pa]
-        real(wp), intent(out) :: mu(block_chunk, 3)
+        real(wp), intent(out) :: mu(material_chunk, 3)
             !! deviatoric principal values, mu(:, 1) >= mu(:, 3) (deviator_eigenvalues) [Pa]
-        real(wp), intent(out) :: magnitude(block_chunk)
+        real(wp), intent(out) :: magnitude(material_chunk)
             !! largest absolute component of the trial stress [Pa]
-        logical, intent(out) :: elastic(block_chunk)
+        logical, intent(out) :: elastic(material_chunk)
             !! clearly_elastic: the trial stress is the answer
 
         real(wp), parameter :: third_turn = 2.0_wp*acos(-1.0_wp)/3.0_wp
         real(wp), parameter :: margin_factor = 1.0e-6_wp
-        real(wp) :: g2, lame, sphi, k, tension, floor, limit
+        real(wp) :: g2, lame, sphi, k, floor, limit
         real(wp) :: a1, a2, a3, a4, a5, a6, o1, o2, o3, dvol
         real(wp) :: t1, t2, t3, t4, t5, t6, m, b1, b2, b3, j2, j2safe, radius, r, angle
         real(wp) :: c1, c3, mu1, mu3, s1, s3, big, margin, deviatoric
-        logical :: cutoff
         integer :: j
 
-        g2 = 2.0_wp*self%shear
-        lame = self%lame
-        sphi = self%peak%sin_friction
-        k = self%peak%k
-        cutoff = self%peak%cutoff
-        tension = self%peak%tension
-        floor = max(k, sqrt(tiny(1.0_wp)))
-        if (cutoff) floor = max(floor, abs(tension))
-        ! without a cut-off no limit on s1 (huge: s1 - limit stays finite and negative)
-        limit = merge(tension, huge(1.0_wp), cutoff)
+        call elastic_test_constants(self, g2, lame, sphi, k, floor, limit)
         do j = 1, n
             a1 = stress(j, 1)
             a2 = stress(j, 2)
@@ -643,35 +646,25 @@ contains
             !! the material (no softening)
         integer, intent(in) :: n
             !! particles in the chunk
-        real(wp), intent(inout) :: stress(block_chunk, 6)
+        real(wp), intent(inout) :: stress(material_chunk, 6)
             !! stresses (particle, component; the first 4); on exit the trial stresses [Pa]
-        real(wp), intent(in) :: dstrain(block_chunk, 6)
+        real(wp), intent(in) :: dstrain(material_chunk, 6)
             !! strain increments (the first 4) [-]
-        real(wp), intent(in) :: omega(block_chunk, 3)
+        real(wp), intent(in) :: omega(material_chunk, 3)
             !! spin increments [-]
-        real(wp), intent(out) :: p(block_chunk, 3)
+        real(wp), intent(out) :: p(material_chunk, 3)
             !! in-plane major, in-plane minor and zz trial principal stresses [Pa]
-        real(wp), intent(out) :: radius(block_chunk)
+        real(wp), intent(out) :: radius(material_chunk)
             !! radius of Mohr's circle in the plane [Pa]
-        logical, intent(out) :: elastic(block_chunk)
+        logical, intent(out) :: elastic(material_chunk)
             !! clearly_elastic: the trial stress is the answer
 
         real(wp), parameter :: margin_factor = 1.0e-6_wp
-        real(wp) :: g2, lame, sphi, k, tension, floor, limit
+        real(wp) :: g2, lame, sphi, k, floor, limit
         real(wp) :: a1, a2, a4, w1, dvol, t1, t2, t3, t4, centre, half, rad, s1, s3, margin
-        logical :: cutoff
         integer :: j
 
-        g2 = 2.0_wp*self%shear
-        lame = self%lame
-        sphi = self%peak%sin_friction
-        k = self%peak%k
-        cutoff = self%peak%cutoff
-        tension = self%peak%tension
-        floor = max(k, sqrt(tiny(1.0_wp)))
-        if (cutoff) floor = max(floor, abs(tension))
-        ! without a cut-off no limit on s1 (huge: s1 - limit stays finite and negative)
-        limit = merge(tension, huge(1.0_wp), cutoff)
+        call elastic_test_constants(self, g2, lame, sphi, k, floor, limit)
         do j = 1, n
             a1 = stress(j, 1)
             a2 = stress(j, 2)
