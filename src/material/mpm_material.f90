@@ -58,7 +58,7 @@ module mpm_material
             !! stress update of one particle over one step
         procedure :: nstate => material_nstate
             !! number of state variables per particle (default 0)
-        procedure :: update_stress_block => material_update_stress_block
+        procedure :: update_stress_block => update_each
             !! update_stress of a block of particles (default: one by one); a material whose
             !! update is a few operations overrides it with a loop over the block
         procedure :: work_kind => material_work_kind
@@ -158,26 +158,6 @@ contains
 
         material_writes_plastic_strain = .false.
     end function material_writes_plastic_strain
-
-    !> Stress update of n particles of this material over one step: update_stress of each.
-    pure subroutine material_update_stress_block(self, n, stress, dstrain, omega, dt, state)
-        class(material_type), intent(in) :: self
-            !! the material
-        integer, intent(in) :: n
-            !! particles in the block
-        real(wp), intent(inout) :: stress(:, :)
-            !! Cauchy stresses (4 or 6, at least n), tension positive [Pa]
-        real(wp), intent(in) :: dstrain(:, :)
-            !! strain increments D dt (tensor components, as stress) [-]
-        real(wp), intent(in) :: omega(:, :)
-            !! spin increments W dt (xy, yz, zx; 3, at least n) [-]
-        real(wp), intent(in) :: dt
-            !! time step [s]
-        real(wp), intent(inout) :: state(:, :)
-            !! material states (at least nstate(), at least n)
-
-        call update_each(self, n, stress, dstrain, omega, dt, state)
-    end subroutine material_update_stress_block
 
     !> update_stress of each of n particles, one by one: the default block update, and what
     !> a block update that vectorises does for the cases it does not take.

@@ -78,10 +78,9 @@ contains
                     call gather_avgrad_3d_x2(stc, p, fa, fv, a, v, gradient, n2, n3, o1, o2, o3)
                 case (43)
                     call gather_a_3d_x3(stc, p, fa, fv, a, v, gradient, n2, n3, o1, o2, o3)
-                case (42)
-                    call gather_a_3d_x2(stc, p, fa, fv, a, v, gradient, n2, n3, o1, o2, o3)
                 case default
-                    error stop "mpm_kernel_gather: a window of 2 or 3 nodes and a known pass"
+                    ! 42: the last of an exhaustive list (windows of 2 or 3 nodes, known passes)
+                    call gather_a_3d_x2(stc, p, fa, fv, a, v, gradient, n2, n3, o1, o2, o3)
                 end select
             else
                 select case (10*pass + n1)
@@ -105,10 +104,9 @@ contains
                     call gather_avgrad_2d_x2(stc, p, fa, fv, a, v, gradient, n2, o1, o2)
                 case (43)
                     call gather_a_2d_x3(stc, p, fa, fv, a, v, gradient, n2, o1, o2)
-                case (42)
-                    call gather_a_2d_x2(stc, p, fa, fv, a, v, gradient, n2, o1, o2)
                 case default
-                    error stop "mpm_kernel_gather: a window of 2 or 3 nodes and a known pass"
+                    ! 42: the last of an exhaustive list (windows of 2 or 3 nodes, known passes)
+                    call gather_a_2d_x2(stc, p, fa, fv, a, v, gradient, n2, o1, o2)
                 end select
             end if
         case (23)

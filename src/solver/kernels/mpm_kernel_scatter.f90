@@ -116,11 +116,10 @@ contains
                 case (43)
                     call scatter_remap_apic_3d_x3(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, &
                         n2, n3, o1, o2, o3)
-                case (42)
+                case default
+                    ! 42: the last of an exhaustive list (windows of 2 or 3 nodes, known passes)
                     call scatter_remap_apic_3d_x2(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, &
                         n2, n3, o1, o2, o3)
-                case default
-                    error stop "mpm_kernel_scatter: a window of 2 or 3 nodes and a known pass"
                 end select
             else
                 select case (10*pass + n1)
@@ -151,11 +150,10 @@ contains
                 case (43)
                     call scatter_remap_apic_2d_x3(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, &
                         n2, o1, o2)
-                case (42)
+                case default
+                    ! 42: the last of an exhaustive list (windows of 2 or 3 nodes, known passes)
                     call scatter_remap_apic_2d_x2(stc, origin, dx, p, shift, m, xp, vp, aff, vs, bf, buf, &
                         n2, o1, o2)
-                case default
-                    error stop "mpm_kernel_scatter: a window of 2 or 3 nodes and a known pass"
                 end select
             end if
         case (23)
