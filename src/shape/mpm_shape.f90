@@ -168,8 +168,10 @@ contains
         initial_domain = .false.
     end function initial_domain
 
-    !> weights_1d of every particle along every axis of the grid: the generic loop (one
-    !> dynamic call per particle and axis); a shape function may override it.
+    !> weights_1d of the particles given along every axis of the grid: the generic loop (one
+    !> dynamic call per particle and axis); a shape function may override it. Serial: the
+    !> stencils call it for blocks of particles, on several threads
+    !> (mpm_stencil::compute_stencils).
     subroutine weights_all(self, grid, x, lp, first, w, dw)
         class(shape_type), intent(in) :: self
             !! the shape function
@@ -192,8 +194,6 @@ contains
         real(wp) :: xi, w1(size(w, 1)), dw1(size(w, 1))
 
         nps = size(w, 1)
-        !$omp parallel do default(none) schedule(static) &
-        !$omp shared(self, grid, x, lp, first, w, dw, nps) private(p, a, xi, w1, dw1)
         do p = 1, size(x, 2)
             do a = 1, grid%dim
                 xi = (x(a, p) - grid%origin(a))/grid%dx
@@ -202,7 +202,6 @@ contains
                 dw(:, a, p) = dw1(1:nps - 1)
             end do
         end do
-        !$omp end parallel do
     end subroutine weights_all
 
     !> The boundary modification of a spline basis: the weight of a node one beyond a grid

@@ -149,6 +149,12 @@ contains
         names = [character(len=shape_name_width) :: "cpgimp", "gimp"]
     end subroutine gimp_names
 
+    !> The weights of the particles given along every axis, as gimp_weights_1d gives them
+    !> (the same operations, so the same bits), over blocks of particles: along one axis at
+    !> a time, the block's positions are copied to contiguous scratch, the weights are formed
+    !> for the whole block in vector registers (several particles per instruction) and
+    !> stored to the particles' stencils afterwards. Serial, as every weights_all: the
+    !> stencils thread over blocks of particles (mpm_stencil::compute_stencils).
     subroutine gimp_weights_all(self, grid, x, lp, first, w, dw)
         class(gimp_shape_type), intent(in) :: self
         type(grid_type), intent(in) :: grid
@@ -156,20 +162,43 @@ contains
         integer, intent(out) :: first(:, :)
         real(wp), intent(out) :: w(:, :, :), dw(:, :, :)
 
-        integer :: p, a
-        real(wp) :: xi, w3(width), dw3(width)
+        integer, parameter :: block = 64
+            !! particles per block (their scratch stays in the first-level cache)
+        integer :: p0, nb, j, a, k
+        integer :: fs(block)
+        real(wp) :: xb(block), lb(block), ws(block, width), dws(block, width), inv_dx, &
+            origin, dx, cells, xi, l, half_inv_l
 
-        !$omp parallel do default(none) schedule(static) shared(grid, x, lp, first, w, dw) &
-        !$omp private(p, a, xi, w3, dw3)
-        do p = 1, size(x, 2)
+        dx = grid%dx
+        inv_dx = 1.0_wp/dx
+        do p0 = 1, size(x, 2), block
+            nb = min(block, size(x, 2) - p0 + 1)
             do a = 1, grid%dim
-                xi = (x(a, p) - grid%origin(a))/grid%dx
-                call gimp_weights_1d(xi, lp(a, p), grid%dx, grid%ncells(a), first(a, p), w3, dw3)
-                w(:, a, p) = w3
-                dw(:, a, p) = dw3(1:width - 1)
+                origin = grid%origin(a)
+                cells = real(grid%ncells(a), wp)
+                do j = 1, nb
+                    xb(j) = x(a, p0 + j - 1)
+                    lb(j) = lp(a, p0 + j - 1)
+                end do
+                ! gimp_weights_1d, particle by particle of the block
+                do j = 1, nb
+                    xi = (xb(j) - origin)/dx
+                    l = min(lb(j)*inv_dx, 0.5_wp, xi, cells - xi)
+                    l = max(l, 1.0e-6_wp)
+                    half_inv_l = 0.5_wp/l
+                    fs(j) = floor(xi - 0.5_wp)
+                    do k = 1, width
+                        call gimp_weight_cells(xi - real(fs(j) + k - 1, wp), l, half_inv_l, &
+                            inv_dx, ws(j, k), dws(j, k))
+                    end do
+                end do
+                do j = 1, nb
+                    first(a, p0 + j - 1) = fs(j)
+                    w(:, a, p0 + j - 1) = ws(j, :)
+                    dw(:, a, p0 + j - 1) = dws(j, 1:width - 1)
+                end do
             end do
         end do
-        !$omp end parallel do
     end subroutine gimp_weights_all
 
 end module mpm_shape_gimp

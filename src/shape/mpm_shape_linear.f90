@@ -76,6 +76,8 @@ contains
         names = [character(len=shape_name_width) :: "linear"]
     end subroutine linear_names
 
+    !> The linear weights of the particles given along every axis (serial, as every
+    !> weights_all: mpm_stencil::compute_stencils threads over blocks of particles).
     subroutine linear_weights_all(self, grid, x, lp, first, w, dw)
         class(linear_shape_type), intent(in) :: self
         type(grid_type), intent(in) :: grid
@@ -86,8 +88,6 @@ contains
         integer :: p, a
         real(wp) :: xi, w2(width), dw2(width)
 
-        !$omp parallel do default(none) schedule(static) shared(grid, x, lp, first, w, dw) &
-        !$omp private(p, a, xi, w2, dw2)
         do p = 1, size(x, 2)
             do a = 1, grid%dim
                 xi = (x(a, p) - grid%origin(a))/grid%dx
@@ -96,7 +96,6 @@ contains
                 dw(:, a, p) = dw2(1:width - 1)
             end do
         end do
-        !$omp end parallel do
     end subroutine linear_weights_all
 
 end module mpm_shape_linear

@@ -71,7 +71,7 @@ module mpm_stencil
             !! 1D weight derivatives of the first nps - 1 nodes (nps - 1, dim, n) [1/m]
         integer, allocatable :: window(:)
             !! per particle, the window of its nonzero weights when the stencils are tensor
-            !! products of width 3 (`nonzero_window`): bits 0 .. dim - 1 set where an axis keeps
+            !! products of width 3 (`nonzero_windows`): bits 0 .. dim - 1 set where an axis keeps
             !! 2 nodes, bits 3 .. 2 + dim where the window starts one node past `first` (n)
         logical :: tensor = .true.
             !! the weights are products of the 1D factors w, dw; false for a shape function
@@ -133,9 +133,11 @@ contains
         logical, intent(in), optional :: cells
             !! also keep the cell of each particle (stc%cell; F-bar)
 
-        integer :: p, a, k, dim, nps, kept, first, shift, c, q, nlayers, nb, b, bad
+        integer, parameter :: stencil_block = 256
+            !! particles per block of the weights and the stencils' own work
+        integer :: p, a, k, dim, nps, c, q, nlayers, nb, b, bad, p0, p1
         integer :: cell_stride(3)
-        logical :: windowed_stencils
+        logical :: windowed_stencils, initial
 
         dim = grid%dim
         nps = shape%nodes_per_axis()
@@ -159,46 +161,43 @@ contains
                 return
             end if
         class default
-            if (shape%initial_domain()) then
-                ! uGIMP: the particle domain at its initial size
-                call shape%weights_all(grid, particles%x, particles%lp0, stc%first, stc%w, stc%dw)
-            else
-                call shape%weights_all(grid, particles%x, particles%lp, stc%first, stc%w, stc%dw)
-            end if
+            ! tensor-product shapes: their weights are evaluated block by block below
         end select
+        initial = stc%tensor .and. shape%initial_domain()
         cell_stride = [1, grid%ncells(1), grid%ncells(1)*grid%ncells(2)]
         windowed_stencils = windowed(stc)
+        ! block by block: the weights of a block (the shape function's weights_all), then
+        ! what the stencils keep of them while they are in the cache
         !$omp parallel do default(none) schedule(static) &
-        !$omp shared(stc, grid, particles, dim, nps, cell_stride, windowed_stencils) &
-        !$omp private(p, a, k, kept, first, shift, c)
-        do p = 1, particles%n
-            c = 1
-            if (.not. stc%tensor) then
-                ! the box of a full stencil lies inside the grid already
-                if (stc%with_cells) then
+        !$omp shared(stc, grid, particles, shape, dim, nps, cell_stride, windowed_stencils, &
+        !$omp initial) &
+        !$omp private(p0, p1, p, a, c)
+        do p0 = 1, particles%n, stencil_block
+            p1 = min(p0 + stencil_block - 1, particles%n)
+            if (initial) then
+                ! uGIMP: the particle domain at its initial size
+                call shape%weights_all(grid, particles%x(:, p0:p1), particles%lp0(:, p0:p1), &
+                    stc%first(:, p0:p1), stc%w(:, :, p0:p1), stc%dw(:, :, p0:p1))
+            else if (stc%tensor) then
+                call shape%weights_all(grid, particles%x(:, p0:p1), particles%lp(:, p0:p1), &
+                    stc%first(:, p0:p1), stc%w(:, :, p0:p1), stc%dw(:, :, p0:p1))
+            end if
+            if (stc%tensor) then
+                ! keep the stencils inside the grid: the nodes they drop have zero weight
+                call keep_inside(nps, dim, p1 - p0 + 1, grid%nn, stc%nper, stc%first(:, p0:p1), &
+                    stc%w(:, :, p0:p1), stc%dw(:, :, p0:p1))
+                if (windowed_stencils) call nonzero_windows(dim, p1 - p0 + 1, &
+                    stc%w(:, :, p0:p1), stc%window(p0:p1))
+            end if
+            if (stc%with_cells) then
+                do p = p0, p1
+                    c = 1
                     do a = 1, dim
                         c = c + axis_cell(grid, particles%x(a, p), a)*cell_stride(a)
                     end do
                     stc%cell(p) = c
-                end if
-                cycle
-            end if
-            do a = 1, dim
-                ! keep the stencil inside the grid: the nodes it drops have zero weight
-                first = stc%first(a, p)
-                kept = stc%nper(a)
-                shift = max(0, min(first, grid%nn(a) - kept)) - first
-                if (shift /= 0 .or. kept < nps) then
-                    call shift_factors(stc%w(:, a, p), stc%dw(:, a, p), shift, kept)
-                    stc%first(a, p) = first + shift
-                end if
-                do k = 1, nps - 1   ! without branches: where w is zero depends on the position
-                    stc%dw(k, a, p) = merge(stc%dw(k, a, p), 0.0_wp, stc%w(k, a, p) > 0.0_wp)
                 end do
-                if (stc%with_cells) c = c + axis_cell(grid, particles%x(a, p), a)*cell_stride(a)
-            end do
-            if (stc%with_cells) stc%cell(p) = c
-            if (windowed_stencils) stc%window(p) = nonzero_window(stc, p)
+            end if
         end do
         !$omp end parallel do
 
@@ -289,6 +288,75 @@ contains
             "stretched beyond what CPDI1 represents; a finer particle spacing (more particles "// &
             "per cell) or another shape function (solver.shape_function) avoids it", exit_numerical)
     end subroutine domain_error
+
+    !> The stencils of a block of n particles kept inside the grid: a stencil that reaches
+    !> past a grid end moves its first node inside (shift_factors; the nodes it drops have
+    !> zero weight), and the derivative of a node of zero weight is zero (exactly; without
+    !> branches: where a weight is zero depends on the position). On the block's arrays as
+    !> plain arrays (their addresses known once, not reloaded from the stencils after every
+    !> store).
+    pure subroutine keep_inside(nps, dim, n, nn, nper, first, w, dw)
+        integer, intent(in) :: nps, dim, n
+            !! nodes per axis of the shape function, space dimensions, particles
+        integer, intent(in) :: nn(3), nper(3)
+            !! nodes of the grid per axis, nodes of the stencils per axis
+        integer, intent(inout) :: first(dim, n)
+            !! first node per axis (0-based)
+        real(wp), intent(inout) :: w(nps, dim, n)
+            !! weights [-]
+        real(wp), intent(inout) :: dw(nps - 1, dim, n)
+            !! derivatives of the first nps - 1 nodes [1/m]
+
+        integer :: p, a, k, shift
+
+        do p = 1, n
+            do a = 1, dim
+                shift = max(0, min(first(a, p), nn(a) - nper(a))) - first(a, p)
+                if (shift /= 0 .or. nper(a) < nps) then
+                    call shift_factors(w(:, a, p), dw(:, a, p), shift, nper(a))
+                    first(a, p) = first(a, p) + shift
+                end if
+            end do
+        end do
+        do p = 1, n
+            do a = 1, dim
+                do k = 1, nps - 1
+                    dw(k, a, p) = merge(dw(k, a, p), 0.0_wp, w(k, a, p) > 0.0_wp)
+                end do
+            end do
+        end do
+    end subroutine keep_inside
+
+    !> The window of each particle's stencil of width 3 that holds its nonzero weights: along
+    !> each axis the 3 nodes, or 2 when the first or the last weight is zero (a cpGIMP domain
+    !> inside one cell: at 2 particles per cell about half of the particles and axes of a flow,
+    !> all of them in an undeformed body). The kernels then skip the node of zero weight and
+    !> zero derivative, whose products add nothing. Bit a - 1 of the result is set when axis a
+    !> keeps 2 nodes, bit 2 + a when its window starts one node past `first` (the first weight
+    !> is the zero one); stored per particle and step in stc%window. For a block of n particles.
+    pure subroutine nonzero_windows(dim, n, w, window)
+        integer, intent(in) :: dim, n
+            !! space dimensions, particles
+        real(wp), intent(in) :: w(3, dim, n)
+            !! weights [-]
+        integer, intent(out) :: window(n)
+            !! the window of each particle
+
+        integer :: p, a, bits
+        logical :: zero_first, zero_last
+
+        do p = 1, n
+            bits = 0
+            do a = 1, dim
+                ! exact zeros only: a weight of round-off size still counts
+                zero_first = w(1, a, p) == 0.0_wp
+                zero_last = w(3, a, p) == 0.0_wp
+                bits = bits + merge(2**(a - 1), 0, zero_first .or. zero_last) &
+                    + merge(2**(2 + a), 0, zero_first .and. .not. zero_last)
+            end do
+            window(p) = bits
+        end do
+    end subroutine nonzero_windows
 
     !> The 1D factors of one particle and axis moved by `shift` nodes (node k takes what node
     !> k + shift had), only the first `kept` nodes kept, the others zero.
@@ -622,38 +690,12 @@ contains
     end subroutine axis_derivatives_any
 
     !> Whether the kernels take the stencils by the window of their nonzero weights
-    !> (`nonzero_window`): tensor products of width 3 on a grid that keeps all 3 nodes per axis.
+    !> (`nonzero_windows`): tensor products of width 3 on a grid that keeps all 3 nodes per axis.
     pure logical function windowed(stc)
         type(stencils_type), intent(in) :: stc
             !! stencils (nps, nper, tensor set)
         windowed = stc%tensor .and. stc%width == 3
     end function windowed
-
-    !> The window of particle p's stencil of width 3 that holds its nonzero weights: along
-    !> each axis the 3 nodes, or 2 when the first or the last weight is zero (a cpGIMP domain
-    !> inside one cell: at 2 particles per cell about half of the particles and axes of a flow,
-    !> all of them in an undeformed body). The kernels then skip the node of zero weight and
-    !> zero derivative, whose products add nothing. Bit a - 1 of the result is set when axis a
-    !> keeps 2 nodes, bit 2 + a when its window starts one node past `first` (the first weight
-    !> is the zero one); stored per particle and step in stc%window.
-    pure integer function nonzero_window(stc, p) result(window)
-        type(stencils_type), intent(in) :: stc
-            !! stencils of the step (width 3)
-        integer, intent(in) :: p
-            !! particle
-
-        integer :: a
-        logical :: zero_first, zero_last
-
-        window = 0
-        do a = 1, stc%dim
-            ! exact zeros only: a weight of round-off size still counts
-            zero_first = stc%w(1, a, p) == 0.0_wp
-            zero_last = stc%w(3, a, p) == 0.0_wp
-            if (zero_first .or. zero_last) window = ibset(window, a - 1)
-            if (zero_first .and. .not. zero_last) window = ibset(window, 2 + a)
-        end do
-    end function nonzero_window
 
     !> The 1D weights and derivatives of particle p along axis a, nodes 1 .. n (n = nper(a)),
     !> the derivatives from axis_derivatives.

@@ -1,5 +1,5 @@
 !> The scatter and gather kernels on the window of a particle's nonzero weights
-!> (mpm_stencil::nonzero_window): cpGIMP stencils of width 3 whose first or last weight is zero
+!> (mpm_stencil::nonzero_windows): cpGIMP stencils of width 3 whose first or last weight is zero
 !> (a particle domain inside one cell) run the loops of 2 nodes on that axis. Checked against
 !> the same kernels over the whole stencil of 3 nodes per axis (the variant of a grid with a
 !> narrow axis, reached by setting the stencils' fast-path width to 0): the nodal sums of a

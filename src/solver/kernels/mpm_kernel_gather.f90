@@ -4,7 +4,7 @@
 !> As the scatter kernel (mpm_kernel_scatter), the body (mpm_kernel_gather.inc) is compiled
 !> once per case with loops of constant length along x and once for any width. Stencils of
 !> width 3 (cpGIMP, uGIMP, quadratic B-splines) run over the window of the particle's nonzero
-!> weights (mpm_stencil::nonzero_window: 2 or 3 nodes per axis), in a variant per window
+!> weights (mpm_stencil::nonzero_windows: 2 or 3 nodes per axis), in a variant per window
 !> length along x and per pass: the common passes (a and v for G2P, v and its gradient for
 !> the stress update, all three for MUSL's G2P, a alone) have variants that know what they
 !> gather at compile time; any other takes the variant with the choice as arguments

@@ -3,7 +3,7 @@
 !>
 !> The body (mpm_kernel_scatter.inc) is compiled once per case with loops of constant length
 !> along x and once for any width. Stencils of width 3 (cpGIMP, uGIMP, quadratic B-splines)
-!> run over the window of the particle's nonzero weights (mpm_stencil::nonzero_window: 2 or 3
+!> run over the window of the particle's nonzero weights (mpm_stencil::nonzero_windows: 2 or 3
 !> nodes per axis), in a variant per window length along x (the innermost loop, unrolled) and
 !> per pass: P2G and the MUSL remap, with FLIP or APIC, have variants that know what they
 !> scatter at compile time (`pass_kind`); any other scatter (a body force, the USF passes,
