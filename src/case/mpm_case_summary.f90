@@ -7,6 +7,7 @@ submodule (mpm_case) mpm_case_summary
     use mpm_case_sites, only: body_site_count
     use mpm_case_stability, only: start_time_step
     use mpm_case_output_fields, only: output_fields, nfields
+    use mpm_case_guard, only: snapshot_in_memory
     implicit none
 
 contains
@@ -146,6 +147,11 @@ contains
             " x the energy scale; "
         if (case%guard%snapshot_steps > 0) then
             line = line//"healthy copy every "//int_text(case%guard%snapshot_steps)//" steps"
+            if (case%guard%snapshot_in == snapshot_in_memory) then
+                line = line//", in memory"
+            else
+                line = line//", in <output folder>/.last_healthy.h5"
+            end if
         else
             line = line//"no healthy copy"
         end if

@@ -12,6 +12,7 @@ module mpm_run
         record_length, created_particle_bytes
     use mpm_case, only: case_type
     use mpm_case_materials, only: state_variable_count
+    use mpm_case_guard, only: snapshot_in_file, snapshot_in_memory
     use mpm_boundary, only: face_nodes_type
     use mpm_setup, only: start_simulation
     use mpm_solver, only: simulation_type, advance, stable_time_step, &
@@ -40,12 +41,15 @@ module mpm_run
     integer, parameter :: request_due = 1
         !! set by checkpoint_request when a checkpoint is due (a stop signal adds its number)
 
-    !> A copy of the state after a healthy step, kept by the blow-up guard.
+    !> A copy of the state after a healthy step, kept by the blow-up guard: in a file of the
+    !> output folder (guard_copy_path, the default) or in memory.
     type :: snapshot_type
         logical :: taken = .false.
             !! a copy was taken
+        logical :: in_file = .true.
+            !! the copy is the file guard_copy_path (else `particles` and `run`)
         type(particles_type) :: particles
-            !! this image's particles
+            !! this image's particles (a copy in memory)
         real(wp) :: time = 0.0_wp
             !! simulated time [s]
         integer(i8) :: step = 0
@@ -101,8 +105,9 @@ contains
     !> clock, the energies, the contact loads and the output schedule are those of the
     !> checkpoint, the outputs continue in its folder, and on one image the rest of the run is
     !> the same, bit for bit, as one that was never stopped. The blow-up guard keeps a copy
-    !> of the state every guard.snapshot_steps steps and writes it, as a checkpoint named
-    !> last_healthy.h5, when it stops the run.
+    !> of the state every guard.snapshot_steps steps, as a checkpoint in the output folder
+    !> (.last_healthy.h5, removed when the run ends) or in memory (guard.snapshot_in), and
+    !> leaves it as last_healthy.h5 when it stops the run.
     subroutine run_case(case, options, sim, summary, error, restart, run)
         type(case_type), intent(in) :: case
             !! resolved case
@@ -221,8 +226,10 @@ contains
         if (case%checkpoint%on_signal) call catch_stop_signals()
         ! the guard's copy is only written beside the outputs: no files, no copy
         copies = case%guard%snapshot_steps > 0 .and. options%write_files
+        snapshot%in_file = case%guard%snapshot_in == snapshot_in_file
         if (copies) call take_snapshot(snapshot, sim, writer, next_output, next_history, &
-            wall_before)
+            wall_before, error)
+        if (allocated(error)) return
         ! the thread count of each step: the fastest (mpm_threads), starting with the largest
         call new_thread_governor(threads)
         nthreads = threads%most
@@ -296,10 +303,16 @@ contains
                     exit
                 end if
             end if
-            if (copies) then
-                if (mod(sim%step, int(case%guard%snapshot_steps, i8)) == 0) call take_snapshot( &
-                    snapshot, sim, writer, next_output, next_history, wall_before + &
-                    (wall_time() - t_start))
+            ! (a run that has just finished needs no copy)
+            if (copies .and. sim%time < case%time%tend - eps_t) then
+                if (mod(sim%step, int(case%guard%snapshot_steps, i8)) == 0) then
+                    clock = wall_time()
+                    call take_snapshot(snapshot, sim, writer, next_output, next_history, &
+                        wall_before + (clock - t_start), error)
+                    sim%phase_time(phase_output) = sim%phase_time(phase_output) &
+                        + (wall_time() - clock)
+                    if (allocated(error)) exit
+                end if
             end if
             if (.not. quiet .and. wall_time() - t_last_progress >= case%progress%interval) then
                 t_last_progress = wall_time()
@@ -308,6 +321,11 @@ contains
             end if
         end do
         if (case%checkpoint%on_signal) call release_stop_signals()
+        ! the guard's file copy goes (left as last_healthy.h5 when the guard stopped the run)
+        if (copies .and. snapshot%in_file .and. lead) then
+            call remove_file(guard_copy_path(case), ignored)
+            call remove_file(guard_copy_path(case)//".tmp", ignored)
+        end if
         ! the parallel loops after the run (outputs, state file) and the caller's get all
         call set_threads(threads%most)
         summary%threads = governor_text(threads)
@@ -339,7 +357,7 @@ contains
         end if
         ! particle arrays, the per-step scratch (stencils, order, cell) and the guard's copy
         summary%bytes_per_particle = particle_bytes(sim%particles) + stencil_bytes(sim%stencils)
-        if (copies) summary%bytes_per_particle = &
+        if (copies .and. .not. snapshot%in_file) summary%bytes_per_particle = &
             summary%bytes_per_particle + particle_bytes(sim%particles)
         summary%bytes_per_node = grid_bytes(sim%grid)
         summary%peak_memory_mb = peak_memory_mb()
@@ -475,19 +493,45 @@ contains
         call save_particles(path, sim%case, sim%particles, sim%time, sim%step, error, run)
     end subroutine write_checkpoint
 
-    !> Keep a copy of the state after a healthy step (collective).
-    subroutine take_snapshot(snapshot, sim, writer, next_output, next_history, wall)
+    !> Keep a copy of the state after a healthy step (collective): a checkpoint written to
+    !> guard_copy_path (through a .tmp file and a rename, so the last complete copy survives a
+    !> failed write), or the particles and the run record in memory.
+    subroutine take_snapshot(snapshot, sim, writer, next_output, next_history, wall, error)
         type(snapshot_type), intent(inout) :: snapshot
         type(simulation_type), intent(in) :: sim
         type(output_writer_type), intent(in) :: writer
         real(wp), intent(in) :: next_output, next_history, wall
+        type(error_type), allocatable, intent(out) :: error
+            !! set (on every image) when the file copy cannot be written
 
-        snapshot%particles = sim%particles
+        if (snapshot%in_file) then
+            call write_checkpoint(guard_copy_path(sim%case), sim, writer, next_output, &
+                next_history, wall, error)
+            if (allocated(error)) then
+                error%message = "the blow-up guard cannot keep its copy of the state: "// &
+                    error%message//new_line("a")//"free some disk space, or keep the copy "// &
+                    "in memory (""guard"": {""snapshot_in"": ""memory""}) or none "// &
+                    "(""guard"": {""snapshot_steps"": 0})"
+                if (image_id() /= 1) error%message = ""
+                return
+            end if
+        else
+            snapshot%particles = sim%particles
+            call record_run(sim, writer, next_output, next_history, wall, snapshot%run)
+        end if
         snapshot%time = sim%time
         snapshot%step = sim%step
-        call record_run(sim, writer, next_output, next_history, wall, snapshot%run)
         snapshot%taken = .true.
     end subroutine take_snapshot
+
+    !> The guard's file copy of the state: a hidden checkpoint in the output folder.
+    function guard_copy_path(case) result(path)
+        type(case_type), intent(in) :: case
+            !! the case
+        character(len=:), allocatable :: path
+
+        path = case%output%directory//"/.last_healthy.h5"
+    end function guard_copy_path
 
     !> After the guard stopped the run: write the last copy of a healthy state as a
     !> checkpoint beside the outputs and say so in the message (collective).
@@ -504,8 +548,13 @@ contains
 
         if (.not. snapshot%taken) return
         path = case%output%directory//"/last_healthy.h5"
-        call save_particles(path, case, snapshot%particles, snapshot%time, snapshot%step, &
-            failed, snapshot%run)
+        if (snapshot%in_file) then
+            if (image_id() == 1) call rename_file(guard_copy_path(case), path, failed)
+            call agree(failed)
+        else
+            call save_particles(path, case, snapshot%particles, snapshot%time, snapshot%step, &
+                failed, snapshot%run)
+        end if
         if (len(error%message) == 0) return
         if (allocated(failed)) then
             error%message = error%message//new_line("a")//"the last healthy state could "// &
@@ -706,7 +755,9 @@ contains
         ! variables of the materials, the APIC affine velocities and the ids of several images
         per_particle = real(created_particle_bytes(case%dim, state_variable_count(case%materials), &
             case%solver%apic, image_count() > 1), wp)
-        if (case%guard%snapshot_steps > 0) per_particle = 2.0_wp*per_particle
+        if (case%guard%snapshot_steps > 0 .and. case%guard%snapshot_in == snapshot_in_memory) then
+            per_particle = 2.0_wp*per_particle
+        end if
         ! stencils: weights and gradients, first node, order, cell
         per_particle = per_particle + real_bytes*(2.0_wp*nps - 1.0_wp)*d + int_bytes*(d + 2.0_wp)
         ! nodal fields (mass, momentum, forces, velocity, acceleration; constraints) and the
@@ -730,6 +781,7 @@ contains
         integer :: b
         real(wp) :: need
         class(shape_type), allocatable :: shape
+        character(len=:), allocatable :: hint
 
         particles = 0
         if (present(restart)) then
@@ -750,14 +802,17 @@ contains
         need = memory_estimate(case, particles, shape%nodes_per_axis())
         available = available_memory_bytes()
         if (available < 0 .or. need <= real(available, wp)) return
+        hint = ""
+        if (case%guard%snapshot_steps > 0 .and. case%guard%snapshot_in == snapshot_in_memory) then
+            hint = "; guard.snapshot_in = ""file"" keeps the guard's copy of the particles on disk"
+        end if
         call fatal_error(error, case%file//": the case needs about "//size_text(need)// &
             " of memory"//trim(merge(" per image", "          ", image_count() > 1))//" ("// &
             int_text(particles)//" particles and "// &
             int_text(int(product(real(case%domain%ncells(1:case%dim), wp) + 1.0_wp), i8))// &
             " grid nodes) but "//size_text(real(available, wp))//" is available; use a "// &
             "larger domain.dx, fewer particles.ppc, a smaller domain, or more images "// &
-            "(docs/hpc.md); guard.snapshot_steps = 0 saves the guard's copy of the particles", &
-            exit_input)
+            "(docs/hpc.md)"//hint, exit_input)
         if (image_id() /= 1) error%message = ""
     end subroutine check_memory
 
@@ -825,6 +880,8 @@ contains
         if (.not. allocated(error)) call remove_file(case%output%directory//"/last_healthy.h5", error)
         if (.not. allocated(error)) call remove_file(case%output%directory//"/last_healthy.h5.tmp", &
             error)
+        if (.not. allocated(error)) call remove_file(guard_copy_path(case), error)
+        if (.not. allocated(error)) call remove_file(guard_copy_path(case)//".tmp", error)
     end subroutine prepare_output_dir
 
     !> One line of the energy history (a failed write is reported by the next flush).

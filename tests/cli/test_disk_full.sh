@@ -3,7 +3,8 @@
 # message that names the file and says "no space left on device" (no HDF5 error stack, no
 # crash: HDF5 1.10 used to segfault in its exit handler after a failed close). The .tmp of
 # the failed write is gone, the earlier particle files, the XDMF index (which lists only
-# complete files), the energy history (whole lines) and the last checkpoint stay whole.
+# complete files), the energy history (whole lines) and the last checkpoint stay whole. The
+# blow-up guard's copy of the state (a file in the output folder) on a full disk: the same.
 # The full disk is a small tmpfs, which needs root (mount); without it the test is skipped
 # (exit code 77, CTest's SKIP_RETURN_CODE).
 # Usage: tests/cli/test_disk_full.sh path/to/mpm_geo   (run from the repository root)
@@ -138,6 +139,18 @@ whole "$mnt/o" "checkpoint on a full disk: the outputs are whole"
 expect 0 "the last checkpoint is whole" -- "$exe" "$tmp/checkpoints.json" --check --restart \
     "$mnt/o/checkpoint.h5"
 contains "(step 10) fits the case" "the last checkpoint is whole: its step"
+
+# the guard's copy of the state (a file of the output folder by default) fills it: the run
+# stops with the message of a full disk and says how to keep the copy elsewhere or not at all
+sed 's/"tend": 0.3/"tend": 0.01/; s/"interval": 0.03/"interval": 1.0/; s/"progress": {/"guard": {"snapshot_steps": 10}, "progress": {/' \
+    "$case_file" > "$tmp/guard.json"
+grep -q '"snapshot_steps": 10' "$tmp/guard.json" || bad "could not set guard.snapshot_steps"
+fill_at 128 "$mnt/o/.last_healthy.h5" "$exe" "$tmp/guard.json" --output "$mnt/o" --quiet
+failed_with 5 "guard's copy on a full disk"
+contains "the blow-up guard cannot keep its copy of the state" "guard's copy on a full disk: what"
+contains '"snapshot_in": "memory"' "guard's copy on a full disk: the other place"
+no_stack "guard's copy on a full disk"
+whole "$mnt/o" "guard's copy on a full disk: the outputs are whole"
 
 echo "disk full tests: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

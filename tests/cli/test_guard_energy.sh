@@ -33,6 +33,9 @@ beam() {
 beam 1.2 0.5 ""
 expect 0 "healthy beam (t <= 1.2 s) runs to its end" -- \
     "$exe" -q --output "$tmp/healthy" "$tmp/beam_1.2.json"
+# the guard's copy in a file (the default) goes when the run ends
+[ ! -e "$tmp/healthy/.last_healthy.h5" ] && [ ! -e "$tmp/healthy/last_healthy.h5" ] && ok \
+    || bad "a healthy run left the guard's copy in its folder: $(ls -a "$tmp/healthy")"
 
 beam 0.2 3.0 ', "allow_unstable": true'
 expect 3 "unstable beam (CFL 3) is stopped with exit code 3" -- \
@@ -41,6 +44,19 @@ contains "the run became unstable: it created energy" "the message names the qua
 contains "energy residual" "the message gives the energy created"
 contains "fastest particle " "the message names the particle"
 contains "step " "the message names the step"
+healthy_file=$(grep -o 'the last healthy state (step [0-9]*, t = [^)]*)' "$tmp/out")
+[ -f "$tmp/unstable/last_healthy.h5" ] && [ ! -e "$tmp/unstable/.last_healthy.h5" ] && ok \
+    || bad "unstable beam: the guard's file copy did not become last_healthy.h5: $(ls -a "$tmp/unstable")"
+# the copy kept in memory gives the same healthy state
+sed 's/"output": {/"guard": {"snapshot_in": "memory"}, "output": {/' "$tmp/beam_0.2.json" \
+    > "$tmp/beam_memory.json"
+grep -q '"snapshot_in": "memory"' "$tmp/beam_memory.json" || bad "could not set guard.snapshot_in"
+expect 3 "unstable beam with the guard's copy in memory is stopped with exit code 3" -- \
+    "$exe" -q --output "$tmp/memory" "$tmp/beam_memory.json"
+healthy_memory=$(grep -o 'the last healthy state (step [0-9]*, t = [^)]*)' "$tmp/out")
+[ -f "$tmp/memory/last_healthy.h5" ] && [ -n "$healthy_file" ] \
+    && [ "$healthy_file" = "$healthy_memory" ] && ok \
+    || bad "copy in memory: '$healthy_memory' against the file copy's '$healthy_file'"
 # stopped within a few steps of the start (about 1e-4 s each), far from the end time
 step_time=$(sed -n 's/.*step [0-9]*, t = *\([0-9.E+-]*\) s.*/\1/p' "$tmp/out" | head -1)
 if [ -n "$step_time" ] && awk -v t="$step_time" 'BEGIN { exit !(t > 0 && t < 0.01) }'; then

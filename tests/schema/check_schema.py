@@ -173,6 +173,8 @@ PROBES = [
      True),
     ("checkpoint every 0 steps", variant(("checkpoint", {"every_steps": 0})), False),
     ("a guard factor of 0", variant(("guard", {"energy_factor": 0})), False),
+    ("the guard's copy in memory", variant(("guard", {"snapshot_in": "memory"})), True),
+    ("the guard's copy on a disk", variant(("guard", {"snapshot_in": "disk"})), False),
     ("a $schema key (the reader refuses unknown keys)",
      variant(("$schema", "../docs/case.schema.json")), False),
 ]

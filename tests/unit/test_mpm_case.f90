@@ -11,6 +11,7 @@ program test_mpm_case
     use mpm_case_output_fields, only: field_position, output_field_index
     use mpm_case_stability, only: critical_time_step, p_wave_speed
     use mpm_case_materials, only: state_variable_count
+    use mpm_case_guard, only: snapshot_in_file, snapshot_in_memory
     use mpm_boundary, only: face_nodes_type
     use mpm_softening, only: softening_none, softening_linear, softening_exponential
     use mpm_strength, only: strength_type
@@ -310,7 +311,15 @@ contains
             .and. case%checkpoint%on_signal .and. case%checkpoint%file == "", &
             "checkpoint defaults: none periodic, on signals, default file")
         call check(suite, case%guard%energy_factor == 1.0_wp .and. &
-            case%guard%snapshot_steps == 100, "guard defaults")
+            case%guard%snapshot_steps == 100 .and. case%guard%snapshot_in == snapshot_in_file, &
+            "guard defaults")
+        call check_contains(suite, case_summary(case), "healthy copy every 100 steps, in " &
+            //"<output folder>/.last_healthy.h5", "summary: copy in a file")
+        call read_valid(suite, case_text(extra='"guard": {"snapshot_in": "Memory"}'), case, &
+            "copy in memory")
+        call check(suite, case%guard%snapshot_in == snapshot_in_memory, "guard.snapshot_in")
+        call check_contains(suite, case_summary(case), "healthy copy every 100 steps, in memory", &
+            "summary: copy in memory")
         call expect_error(suite, case_text(extra='"checkpoint": {"every_steps": 0}'), &
             [character(len=40) :: "checkpoint.every_steps", ">= 1"], "every_steps 0")
         call expect_error(suite, case_text(extra='"checkpoint": {"every_minutes": -1}'), &
@@ -323,6 +332,9 @@ contains
             [character(len=40) :: "guard.energy_factor", "> 0"], "energy_factor 0")
         call expect_error(suite, case_text(extra='"guard": {"snapshot_steps": -5}'), &
             [character(len=40) :: "guard.snapshot_steps", ">= 0"], "snapshot_steps < 0")
+        call expect_error(suite, case_text(extra='"guard": {"snapshot_in": "disk"}'), &
+            [character(len=40) :: "guard.snapshot_in", "one of", '"file"', '"memory"'], &
+            "snapshot_in not a place")
     end subroutine test_checkpoint_and_guard
 
     !> Each material type resolves with its values; angles are stored in radians.
