@@ -308,24 +308,55 @@ contains
             !! derivatives of the first nps - 1 nodes [1/m]
 
         integer :: p, a, k, shift
+        logical :: shifts
 
-        do p = 1, n
-            do a = 1, dim
-                shift = max(0, min(first(a, p), nn(a) - nper(a))) - first(a, p)
-                if (shift /= 0 .or. nper(a) < nps) then
-                    call shift_factors(w(:, a, p), dw(:, a, p), shift, nper(a))
-                    first(a, p) = first(a, p) + shift
-                end if
-            end do
+        ! a shift is rare (a particle next to a grid end): looked for in the whole block first
+        shifts = .false.
+        do a = 1, dim
+            shifts = shifts .or. nper(a) < nps .or. minval(first(a, :)) < 0 .or. &
+                maxval(first(a, :)) > nn(a) - nper(a)
         end do
-        do p = 1, n
-            do a = 1, dim
-                do k = 1, nps - 1
-                    dw(k, a, p) = merge(dw(k, a, p), 0.0_wp, w(k, a, p) > 0.0_wp)
+        if (shifts) then
+            do p = 1, n
+                do a = 1, dim
+                    shift = max(0, min(first(a, p), nn(a) - nper(a))) - first(a, p)
+                    if (shift /= 0 .or. nper(a) < nps) then
+                        call shift_factors(w(:, a, p), dw(:, a, p), shift, nper(a))
+                        first(a, p) = first(a, p) + shift
+                    end if
                 end do
             end do
-        end do
+        end if
+        if (nps == 3) then
+            call zero_derivatives_3(dim*n, w, dw)
+        else
+            do p = 1, n
+                do a = 1, dim
+                    do k = 1, nps - 1
+                        dw(k, a, p) = merge(dw(k, a, p), 0.0_wp, w(k, a, p) > 0.0_wp)
+                    end do
+                end do
+            end do
+        end if
     end subroutine keep_inside
+
+    !> keep_inside's zero derivatives at the nodes of zero weight for stencils of 3 nodes per
+    !> axis, over the m = dim n axes of a block (the loop of constant length unrolled).
+    pure subroutine zero_derivatives_3(m, w, dw)
+        integer, intent(in) :: m
+            !! axes of the block (dim times its particles)
+        real(wp), intent(in) :: w(3, m)
+            !! weights [-]
+        real(wp), intent(inout) :: dw(2, m)
+            !! derivatives of the first 2 nodes [1/m]
+
+        integer :: j
+
+        do j = 1, m
+            dw(1, j) = merge(dw(1, j), 0.0_wp, w(1, j) > 0.0_wp)
+            dw(2, j) = merge(dw(2, j), 0.0_wp, w(2, j) > 0.0_wp)
+        end do
+    end subroutine zero_derivatives_3
 
     !> The window of each particle's stencil of width 3 that holds its nonzero weights: along
     !> each axis the 3 nodes, or 2 when the first or the last weight is zero (a cpGIMP domain
