@@ -2,7 +2,8 @@
 # Speed benchmarks of mpm_geo (not a test): runs each case in bench/cases/ with 1 and 2
 # OpenMP threads (fixed: OMP_DYNAMIC=false, so each run keeps its count) and prints particles, nodes, steps, wall time, particle-steps per second,
 # memory (peak, bytes per particle and per node) and the time per phase of the step, as
-# tables and as one machine-readable line per run ("BENCH key=value ...").
+# tables and as one machine-readable line per run ("BENCH key=value ..."), after the memory
+# bandwidth of the machine (STREAM's triad, "TRIAD key=value ...").
 # Usage: bench/run_bench.sh [path/to/mpm_geo] [case.json ...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -15,6 +16,17 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
 echo "mpm_geo: $($exe --version)"
+# the memory bandwidth the cases are measured against (STREAM's triad, bench/stream_triad.f90,
+# built beside mpm_geo); docs/performance.md states the fraction of it each case reaches
+triad="$(dirname "$exe")/stream_triad"
+if [ -x "$triad" ]; then
+    for t in 1 2; do
+        OMP_NUM_THREADS=$t OMP_DYNAMIC=false OMP_PROC_BIND=true "$triad" > "$out/triad-$t.log"
+        cat "$out/triad-$t.log"
+    done
+else
+    echo "bench: $triad not found (built by 'make build'); no bandwidth figure" >&2
+fi
 printf '%-16s %7s %10s %9s %7s %9s %14s %10s %12s %10s\n' case threads particles nodes steps \
     wall_s particle-steps/s peak_MB bytes/particle bytes/node
 for c in "${cases[@]}"; do
@@ -48,6 +60,7 @@ echo "other: time step, guard, energies; output: files)"
 cat "$out/phases"
 echo
 cat "$out/lines"
+grep -h '^TRIAD' "$out"/triad-*.log 2>/dev/null || true
 echo
 # Cost against size (issue 20: particle-steps per second should not fall as the particle arrays
 # leave the caches): the B2 block at 2 x 2 particles per cell with n cells per metre, so
