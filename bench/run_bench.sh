@@ -98,5 +98,47 @@ PY
 done
 cat "$out/size_lines"
 echo
+# A sparse grid's cost (issue 20): b3_small_slide_2d (1 600 particles in 800 000 nodes) against
+# the same block in a tight domain (40 x 30 cells, the block as far from the walls and as high
+# above the base), one thread, three interleaved pairs: the ratio of the median wall times
+# (target: within 10 %) and of the peak memory.
+python3 - "$out/b3_small_slide_2d_tight.json" <<'PY'
+import json, sys
+case = json.load(open("bench/cases/b3_small_slide_2d.json"))
+case["name"] = "b3_small_slide_2d_tight"
+case["domain"].update(nx=40, ny=30)
+body = case["bodies"][0]
+width = body["max"][0] - body["min"][0]
+body["min"][0] = 0.04
+body["max"][0] = 0.04 + width
+json.dump(case, open(sys.argv[1], "w"))
+PY
+echo "b3_small_slide_2d against the same block in a tight domain (1 thread, 3 interleaved pairs)"
+for round in 1 2 3; do
+    for c in bench/cases/b3_small_slide_2d.json "$out/b3_small_slide_2d_tight.json"; do
+        name=$(basename "$c" .json)
+        log="$out/$name-$round.log"
+        OMP_NUM_THREADS=1 OMP_DYNAMIC=false OMP_PROC_BIND=true "$exe" "$c" --output "$out/$name" \
+            > "$log" 2>&1 || { echo "bench: $name failed:"; cat "$log"; exit 1; }
+        echo "$name $(awk '$1 == "wall" {print $3}' "$log") $(awk '$1 == "peak" {print $3}' "$log")" \
+            >> "$out/sparse"
+        rm -rf "${out:?}/$name"
+    done
+done
+awk '{ wall[$1] = wall[$1] " " $2; peak[$1] = $3 }
+     function median(list,   v, n, i, j, t) {
+         n = split(list, v, " ")
+         for (i = 2; i <= n; i++) for (j = i; j > 1 && v[j - 1] + 0 > v[j] + 0; j--) {
+             t = v[j]; v[j] = v[j - 1]; v[j - 1] = t }
+         return v[int((n + 1) / 2)] }
+     END {
+         big = "b3_small_slide_2d"; tight = "b3_small_slide_2d_tight"
+         printf "%-26s %10s %10s\n", "case", "wall_s", "peak_MB"
+         printf "%-26s %10.3f %10.1f\n", big, median(wall[big]), peak[big]
+         printf "%-26s %10.3f %10.1f\n", tight, median(wall[tight]), peak[tight]
+         printf "BENCH sparse_grid wall_ratio=%.3f peak_ratio=%.2f\n", \
+             median(wall[big]) / median(wall[tight]), peak[big] / peak[tight]
+     }' "$out/sparse"
+echo
 # the default case beside a busy process, with the thread count chosen per step (mpm_threads)
 bash bench/run_shared_cores.sh "$exe"
