@@ -87,7 +87,8 @@ module mpm_material_mohr_coulomb
     use mpm_stress, only: add_jaumann_rotation, voigt_matrix
     implicit none
     private
-    public :: mohr_coulomb_material_type, new_mohr_coulomb_material
+    public :: mohr_coulomb_material_type, new_mohr_coulomb_material, &
+        mohr_coulomb_principal_return
 
     !> Planes of the return: A, B, C (Mohr-Coulomb) and T1, T2, T3 (tension cut-off).
     integer, parameter :: plane_a = 1, plane_b = 2, plane_c = 3, plane_t1 = 4, plane_t2 = 5, &
@@ -155,6 +156,23 @@ module mpm_material_mohr_coulomb
         integer :: pivot(3, ncandidates)
             !! row exchanged with row j at step j of each factorisation
     end type return_planes_type
+
+    !> The principal values of a 3D trial stress between return_3d's steps (principal_values_3d,
+    !> then the return, then correct_stress_3d).
+    type :: principal_3d_type
+        logical :: spectral
+            !! the values are well apart: spectral projectors (b, off, values), else the
+            !! principal directions (vec, order)
+        real(wp) :: b(3), off(3), values(3)
+            !! deviatoric diagonal and off-diagonal of the trial stress, refined deviatoric
+            !! principal values [Pa]
+        real(wp) :: p(3)
+            !! principal trial stresses (of the eigen-decomposition, in its order) [Pa]
+        real(wp) :: vec(3, 3)
+            !! principal directions (columns)
+        integer :: order(3)
+            !! descending order of p
+    end type principal_3d_type
 
     !> Mohr-Coulomb with tension cut-off, non-associated flow and softening; E, nu, rho, G and
     !> lambda come from `elastic_solid_type`.
@@ -485,44 +503,85 @@ contains
         real(wp), intent(in) :: magnitude
             !! largest absolute component of the trial stress [Pa]
 
-        real(wp) :: b(3), off(3), values(3), p(3), ps(3), dp(3), vec(3, 3)
-        integer :: order(3)
+        type(principal_3d_type) :: pr
+        real(wp) :: ps(3)
         logical :: plastic
 
+        call principal_values_3d(self, stress, m, mu, magnitude, pr, ps)
+        call return_to_surface(self, ps, surface, plastic)
+        if (plastic) call correct_stress_3d(self, pr, ps, stress, state)
+    end subroutine return_3d
+
+    !> The principal trial stresses of return_3d, ordered s1 >= s2 >= s3, and what the
+    !> correction needs afterwards: with the values well apart, the refined values and the
+    !> deviator (spectral projectors); else the principal directions of Jacobi's method.
+    pure subroutine principal_values_3d(self, stress, m, mu, magnitude, pr, ps)
+        class(mohr_coulomb_material_type), intent(in) :: self
+            !! the material
+        real(wp), intent(in) :: stress(:)
+            !! the trial stress (6) [Pa]
+        real(wp), intent(in) :: m
+            !! mean trial stress [Pa]
+        real(wp), intent(in) :: mu(3)
+            !! deviatoric principal values of the trial stress [Pa]
+        real(wp), intent(in) :: magnitude
+            !! largest absolute component of the trial stress [Pa]
+        type(principal_3d_type), intent(out) :: pr
+            !! the principal values and what the correction needs
+        real(wp), intent(out) :: ps(3)
+            !! the principal trial stresses, ordered [Pa]
+
+        pr%spectral = .false.
         if (.not. self%jacobi_only) then
-            values = mu
-            if (well_separated(values, magnitude)) then
+            pr%values = mu
+            if (well_separated(pr%values, magnitude)) then
                 ! distinct principal values: spectral projectors, no eigenvectors
-                b = stress(1:3) - m
-                off = stress(4:6)
-                call refine_pair(b, off, values)
-                p = m + values
-                ps = p
-                call return_to_surface(self, ps, surface, plastic)
-                if (.not. plastic) return
-                dp = p - ps
-                call spectral_correction(stress, b, off, values, dp)
-                call add_plastic_strain(self, dp, ps, p, stress, state)
+                pr%spectral = .true.
+                pr%b = stress(1:3) - m
+                pr%off = stress(4:6)
+                call refine_pair(pr%b, pr%off, pr%values)
+                pr%p = m + pr%values
+                ps = pr%p
                 return
             end if
         end if
-
         ! two principal values close (or `jacobi_only`): principal directions
-        call symmetric_eigen(stress(1:6), p, vec)
-        order = descending_order(p)
-        ps = p(order)
-        call return_to_surface(self, ps, surface, plastic)
-        if (.not. plastic) return
-        ! correction of each principal value, in the order of the eigen-decomposition
-        dp(order) = p(order) - ps
-        stress(1) = stress(1) - sum(dp*vec(1, :)**2)
-        stress(2) = stress(2) - sum(dp*vec(2, :)**2)
-        stress(3) = stress(3) - sum(dp*vec(3, :)**2)
-        stress(4) = stress(4) - sum(dp*vec(1, :)*vec(2, :))
-        stress(5) = stress(5) - sum(dp*vec(2, :)*vec(3, :))
-        stress(6) = stress(6) - sum(dp*vec(3, :)*vec(1, :))
-        call add_plastic_strain(self, dp, ps, p, stress, state)
-    end subroutine return_3d
+        call symmetric_eigen(stress(1:6), pr%p, pr%vec)
+        pr%order = descending_order(pr%p)
+        ps = pr%p(pr%order)
+    end subroutine principal_values_3d
+
+    !> The stress and state after a 3D return to the principal stresses ps (principal_values_3d
+    !> gave the trial ones): the correction of each principal value, then the plastic strain.
+    pure subroutine correct_stress_3d(self, pr, ps, stress, state)
+        class(mohr_coulomb_material_type), intent(in) :: self
+            !! the material
+        type(principal_3d_type), intent(in) :: pr
+            !! the trial principal values (principal_values_3d)
+        real(wp), intent(in) :: ps(3)
+            !! the returned principal stresses, ordered [Pa]
+        real(wp), intent(inout) :: stress(:)
+            !! the trial stress (6), on exit the returned one [Pa]
+        real(wp), intent(inout) :: state(:)
+            !! state of the particle
+
+        real(wp) :: dp(3)
+
+        if (pr%spectral) then
+            dp = pr%p - ps
+            call spectral_correction(stress, pr%b, pr%off, pr%values, dp)
+        else
+            ! correction of each principal value, in the order of the eigen-decomposition
+            dp(pr%order) = pr%p(pr%order) - ps
+            stress(1) = stress(1) - sum(dp*pr%vec(1, :)**2)
+            stress(2) = stress(2) - sum(dp*pr%vec(2, :)**2)
+            stress(3) = stress(3) - sum(dp*pr%vec(3, :)**2)
+            stress(4) = stress(4) - sum(dp*pr%vec(1, :)*pr%vec(2, :))
+            stress(5) = stress(5) - sum(dp*pr%vec(2, :)*pr%vec(3, :))
+            stress(6) = stress(6) - sum(dp*pr%vec(3, :)*pr%vec(1, :))
+        end if
+        call add_plastic_strain(self, dp, ps, pr%p, stress, state)
+    end subroutine correct_stress_3d
 
     !> The return of a plane-strain trial stress that may yield, from its principal values
     !> (principal_plane), the correction in the direction of the in-plane pair.

@@ -16,7 +16,9 @@ program test_mpm_material_mohr_coulomb
     use mpm_testing, only: test_suite_type, new_suite, check, check_close, finish
     use mpm_softening, only: softening_none, softening_linear, softening_exponential
     use mpm_strength, only: strength_type
-    use mpm_material_mohr_coulomb, only: mohr_coulomb_material_type, new_mohr_coulomb_material
+    use mpm_material_mohr_coulomb, only: mohr_coulomb_material_type, new_mohr_coulomb_material, &
+        mohr_coulomb_principal_return
+    use mpm_material, only: material_chunk
     use mpm_stress, only: double_contraction
     implicit none
 
@@ -45,6 +47,7 @@ program test_mpm_material_mohr_coulomb
     call check_returns()
     call check_random_returns()
     call check_block_update()
+    call check_chunk_return()
     call check_close_eigenvalues()
     call check_rigid_rotation_2d()
     call check_rigid_rotation_3d()
@@ -721,6 +724,80 @@ contains
             end do
         end do
     end subroutine check_block_update
+
+    !> The return of a whole chunk of principal stresses at once (principal_return_chunk, which
+    !> the 3D block update takes without a cut-off) against the return set by set
+    !> (principal_return): the same bits, for materials with an apex (phi > 0, with and
+    !> without cohesion, associated and not) and without (Tresca), on random ordered
+    !> principal stresses about the pyramid that reach every region (elastic, the face, both
+    !> edges, the apex; counted from the returned values), with sets of exactly zero stress
+    !> and chunks not full. It fails when a candidate's operations, the order of the edges
+    !> or the choice of the least violating candidate differ from principal_return's.
+    subroutine check_chunk_return()
+        type(mohr_coulomb_material_type) :: mat
+        real(wp) :: s(material_chunk, 3), sc(material_chunk, 3), t(3), pt(3)
+        logical :: plastic(material_chunk), plastic_c(material_chunk)
+        integer :: imat, round, j, n, nsame, ntotal, nface, nedge, napex, nelastic
+        integer(i8) :: seed
+        real(wp), parameter :: phis(4) = [30.0_wp, 40.0_wp, 0.0_wp, 25.0_wp]
+        real(wp), parameter :: cohs(4) = [0.0_wp, 1.0e4_wp, 2.0e4_wp, 5.0e3_wp]
+        real(wp), parameter :: psis(4) = [0.0_wp, 10.0_wp, 0.0_wp, 25.0_wp]
+        character(len=80) :: label
+
+        seed = 4242
+        do imat = 1, size(phis)
+            call make_material(mat, phis(imat), cohs(imat), psis(imat), -1.0_wp)
+            nsame = 0
+            ntotal = 0
+            nface = 0
+            nedge = 0
+            napex = 0
+            nelastic = 0
+            do round = 1, 40
+                n = material_chunk - mod(round, 7)
+                do j = 1, n
+                    pt = 2.0e5_wp*uniform(seed) - 1.5e5_wp + 6.0e4_wp*(2*[uniform(seed), &
+                        uniform(seed), uniform(seed)] - 1)
+                    ! some sets on an edge's line (two values equal) and some at rest
+                    if (mod(j, 5) == 0) pt(2) = pt(1)
+                    if (mod(j, 7) == 0) pt(2) = pt(3)
+                    if (mod(j, 13) == 0) pt = 0.0_wp
+                    t(1) = maxval(pt)
+                    t(3) = minval(pt)
+                    t(2) = sum(pt) - t(1) - t(3)
+                    s(j, :) = t
+                end do
+                sc = s
+                call mohr_coulomb_principal_return(mat, n, s, plastic, chunked=.false.)
+                call mohr_coulomb_principal_return(mat, n, sc, plastic_c, chunked=.true.)
+                do j = 1, n
+                    ntotal = ntotal + 1
+                    if (all(transfer(s(j, :), 1_i8, 3) == transfer(sc(j, :), 1_i8, 3)) .and. &
+                        (plastic(j) .eqv. plastic_c(j))) nsame = nsame + 1
+                    if (.not. plastic(j)) then
+                        nelastic = nelastic + 1
+                    else if (abs(s(j, 1) - s(j, 3)) <= 1.0e-9_wp*maxval(abs(s(j, :))) .and. &
+                        phis(imat) > 0.0_wp) then
+                        napex = napex + 1
+                    else if (s(j, 1) - s(j, 2) <= 1.0e-9_wp*maxval(abs(s(j, :))) .or. &
+                        s(j, 2) - s(j, 3) <= 1.0e-9_wp*maxval(abs(s(j, :)))) then
+                        nedge = nedge + 1
+                    else
+                        nface = nface + 1
+                    end if
+                end do
+            end do
+            write (label, "(a,f4.1,a,es8.1,a,f4.1)") "chunk return phi ", phis(imat), " c ", &
+                cohs(imat), " psi ", psis(imat)
+            call check(suite, nsame == ntotal, trim(label)//": the bits of the set-by-set return")
+            call check(suite, nelastic > 20 .and. nface > 20 .and. nedge > 20 .and. &
+                (napex > 5 .or. phis(imat) == 0.0_wp), trim(label)// &
+                ": elastic sets, faces, edges and apexes all reached")
+            if (nsame /= ntotal .or. .not. (nelastic > 20 .and. nface > 20 .and. nedge > 20)) &
+                write (*, "(a,6(1x,i0))") "  same, total, elastic, face, edge, apex:", nsame, &
+                ntotal, nelastic, nface, nedge, napex
+        end do
+    end subroutine check_chunk_return
 
     !> Nearly repeated principal trial stresses, 3D with random axes: two of them a gap
     !> g |p|max apart (g = 0, 1e-12, 1e-8, 1e-4, 5e-4, 1.05e-3, 1.5e-3, 1e-2; the upper or the
