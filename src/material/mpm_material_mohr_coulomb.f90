@@ -599,14 +599,36 @@ contains
         real(wp), intent(in) :: radius
             !! radius of Mohr's circle in the plane [Pa]
 
-        real(wp) :: ps(3), dp(3), cos2, sin2
+        real(wp) :: ps(3)
         integer :: order(3)
         logical :: plastic
 
         order = descending_order(p)
         ps = p(order)
         call return_to_surface(self, ps, surface, plastic)
-        if (.not. plastic) return
+        if (plastic) call correct_stress_2d(self, p, order, ps, radius, stress, state)
+    end subroutine return_2d
+
+    !> The stress and state after a plane-strain return to the principal stresses ps: the
+    !> correction in the direction of the in-plane pair, then the plastic strain.
+    pure subroutine correct_stress_2d(self, p, order, ps, radius, stress, state)
+        class(mohr_coulomb_material_type), intent(in) :: self
+            !! the material
+        real(wp), intent(in) :: p(3)
+            !! in-plane major, in-plane minor and zz trial principal stresses [Pa]
+        integer, intent(in) :: order(3)
+            !! their descending order
+        real(wp), intent(in) :: ps(3)
+            !! the returned principal stresses, ordered [Pa]
+        real(wp), intent(in) :: radius
+            !! radius of Mohr's circle in the plane [Pa]
+        real(wp), intent(inout) :: stress(:)
+            !! the trial stress (4), on exit the returned one [Pa]
+        real(wp), intent(inout) :: state(:)
+            !! state of the particle
+
+        real(wp) :: dp(3), cos2, sin2
+
         dp(order) = p(order) - ps
         call plane_direction(stress, radius, cos2, sin2)
         stress(1) = stress(1) - 0.5_wp*(dp(1) + dp(2)) - 0.5_wp*(dp(1) - dp(2))*cos2
@@ -614,7 +636,7 @@ contains
         stress(3) = stress(3) - dp(3)
         stress(4) = stress(4) - 0.5_wp*(dp(1) - dp(2))*sin2
         call add_plastic_strain(self, dp, ps, p, stress, state)
-    end subroutine return_2d
+    end subroutine correct_stress_2d
 
     !> State after a plastic step: the plastic strain D^-1 (sigma_trial - sigma), coaxial with
     !> the stress, added to eps_q and to the plastic volumetric strain; with separation, a
