@@ -227,13 +227,13 @@ contains
         ! the guard's copy is only written beside the outputs: no files, no copy
         copies = case%guard%snapshot_steps > 0 .and. options%write_files
         snapshot%in_file = case%guard%snapshot_in == snapshot_in_file
+        ! (a copy that cannot be written skips the loop: the failure is reported below)
         if (copies) call take_snapshot(snapshot, sim, writer, next_output, next_history, &
             wall_before, error)
-        if (allocated(error)) return
         ! the thread count of each step: the fastest (mpm_threads), starting with the largest
         call new_thread_governor(threads)
         nthreads = threads%most
-        do while (sim%time < case%time%tend - eps_t)
+        do while (sim%time < case%time%tend - eps_t .and. .not. allocated(error))
             clock = wall_time()
             dt = min(stable_time_step(sim), case%time%tend - sim%time)
             sim%phase_time(phase_other) = sim%phase_time(phase_other) + (wall_time() - clock)
@@ -509,7 +509,7 @@ contains
                 next_history, wall, error)
             if (allocated(error)) then
                 error%message = "the blow-up guard cannot keep its copy of the state: "// &
-                    error%message//new_line("a")//"free some disk space, or keep the copy "// &
+                    error%message//new_line("a")//"make room on that disk, or keep the copy "// &
                     "in memory (""guard"": {""snapshot_in"": ""memory""}) or none "// &
                     "(""guard"": {""snapshot_steps"": 0})"
                 if (image_id() /= 1) error%message = ""
