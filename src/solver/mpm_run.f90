@@ -5,14 +5,13 @@ module mpm_run
     use mpm_error, only: error_type, fatal_error, exit_input, exit_other, exit_numerical, &
         exit_interrupted
     use mpm_clock, only: wall_time
-    use mpm_system, only: peak_memory_mb, available_memory_bytes
-    use mpm_strings, only: int_text, text_or
+    use mpm_system, only: peak_memory_mb
+    use mpm_strings, only: int_text
     use mpm_signals, only: catch_stop_signals, release_stop_signals, stop_signal, signal_name
     use mpm_particles, only: particles_type, particle_bytes, pack_particles, rebuild_particles, &
-        record_length, created_particle_bytes
+        record_length
     use mpm_case, only: case_type
-    use mpm_case_materials, only: state_variable_count
-    use mpm_case_guard, only: snapshot_in_file, snapshot_in_memory
+    use mpm_case_guard, only: snapshot_in_file
     use mpm_boundary, only: face_nodes_type
     use mpm_setup, only: start_simulation
     use mpm_solver, only: simulation_type, advance, stable_time_step, &
@@ -25,18 +24,16 @@ module mpm_run
     use mpm_grid, only: grid_bytes
     use mpm_output, only: output_writer_type, new_output_writer, write_output, write_index, &
         remove_outputs, write_terrain, output_list, resume_output_writer, output_count
-    use mpm_state, only: save_state, run_record_type, state_particle_count
+    use mpm_state, only: save_state, run_record_type
     use mpm_filesystem, only: make_directory, directory_exists, file_exists, rename_file, &
         remove_file, folder_lock_type, lock_folder, text_file_type, open_text_file, put_line, &
         flush_text_file, close_text_file
-    use mpm_shape, only: shape_type
-    use mpm_shape_factory, only: new_shape
-    use mpm_bodies, only: count_body_particles
+    use mpm_memory_check, only: check_memory
     use mpm_threads, only: thread_governor_type, new_thread_governor, governor_threads, &
         governor_step, governor_text, set_threads
     implicit none
     private
-    public :: run_options_type, run_summary_type, run_case, memory_estimate, checkpoint_path
+    public :: run_options_type, run_summary_type, run_case, checkpoint_path
 
     integer, parameter :: request_due = 1
         !! set by checkpoint_request when a checkpoint is due (a stop signal adds its number)
@@ -732,90 +729,6 @@ contains
         end if
     end subroutine open_history
 
-    !> Memory a case needs on this image [bytes], estimated before anything is allocated:
-    !> particles (with the displacement and strain they hold while being created, the
-    !> stencils and order of a step, the guard's copy) and grid nodes (fields and scatter
-    !> buffers). `particles` is the number of particles of the whole case.
-    function memory_estimate(case, particles, nodes_per_axis) result(bytes)
-        type(case_type), intent(in) :: case
-            !! resolved case
-        integer(i8), intent(in) :: particles
-            !! particles of the case
-        integer, intent(in) :: nodes_per_axis
-            !! support width of the case's shape function (shape_type%nodes_per_axis)
-        real(wp) :: bytes
-            !! estimate [bytes]
-
-        real(wp), parameter :: real_bytes = storage_size(1.0_wp)/8, int_bytes = 4
-        real(wp) :: per_particle, per_node, d, nps, nodes
-
-        d = real(case%dim, wp)
-        nps = real(nodes_per_axis, wp)
-        ! the arrays of the field table that new_particles allocates, with the state
-        ! variables of the materials, the APIC affine velocities and the ids of several images
-        per_particle = real(created_particle_bytes(case%dim, state_variable_count(case%materials), &
-            case%solver%apic, image_count() > 1), wp)
-        if (case%guard%snapshot_steps > 0 .and. case%guard%snapshot_in == snapshot_in_memory) then
-            per_particle = 2.0_wp*per_particle
-        end if
-        ! stencils: weights and gradients, first node, order, cell
-        per_particle = per_particle + real_bytes*(2.0_wp*nps - 1.0_wp)*d + int_bytes*(d + 2.0_wp)
-        ! nodal fields (mass, momentum, forces, velocity, acceleration; constraints) and the
-        ! scatter buffers (mass, momentum, force per node at least)
-        per_node = real_bytes*(1.0_wp + 5.0_wp*d) + 4.0_wp*d + real_bytes*(2.0_wp*d + 1.0_wp)
-        nodes = product(real(case%domain%ncells(1:case%dim), wp) + 1.0_wp)
-        bytes = (per_particle*real(particles, wp) + per_node*nodes)/real(image_count(), wp)
-    end function memory_estimate
-
-    !> Refuse a case whose memory estimate exceeds what this machine (or the job's memory
-    !> limit) has available, before allocating it.
-    subroutine check_memory(case, error, restart)
-        type(case_type), intent(in) :: case
-            !! resolved case
-        type(error_type), allocatable, intent(out) :: error
-            !! set (exit_input) when the case cannot fit
-        character(len=*), intent(in), optional :: restart
-            !! checkpoint the particles come from
-
-        integer(i8) :: particles, available, n
-        integer :: b
-        real(wp) :: need
-        class(shape_type), allocatable :: shape
-        character(len=:), allocatable :: hint
-
-        particles = 0
-        if (present(restart)) then
-            particles = max(0_i8, state_particle_count(restart))
-        else if (has_text(case%load_state)) then
-            particles = max(0_i8, state_particle_count(case%load_state))
-        else
-            ! (the reader counted them; a case made in code is counted here)
-            do b = 1, size(case%bodies)
-                n = case%bodies(b)%particles
-                if (n < 0) n = count_body_particles(case, b)
-                if (n > 0) particles = particles + n
-            end do
-        end if
-        call new_shape(shape, trim(case%solver%shape_function), error, &
-            text_or(case%file, "?"))
-        if (allocated(error)) return
-        need = memory_estimate(case, particles, shape%nodes_per_axis())
-        available = available_memory_bytes()
-        if (available < 0 .or. need <= real(available, wp)) return
-        hint = ""
-        if (case%guard%snapshot_steps > 0 .and. case%guard%snapshot_in == snapshot_in_memory) then
-            hint = "; guard.snapshot_in = ""file"" keeps the guard's copy of the particles on disk"
-        end if
-        call fatal_error(error, case%file//": the case needs about "//size_text(need)// &
-            " of memory"//trim(merge(" per image", "          ", image_count() > 1))//" ("// &
-            int_text(particles)//" particles and "// &
-            int_text(int(product(real(case%domain%ncells(1:case%dim), wp) + 1.0_wp), i8))// &
-            " grid nodes) but "//size_text(real(available, wp))//" is available; use a "// &
-            "larger domain.dx, fewer particles.ppc, a smaller domain, or more images "// &
-            "(docs/hpc.md)"//hint, exit_input)
-        if (image_id() /= 1) error%message = ""
-    end subroutine check_memory
-
     !> How the run was started, for the commands messages suggest: "" on one image,
     !> "cafrun -np N " on several (a restart needs as many images).
     function launcher() result(text)
@@ -836,22 +749,6 @@ contains
         write (buf, "(es12.5)") t
         text = trim(adjustl(buf))
     end function time_text
-
-    !> "12.3 GB", "512 MB", ...
-    function size_text(bytes) result(text)
-        real(wp), intent(in) :: bytes
-        character(len=:), allocatable :: text
-
-        character(len=32) :: buf
-
-        if (bytes >= 1.0e9_wp) then
-            write (buf, "(f0.1,a)") bytes/1.0e9_wp, " GB"
-        else
-            write (buf, "(f0.1,a)") bytes/1.0e6_wp, " MB"
-        end if
-        text = trim(buf)
-        if (text(1:1) == ".") text = "0"//text
-    end function size_text
 
     !> Create the output folder; refuse an existing one unless overwriting was asked for, and
     !> one another run holds. The lock is taken before anything in the folder is removed.
