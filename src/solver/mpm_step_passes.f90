@@ -12,7 +12,8 @@ module mpm_step_passes
     use mpm_particles, only: particles_type
     use mpm_stencil, only: stencils_type
     use mpm_transfer, only: map_through_particles
-    use mpm_kernel_nodal, only: nodal_velocity, integrate_nodes, nnodal_sums, nodal_absorbed
+    use mpm_kernel_nodal, only: nodal_velocity, integrate_nodes, nnodal_sums, nodal_absorbed, &
+        box_middle, box_row
     implicit none
     private
     public :: step_passes, grid_velocity, update_nodes, act_on_faces, xpic_field
@@ -217,7 +218,8 @@ contains
 
         real(wp), allocatable :: kept(:, :), u(:, :), start(:, :)
         real(wp) :: coefficient
-        integer :: k, i
+        integer :: k, i, q
+        integer, allocatable :: ids(:)
 
         if (.not. allocated(grid%xpic)) then
             allocate (grid%xpic(grid%dim, grid%nnodes))
@@ -225,20 +227,33 @@ contains
             deallocate (grid%xpic)
             allocate (grid%xpic(grid%dim, grid%nnodes))
         end if
+        ! nodal work only in the box of the step's P2G: every other node is empty (zero
+        ! velocity, acceleration and momentum), and the gathers read only the nodes of the
+        ! particles' stencils
+        ids = box_nodes(grid)
+        allocate (start(grid%dim, grid%nnodes))
         ! the nodal velocity of the start of the step, as the nodal update formed it: zero on
         ! the empty nodes and in the fixed components, the face's at a velocity face, slaved
         ! at the light nodes
-        start = grid%velocity - dt*grid%acceleration
         coefficient = real(order, wp)
-        grid%xpic = coefficient*start
+        do q = 1, size(ids)
+            i = ids(q)
+            start(:, i) = grid%velocity(:, i) - dt*grid%acceleration(:, i)
+            grid%xpic(:, i) = coefficient*start(:, i)
+        end do
         if (order == 1) return
-        kept = grid%momentum
-        u = start
+        allocate (kept(grid%dim, grid%nnodes), u(grid%dim, grid%nnodes))
+        do q = 1, size(ids)
+            i = ids(q)
+            kept(:, i) = grid%momentum(:, i)
+            u(:, i) = start(:, i)
+        end do
         do k = 2, order
             call map_through_particles(grid, particles, stc, u)
             call halo_sum(grid, layers, momentum=.true.)
             call fold_light(grid, grid%momentum)
-            do i = 1, grid%nnodes
+            do q = 1, size(ids)
+                i = ids(q)
                 if (grid%mass(i) > grid%small_mass) then
                     u(:, i) = grid%momentum(:, i)/grid%mass(i)
                 else
@@ -249,11 +264,45 @@ contains
             ! at their values; then sum_k (-1)^(k+1) C(m, k) u_k, the binomial coefficient
             ! from C(m, k) = C(m, k - 1) (m - k + 1) / k
             call slave_light(grid, u)
-            where (grid%constrained) u = start
             coefficient = -coefficient*real(order - k + 1, wp)/real(k, wp)
-            grid%xpic = grid%xpic + coefficient*u
+            do q = 1, size(ids)
+                i = ids(q)
+                where (grid%constrained(:, i)) u(:, i) = start(:, i)
+                grid%xpic(:, i) = grid%xpic(:, i) + coefficient*u(:, i)
+            end do
         end do
-        grid%momentum = kept
+        do q = 1, size(ids)
+            i = ids(q)
+            grid%momentum(:, i) = kept(:, i)
+        end do
     end subroutine xpic_field
+
+    !> Node indices (1-based) of the box of the step's P2G (grid%active_lo .. active_hi).
+    function box_nodes(grid) result(ids)
+        type(grid_type), intent(in) :: grid
+            !! grid after a P2G
+        integer, allocatable :: ids(:)
+
+        integer :: lo(3), hi(3), layer, j, first, last, y, z, n, dim, id
+
+        dim = grid%dim
+        lo = max(0, grid%active_lo)
+        hi = min(grid%nn - 1, grid%active_hi)
+        if (any(hi(1:dim) < lo(1:dim))) then
+            allocate (ids(0))
+            return
+        end if
+        allocate (ids(product(hi(1:dim) - lo(1:dim) + 1)))
+        n = 0
+        do layer = lo(dim), hi(dim)
+            do j = box_middle(lo, dim), box_middle(hi, dim)
+                call box_row(grid, lo, hi, layer, j, first, last, y, z)
+                do id = first, last
+                    n = n + 1
+                    ids(n) = id
+                end do
+            end do
+        end do
+    end function box_nodes
 
 end module mpm_step_passes

@@ -38,7 +38,12 @@ contains
         case%domain%dx = 0.5_wp
         call new_grid(grid, case, error)
         call check(suite, .not. allocated(error), "new_grid")
+        call check(suite, all(grid%active_hi(1:2) < grid%active_lo(1:2)), &
+            "new_grid: no node holds anything yet (an empty box)")
         grid%light_mass = light
+        ! the tests set nodal masses by hand: the box of the P2G that would have made them
+        grid%active_lo = 0
+        grid%active_hi = grid%nn - 1
     end subroutine small_grid
 
     !> Node (2, 1) light beside the heavy nodes (1, 1) of 3 kg and (2, 2) of 1 kg; node
