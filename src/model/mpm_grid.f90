@@ -10,12 +10,12 @@ module mpm_grid
     use mpm_terrain, only: terrain_type, new_terrain, terrain_distance
     implicit none
     private
-
-    integer, parameter :: page_entries = 512
-        !! entries of a block that new_grid zeroes as a whole (a 4 KiB page of reals)
     public :: grid_type, new_grid, add_terrain, node_index, node_position, contact_index, &
         grid_bytes, node_owned, &
         node_layer
+
+    integer, parameter :: page_entries = 512
+        !! entries of a block that new_grid zeroes as a whole (a 4 KiB page of reals)
 
     !> Geometry of the grid and the nodal fields of one step.
     type :: grid_type
@@ -124,8 +124,8 @@ module mpm_grid
             !! weight per step
         integer :: active_lo(3) = 0, active_hi(3) = huge(1)/2
             !! the box of nodes (0-based, per axis) that the last P2G wrote (every other node
-            !! is zero; empty, lo > hi, in a grid new_grid has just made, and the whole grid
-            !! in one made otherwise); the nodal loops of the step cover it
+            !! is zero): empty (lo > hi) in a grid new_grid has just made, the whole grid in one
+            !! made otherwise; the nodal loops of the step cover it
         integer :: halo_axis = 0
             !! axis across which the grid is cut among images (mpm_decomposition); 0: whole
         integer :: halo_left = 0, halo_right = 0
@@ -216,13 +216,13 @@ contains
         ! system as pages of zeros that take memory once written, and the nodal passes write
         ! only the box of nodes the particles touch, so that the nodes far from the material
         ! cost no memory (a small slide in a large domain)
-        call clear_reals(grid%mass, size(grid%mass))
-        call clear_reals(grid%momentum, size(grid%momentum))
-        call clear_reals(grid%fint, size(grid%fint))
-        call clear_reals(grid%fext, size(grid%fext))
-        call clear_reals(grid%velocity, size(grid%velocity))
-        call clear_reals(grid%acceleration, size(grid%acceleration))
-        call clear_logicals(grid%constrained, size(grid%constrained))
+        call clear_reals(grid%mass)
+        call clear_vectors(grid%momentum)
+        call clear_vectors(grid%fint)
+        call clear_vectors(grid%fext)
+        call clear_vectors(grid%velocity)
+        call clear_vectors(grid%acceleration)
+        call clear_logicals(grid%constrained)
         ! no node holds anything yet: the first P2G writes only the box its particles touch
         grid%active_lo = huge(1)/2
         grid%active_hi = -1
@@ -496,35 +496,44 @@ contains
         if (allocated(grid%xpic)) grid_bytes = grid_bytes + (storage_size(1.0_wp)/8)*4*grid%dim
     end function grid_bytes
 
-    !> a(1:n) = 0, writing only the blocks of a memory page that hold something else: the
-    !> pages of zeros a fresh allocation maps are read, never written, and take no memory.
-    subroutine clear_reals(a, n)
-        integer, intent(in) :: n
-            !! entries
-        real(wp), intent(inout) :: a(*)
-            !! array, as a sequence of n entries
+    !> a = 0, writing only the blocks of a memory page that hold something else: the pages
+    !> of zeros a fresh allocation maps are read, never written, and take no memory.
+    subroutine clear_reals(a)
+        real(wp), contiguous, intent(inout) :: a(:)
+            !! array
 
         integer :: i, last
 
-        do i = 1, n, page_entries
-            last = min(n, i + page_entries - 1)
+        do i = 1, size(a), page_entries
+            last = min(size(a), i + page_entries - 1)
             if (any(a(i:last) /= 0.0_wp)) a(i:last) = 0.0_wp
         end do
     end subroutine clear_reals
 
-    !> a(1:n) = .false., writing only the blocks of a memory page that hold something else
-    !> (clear_reals).
-    subroutine clear_logicals(a, n)
-        integer, intent(in) :: n
-            !! entries
-        logical, intent(inout) :: a(*)
-            !! array, as a sequence of n entries
+    !> a = 0 for a nodal vector field (clear_reals).
+    subroutine clear_vectors(a)
+        real(wp), contiguous, intent(inout), target :: a(:, :)
+            !! array (components, nodes)
 
+        real(wp), pointer, contiguous :: flat(:)
+
+        flat(1:size(a)) => a
+        call clear_reals(flat)
+    end subroutine clear_vectors
+
+    !> a = .false., writing only the blocks of a memory page that hold something else
+    !> (clear_reals).
+    subroutine clear_logicals(a)
+        logical, contiguous, intent(inout), target :: a(:, :)
+            !! array (components, nodes)
+
+        logical, pointer, contiguous :: flat(:)
         integer :: i, last
 
-        do i = 1, n, page_entries
-            last = min(n, i + page_entries - 1)
-            if (any(a(i:last))) a(i:last) = .false.
+        flat(1:size(a)) => a
+        do i = 1, size(flat), page_entries
+            last = min(size(flat), i + page_entries - 1)
+            if (any(flat(i:last))) flat(i:last) = .false.
         end do
     end subroutine clear_logicals
 
