@@ -231,22 +231,23 @@ contains
         ! velocity, acceleration and momentum), and the gathers read only the nodes of the
         ! particles' stencils
         ids = box_nodes(grid)
-        allocate (start(grid%dim, grid%nnodes))
+        allocate (start(grid%dim, size(ids)))
         ! the nodal velocity of the start of the step, as the nodal update formed it: zero on
         ! the empty nodes and in the fixed components, the face's at a velocity face, slaved
         ! at the light nodes
         coefficient = real(order, wp)
         do q = 1, size(ids)
             i = ids(q)
-            start(:, i) = grid%velocity(:, i) - dt*grid%acceleration(:, i)
-            grid%xpic(:, i) = coefficient*start(:, i)
+            start(:, q) = grid%velocity(:, i) - dt*grid%acceleration(:, i)
+            grid%xpic(:, i) = coefficient*start(:, q)
         end do
         if (order == 1) return
-        allocate (kept(grid%dim, grid%nnodes), u(grid%dim, grid%nnodes))
+        ! start and kept by box entry; u by node, for the gathers
+        allocate (kept(grid%dim, size(ids)), u(grid%dim, grid%nnodes))
         do q = 1, size(ids)
             i = ids(q)
-            kept(:, i) = grid%momentum(:, i)
-            u(:, i) = start(:, i)
+            kept(:, q) = grid%momentum(:, i)
+            u(:, i) = start(:, q)
         end do
         do k = 2, order
             call map_through_particles(grid, particles, stc, u)
@@ -267,13 +268,13 @@ contains
             coefficient = -coefficient*real(order - k + 1, wp)/real(k, wp)
             do q = 1, size(ids)
                 i = ids(q)
-                where (grid%constrained(:, i)) u(:, i) = start(:, i)
+                where (grid%constrained(:, i)) u(:, i) = start(:, q)
                 grid%xpic(:, i) = grid%xpic(:, i) + coefficient*u(:, i)
             end do
         end do
         do q = 1, size(ids)
             i = ids(q)
-            grid%momentum(:, i) = kept(:, i)
+            grid%momentum(:, i) = kept(:, q)
         end do
     end subroutine xpic_field
 
