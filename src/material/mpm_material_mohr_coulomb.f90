@@ -88,7 +88,7 @@ module mpm_material_mohr_coulomb
     implicit none
     private
     public :: mohr_coulomb_material_type, new_mohr_coulomb_material, &
-        mohr_coulomb_principal_return
+        mohr_coulomb_principal_return, mohr_coulomb_return_chunk_3d
 
     !> Planes of the return: A, B, C (Mohr-Coulomb) and T1, T2, T3 (tension cut-off).
     integer, parameter :: plane_a = 1, plane_b = 2, plane_c = 3, plane_t1 = 4, plane_t2 = 5, &

@@ -17,7 +17,7 @@ program test_mpm_material_mohr_coulomb
     use mpm_softening, only: softening_none, softening_linear, softening_exponential
     use mpm_strength, only: strength_type
     use mpm_material_mohr_coulomb, only: mohr_coulomb_material_type, new_mohr_coulomb_material, &
-        mohr_coulomb_principal_return
+        mohr_coulomb_principal_return, mohr_coulomb_return_chunk_3d
     use mpm_material, only: material_chunk
     use mpm_stress, only: double_contraction
     implicit none
@@ -48,6 +48,7 @@ program test_mpm_material_mohr_coulomb
     call check_random_returns()
     call check_block_update()
     call check_chunk_return()
+    call check_chunk_return_3d()
     call check_close_eigenvalues()
     call check_rigid_rotation_2d()
     call check_rigid_rotation_3d()
@@ -798,6 +799,75 @@ contains
                 ntotal, nelastic, nface, nedge, napex
         end do
     end subroutine check_chunk_return
+
+    !> The 3D return of a chunk with the principal values and corrections of the well
+    !> separated stresses all at once (the block update's way) against the same return with
+    !> each particle's values and correction one by one (principal_values_3d,
+    !> correct_stress_3d): the same bits of stress and state, for four materials without a
+    !> cut-off, on random trial stresses with random axes about the pyramid, some with two
+    !> principal values close or equal (those take Jacobi's eigenvectors in both, mixed with
+    !> the others in a chunk), some zero, chunks not full. It fails when an operation of the
+    !> refinement, of the choice of its pair or column, of the correction or of the plastic
+    !> strain differs from the particle-by-particle one, or a lane is stored to another one.
+    subroutine check_chunk_return_3d()
+        type(mohr_coulomb_material_type) :: mat
+        real(wp) :: t(material_chunk, 6), s(6, material_chunk), sv(6, material_chunk)
+        real(wp) :: st(2, material_chunk), stv(2, material_chunk), pt(3), r(3, 3), d(3, 3)
+        integer :: imat, round, j, i, n, nsame, ntotal, nplastic, nclose
+        integer(i8) :: seed
+        real(wp), parameter :: phis(4) = [30.0_wp, 40.0_wp, 0.0_wp, 25.0_wp]
+        real(wp), parameter :: cohs(4) = [0.0_wp, 1.0e4_wp, 2.0e4_wp, 5.0e3_wp]
+        real(wp), parameter :: psis(4) = [0.0_wp, 10.0_wp, 0.0_wp, 25.0_wp]
+        character(len=80) :: label
+
+        seed = 5151
+        do imat = 1, size(phis)
+            call make_material(mat, phis(imat), cohs(imat), psis(imat), -1.0_wp)
+            nsame = 0
+            ntotal = 0
+            nplastic = 0
+            nclose = 0
+            do round = 1, 40
+                n = material_chunk - mod(round, 7)
+                do j = 1, n
+                    pt = 2.0e5_wp*uniform(seed) - 1.5e5_wp + 6.0e4_wp*(2*[uniform(seed), &
+                        uniform(seed), uniform(seed)] - 1)
+                    ! some with a close or repeated pair (Jacobi), some at rest
+                    if (mod(j, 5) == 0) then
+                        pt(2) = pt(1)*(1.0_wp + 1.0e-6_wp*uniform(seed))
+                        nclose = nclose + 1
+                    end if
+                    if (mod(j, 7) == 0) pt(2) = pt(3)
+                    if (mod(j, 13) == 0) pt = 0.0_wp
+                    r = rotation(7*uniform(seed), 7*uniform(seed), 7*uniform(seed))
+                    d = 0.0_wp
+                    do i = 1, 3
+                        d(i, i) = pt(i)
+                    end do
+                    t(j, :) = matrix_to_voigt(matmul(r, matmul(d, transpose(r))))
+                end do
+                st = 0.0_wp
+                stv = 0.0_wp
+                call mohr_coulomb_return_chunk_3d(mat, n, t, s(:, 1:n), st(:, 1:n), .false.)
+                call mohr_coulomb_return_chunk_3d(mat, n, t, sv(:, 1:n), stv(:, 1:n), .true.)
+                do j = 1, n
+                    ntotal = ntotal + 1
+                    if (all(transfer(s(:, j), 1_i8, 6) == transfer(sv(:, j), 1_i8, 6)) .and. &
+                        all(transfer(st(:, j), 1_i8, 2) == transfer(stv(:, j), 1_i8, 2))) &
+                        nsame = nsame + 1
+                    if (st(1, j) > 0.0_wp) nplastic = nplastic + 1
+                end do
+            end do
+            write (label, "(a,f4.1,a,es8.1,a,f4.1)") "3D chunk return phi ", phis(imat), " c ", &
+                cohs(imat), " psi ", psis(imat)
+            call check(suite, nsame == ntotal, trim(label)// &
+                ": the bits of the particle-by-particle values and corrections")
+            call check(suite, nplastic > ntotal/4 .and. ntotal - nplastic > ntotal/10 .and. &
+                nclose > 100, trim(label)//": plastic, elastic and close pairs all reached")
+            if (nsame /= ntotal) write (*, "(a,3(1x,i0))") "  same, total, plastic:", nsame, &
+                ntotal, nplastic
+        end do
+    end subroutine check_chunk_return_3d
 
     !> Nearly repeated principal trial stresses, 3D with random axes: two of them a gap
     !> g |p|max apart (g = 0, 1e-12, 1e-8, 1e-4, 5e-4, 1.05e-3, 1.5e-3, 1e-2; the upper or the

@@ -126,15 +126,15 @@ contains
                 strain(:, p) = strain(:, p) + de(1:ns, j)
             end if
             ! deformation gradient F <- (I + ldt) F, volume and particle domain
+            ! (the half-sizes from the new F before it is stored: read back from f, a load
+            ! straddling two vector stores waited for both)
             if (dim == 2) then
-                call deform_2d(f(:, :, p), ldt(:, :, j), jac)
+                call deform_2d(f(:, :, p), ldt(:, :, j), lp0(:, p), jac, lp(:, p))
             else
-                call deform_3d(f(:, :, p), ldt(:, :, j), jac)
+                call deform_3d(f(:, :, p), ldt(:, :, j), lp0(:, p), jac, lp(:, p))
             end if
             vold = volume(p)
             volume(p) = jac*volume0(p)
-            call domain_half_sizes(f(:, :, p), lp0(:, p), dim, &
-                lp(:, p))
             ! trapezoidal rule on V sigma (volume and stress at both ends of the step):
             ! second order in dt, also when the volume changes with the strain
             ! (V sigma)_mid : de, shear components twice (tensor components)
@@ -181,14 +181,18 @@ contains
         end if
     end subroutine domain_half_sizes
 
-    !> F <- (I + ldt) F in 2D and its determinant.
-    pure subroutine deform_2d(f, ldt, jac)
+    !> F <- (I + ldt) F in 2D, its determinant and the domain half-sizes of the new F.
+    pure subroutine deform_2d(f, ldt, lp0, jac, lp)
         real(wp), intent(inout) :: f(2, 2)
             !! deformation gradient
         real(wp), intent(in) :: ldt(3, 3)
             !! dt times the velocity gradient
+        real(wp), intent(in) :: lp0(2)
+            !! half-sizes of the reference domain [m]
         real(wp), intent(out) :: jac
             !! det F
+        real(wp), intent(out) :: lp(2)
+            !! half-sizes of the current domain [m]
         real(wp) :: g(2, 2)
         integer :: b
 
@@ -196,18 +200,23 @@ contains
             g(1, b) = f(1, b) + ldt(1, 1)*f(1, b) + ldt(1, 2)*f(2, b)
             g(2, b) = f(2, b) + ldt(2, 1)*f(1, b) + ldt(2, 2)*f(2, b)
         end do
-        f = g
         jac = g(1, 1)*g(2, 2) - g(1, 2)*g(2, 1)
+        call domain_half_sizes(g, lp0, 2, lp)
+        f = g
     end subroutine deform_2d
 
-    !> F <- (I + ldt) F in 3D and its determinant.
-    pure subroutine deform_3d(f, ldt, jac)
+    !> F <- (I + ldt) F in 3D, its determinant and the domain half-sizes of the new F.
+    pure subroutine deform_3d(f, ldt, lp0, jac, lp)
         real(wp), intent(inout) :: f(3, 3)
             !! deformation gradient
         real(wp), intent(in) :: ldt(3, 3)
             !! dt times the velocity gradient
+        real(wp), intent(in) :: lp0(3)
+            !! half-sizes of the reference domain [m]
         real(wp), intent(out) :: jac
             !! det F
+        real(wp), intent(out) :: lp(3)
+            !! half-sizes of the current domain [m]
         real(wp) :: g(3, 3)
         integer :: a, b
 
@@ -216,8 +225,9 @@ contains
                 g(a, b) = f(a, b) + ldt(a, 1)*f(1, b) + ldt(a, 2)*f(2, b) + ldt(a, 3)*f(3, b)
             end do
         end do
-        f = g
         jac = determinant(g, 3)
+        call domain_half_sizes(g, lp0, 3, lp)
+        f = g
     end subroutine deform_3d
 
     !> Determinant of a 2x2 or 3x3 matrix.
