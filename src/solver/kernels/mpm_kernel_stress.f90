@@ -126,8 +126,8 @@ contains
                 strain(:, p) = strain(:, p) + de(1:ns, j)
             end if
             ! deformation gradient F <- (I + ldt) F, volume and particle domain
-            ! (the half-sizes from the new F before it is stored: read back from f, a load
-            ! straddling two vector stores waited for both)
+            ! (the half-sizes from the new F before it is stored, not read back from f; no
+            ! measurable change in time, docs/performance.md 2026-12-06)
             if (dim == 2) then
                 call deform_2d(f(:, :, p), ldt(:, :, j), lp0(:, p), jac, lp(:, p))
             else
