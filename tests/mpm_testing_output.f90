@@ -64,7 +64,6 @@ contains
                 particles%u(d, p) = 1.0e-3_wp*(10*p + d)
                 particles%v(d, p) = -0.5_wp*p + 0.01_wp*d
                 particles%lp0(d, p) = 0.125_wp + 1.0e-3_wp*(p + d)
-                particles%lp(d, p) = 0.126_wp + 1.0e-3_wp*(p + d)
                 do c = 1, case%dim
                     particles%f(c, d, p) = merge(1.0_wp, 0.0_wp, c == d) + 1.0e-4_wp*(p + 3*c + d)
                 end do

@@ -122,7 +122,6 @@ contains
                                 particles%volume0(q) = vol
                                 particles%mass(q) = rho*vol
                                 particles%lp0(:, q) = 0.5_wp*h
-                                particles%lp(:, q) = 0.5_wp*h
                                 particles%material(q) = body%material
                             end do
                         end do

@@ -161,7 +161,7 @@ module mpm_shape
 contains
 
     !> Whether the weights take the particle domain at its initial size (particles%lp0)
-    !> instead of the deformed one (particles%lp): no, unless a shape function says so.
+    !> instead of the deformed one (from F: domain_half_sizes): no, unless a shape function says so.
     pure logical function initial_domain(self)
         class(shape_type), intent(in) :: self
             !! the shape function

@@ -23,7 +23,7 @@ module mpm_stencil
     use mpm_error, only: error_type, fatal_error, exit_other, exit_numerical
     use mpm_strings, only: int_text
     use mpm_grid, only: grid_type
-    use mpm_particles, only: particles_type, particle_number
+    use mpm_particles, only: particles_type, particle_number, domain_half_sizes_block
     use mpm_shape, only: shape_type, full_shape_type, max_nodes_per_axis
     implicit none
     private
@@ -138,6 +138,7 @@ contains
         integer :: p, a, k, dim, nps, c, q, nlayers, nb, b, bad, p0, p1
         integer :: cell_stride(3)
         logical :: windowed_stencils, initial
+        real(wp) :: lp2(2, stencil_block), lp3(3, stencil_block)
 
         dim = grid%dim
         nps = shape%nodes_per_axis()
@@ -171,7 +172,7 @@ contains
         !$omp parallel do default(none) schedule(static) &
         !$omp shared(stc, grid, particles, shape, dim, nps, cell_stride, windowed_stencils, &
         !$omp initial) &
-        !$omp private(p0, p1, p, a, c)
+        !$omp private(p0, p1, p, a, c, lp2, lp3)
         do p0 = 1, particles%n, stencil_block
             p1 = min(p0 + stencil_block - 1, particles%n)
             if (initial) then
@@ -179,8 +180,19 @@ contains
                 call shape%weights_all(grid, particles%x(:, p0:p1), particles%lp0(:, p0:p1), &
                     stc%first(:, p0:p1), stc%w(:, :, p0:p1), stc%dw(:, :, p0:p1))
             else if (stc%tensor) then
-                call shape%weights_all(grid, particles%x(:, p0:p1), particles%lp(:, p0:p1), &
-                    stc%first(:, p0:p1), stc%w(:, :, p0:p1), stc%dw(:, :, p0:p1))
+                ! the domain half-sizes from F (they are not kept between steps)
+                ! (scratch of the dimension's extent: a section lp3(1:2, :) would be copied)
+                if (dim == 2) then
+                    call domain_half_sizes_block(2, p1 - p0 + 1, particles%f(:, :, p0:p1), &
+                        particles%lp0(:, p0:p1), lp2)
+                    call shape%weights_all(grid, particles%x(:, p0:p1), lp2(:, 1:p1 - p0 + 1), &
+                        stc%first(:, p0:p1), stc%w(:, :, p0:p1), stc%dw(:, :, p0:p1))
+                else
+                    call domain_half_sizes_block(3, p1 - p0 + 1, particles%f(:, :, p0:p1), &
+                        particles%lp0(:, p0:p1), lp3)
+                    call shape%weights_all(grid, particles%x(:, p0:p1), lp3(:, 1:p1 - p0 + 1), &
+                        stc%first(:, p0:p1), stc%w(:, :, p0:p1), stc%dw(:, :, p0:p1))
+                end if
             end if
             if (stc%tensor) then
                 ! keep the stencils inside the grid: the nodes they drop have zero weight

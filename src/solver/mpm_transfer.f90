@@ -445,8 +445,7 @@ contains
             end do
             if (stress) call stress_block(stc%order(qlo:qhi), particles%material, &
                 particles%stress, particles%state, particles%f, particles%volume, &
-                particles%volume0, particles%lp0, particles%lp, materials, ldts, dt, dim, work, &
-                strain=particles%strain)
+                particles%volume0, materials, ldts, dt, dim, work, strain=particles%strain)
             moved(k) = mine
             partial(:, k) = work
             partial_ke(k) = ke
@@ -635,7 +634,7 @@ contains
     !> Stress update from the nodal velocities in grid%velocity.
     !>
     !> L = sum_i v_i (x) grad N_i; strain increment D dt, spin W dt; F <- (I + L dt) F;
-    !> V = det(F) V0; GIMP half-sizes from F (domain_half_sizes). Returns the
+    !> V = det(F) V0 (the GIMP half-sizes follow from F: domain_half_sizes). Returns the
     !> work of the stresses over the step (strain energy increment). Like every pass of a
     !> step, it uses the shape functions at the start-of-step positions.
     !>
@@ -740,8 +739,7 @@ contains
             end do
             call stress_block(stc%order(qlo:qhi), particles%material, particles%stress, &
                 particles%state, particles%f, particles%volume, particles%volume0, &
-                particles%lp0, particles%lp, materials, ldts, dt, dim, work, &
-                strain=particles%strain)
+                materials, ldts, dt, dim, work, strain=particles%strain)
             ! stored once per group (neighbouring entries share cache lines across threads)
             partial(:, k) = work
             moved(k) = mine

@@ -181,7 +181,6 @@ contains
                 pt%x(1, p) = x_ref(p) + mms_displacement(x_ref(p), 0.0_wp, amplitude)
                 pt%f(1, 1, p) = f0
                 pt%volume(p) = f0*pt%volume0(p)
-                pt%lp(1, p) = f0*pt%lp0(1, p)
                 pt%state(1, p) = f0 - 1.0_wp
                 pt%stress(:, p) = 0.0_wp
                 pt%stress(1, p) = 0.5_wp*young*(f0 - 1.0_wp/f0)
@@ -328,7 +327,6 @@ contains
         associate (pt => sim%particles)
             pt%x(1, :) = f0*pt%x(1, :)
             pt%volume = f0*pt%volume0
-            pt%lp(1, :) = f0*pt%lp0(1, :)
             pt%f(1, 1, :) = f0
             pt%state(1, :) = f0 - 1.0_wp
             pt%stress = 0.0_wp

@@ -99,7 +99,7 @@ contains
             first = last + 1
         end do
         call check(suite, particles%n == first - 1, label//": no particle outside the bodies")
-        call check(suite, all(abs(particles%lp - h/2) < round_off*h), label//": lp = h/2")
+        call check(suite, all(abs(particles%lp0 - h/2) < round_off*h), label//": lp0 = h/2")
         call create_particles(case, again, error)
         call check(suite, all(again%x == particles%x), label//": placement is reproducible")
     end subroutine check_case

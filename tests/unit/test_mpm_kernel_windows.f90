@@ -50,7 +50,7 @@ contains
         lp = 0.25_wp*grid%dx
         particles%n = n
         particles%dim = dim
-        allocate (particles%x(dim, n), particles%lp(dim, n), particles%lp0(dim, n))
+        allocate (particles%x(dim, n), particles%lp0(dim, n), particles%f(dim, dim, n))
         do p = 1, n
             do a = 1, dim
                 t = modulo(0.6180339887_wp*real(p, wp)*real(a + 1, wp) + 0.31_wp*a, 1.0_wp)
@@ -65,8 +65,12 @@ contains
                         + (grid%dx*real(grid%ncells(a), wp) - 2.0_wp*lp)*t
                 end if
             end do
-            particles%lp(:, p) = lp
             particles%lp0(:, p) = lp
+            ! undeformed: the domain's half-sizes are lp0
+            particles%f(:, :, p) = 0.0_wp
+            do a = 1, dim
+                particles%f(a, a, p) = 1.0_wp
+            end do
         end do
     end subroutine make_particles
 

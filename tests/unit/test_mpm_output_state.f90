@@ -86,7 +86,6 @@ contains
             call check(suite, same_bits_2d(loaded%strain, saved%strain), "strain bit for bit")
             call check(suite, same_bits_3d(loaded%f, saved%f), "f bit for bit")
             call check(suite, same_bits_2d(loaded%lp0, saved%lp0), "lp0 bit for bit")
-            call check(suite, same_bits_2d(loaded%lp, saved%lp), "lp bit for bit")
             call check(suite, all(loaded%material == saved%material), "material indices")
         end do
 

@@ -287,7 +287,7 @@ contains
         call make_grid(grid, 2)
         particles%n = n
         particles%dim = 2
-        allocate (particles%x(2, n), particles%lp(2, n), particles%lp0(2, n), &
+        allocate (particles%x(2, n), particles%lp0(2, n), &
             particles%f(2, 2, n), particles%id(n))
         do p = 1, n
             do a = 1, 2
@@ -298,7 +298,6 @@ contains
             particles%id(p) = 1000 + p
         end do
         particles%lp0 = 0.25_wp*grid%dx
-        particles%lp = particles%lp0
         call compute_stencils(stc, grid, particles, cpdi, error)
         call check(suite, .not. allocated(error), "stencils of turned domains computed")
         if (allocated(error)) return

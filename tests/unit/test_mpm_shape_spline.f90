@@ -241,15 +241,19 @@ contains
         n = 50
         shrunk%n = n
         shrunk%dim = 2
-        allocate (shrunk%x(2, n), shrunk%lp(2, n), shrunk%lp0(2, n))
+        allocate (shrunk%x(2, n), shrunk%lp0(2, n), shrunk%f(2, 2, n))
         do p = 1, n
             shrunk%x(1, p) = grid%origin(1) + 0.05_wp + 0.5_wp*modulo(0.618_wp*p, 1.0_wp)
             shrunk%x(2, p) = grid%origin(2) + 0.05_wp + 0.4_wp*modulo(0.414_wp*p, 1.0_wp)
         end do
         shrunk%lp0 = 0.25_wp*grid%dx
-        shrunk%lp = 0.5_wp*shrunk%lp0
+        ! F = I / 2: the deformed domain is half the initial one (lp = lp0/2)
+        shrunk%f = 0.0_wp
+        shrunk%f(1, 1, :) = 0.5_wp
+        shrunk%f(2, 2, :) = 0.5_wp
         initial = shrunk
-        initial%lp = initial%lp0
+        initial%f(1, 1, :) = 1.0_wp
+        initial%f(2, 2, :) = 1.0_wp
         call check(suite, ugimp%initial_domain() .and. .not. gimp%initial_domain(), &
             "uGIMP takes the initial domain, cpGIMP the deformed one")
         call compute_stencils(su, grid, shrunk, ugimp, error)

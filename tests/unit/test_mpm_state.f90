@@ -126,7 +126,7 @@ contains
         integer :: k, j
         logical :: unique
 
-        call check(suite, particle_field_count() >= 16, "the table lists the 16 arrays")
+        call check(suite, particle_field_count() >= 15, "the table lists the 15 arrays")
         unique = .true.
         do k = 1, particle_field_count()
             a = particle_field(k)
@@ -148,14 +148,14 @@ contains
             values_per_particle(a, 2, 0) == 4, "f has dim x dim values")
         a = particle_field(field_index("state"))
         call check(suite, values_per_particle(a, 3, 5) == 5, "state has nstate values")
-        ! memory_estimate's count before the table: x, u, v, lp0, lp; mass, volume, volume0;
+        ! memory_estimate's count before the table: x, u, v, lp0; mass, volume, volume0;
         ! stress, strain; F; the state variables (reals) and the material (an integer)
         call check(suite, created_particle_bytes(2, 2, .false., .false.) == &
-            8*(5*2 + 3 + 2*4 + 2*2 + 2) + 4, "bytes per particle created in 2D")
+            8*(4*2 + 3 + 2*4 + 2*2 + 2) + 4, "bytes per particle created in 2D")
         call check(suite, created_particle_bytes(3, 2, .false., .false.) == &
-            8*(5*3 + 3 + 2*6 + 3*3 + 2) + 4, "bytes per particle created in 3D")
+            8*(4*3 + 3 + 2*6 + 3*3 + 2) + 4, "bytes per particle created in 3D")
         call check(suite, created_particle_bytes(3, 2, .true., .true.) == &
-            8*(5*3 + 3 + 2*6 + 2*3*3 + 2) + 2*4, "with the affine velocities and the ids")
+            8*(4*3 + 3 + 2*6 + 2*3*3 + 2) + 2*4, "with the affine velocities and the ids")
     end subroutine test_table
 
     !> Every saved field comes back bit for bit; the unsaved ones do not come back.

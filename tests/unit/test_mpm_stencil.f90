@@ -72,7 +72,7 @@ contains
         lp = 0.25_wp*grid%dx
         particles%n = n
         particles%dim = dim
-        allocate (particles%x(dim, n), particles%lp(dim, n), particles%lp0(dim, n))
+        allocate (particles%x(dim, n), particles%lp0(dim, n), particles%f(dim, dim, n))
         do p = 1, n
             do a = 1, dim
                 t = modulo(0.6180339887_wp*real(p, wp)*real(a + 1, wp) + 0.31_wp*a, 1.0_wp)
@@ -84,8 +84,12 @@ contains
                 end if
                 particles%x(a, p) = grid%origin(a) + lp + extent*t
             end do
-            particles%lp(:, p) = lp
             particles%lp0(:, p) = lp
+            ! undeformed: the domain's half-sizes are lp0
+            particles%f(:, :, p) = 0.0_wp
+            do a = 1, dim
+                particles%f(a, a, p) = 1.0_wp
+            end do
         end do
     end subroutine make_particles
 
@@ -150,7 +154,7 @@ contains
             end do
             ! the same stencil from the shape function's tensor product (zero weights
             ! skipped there, kept here with zero gradients)
-            call shape%evaluate(grid, particles%x(:, p), particles%lp(:, p), st)
+            call shape%evaluate(grid, particles%x(:, p), particles%lp0(:, p), st)
             do c = 1, stc%count
                 k = findloc(st%node(1:st%count), node(c), dim=1)
                 if (k == 0) then

@@ -17,6 +17,7 @@ program test_gimp_rotation
     use mpm_error, only: error_type
     use mpm_case, only: case_type, read_case_string
     use mpm_solver, only: simulation_type, new_simulation, advance, start_energy_balance
+    use mpm_particles, only: domain_half_sizes
     implicit none
 
     real(wp), parameter :: omega = 1.0_wp
@@ -50,7 +51,7 @@ contains
         type(simulation_type) :: sim
         type(error_type), allocatable :: error
         integer :: p, steps, k
-        real(wp) :: dt, r(2), size_change, stretch, ftf(2, 2), turned
+        real(wp) :: dt, r(2), size_change, stretch, ftf(2, 2), turned, lp(2)
         character(len=100) :: values
 
         call read_case_string('{"name": "spin", "domain": {"nx": 50, "ny": 50, "dx": 0.02}, '// &
@@ -92,8 +93,8 @@ contains
                 stretch = max(stretch, maxval(abs(ftf - reshape([1, 0, 0, 1], [2, 2]))))
                 turned = min(turned, abs(f(1, 2)), abs(f(2, 1)))
             end associate
-            size_change = max(size_change, &
-                maxval(abs(sim%particles%lp(:, p)/sim%particles%lp0(:, p) - 1.0_wp)))
+            call domain_half_sizes(sim%particles%f(:, :, p), sim%particles%lp0(:, p), 2, lp)
+            size_change = max(size_change, maxval(abs(lp/sim%particles%lp0(:, p) - 1.0_wp)))
         end do
         write (values, "(3(a,es9.2))") " (min |F_12|, |F_21| ", turned, ", |F^T F - I| ", &
             stretch, ", |lp/lp0 - 1| ", size_change

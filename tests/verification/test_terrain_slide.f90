@@ -21,6 +21,7 @@ program test_terrain_slide
     use mpm_case, only: case_type, read_case_string
     use mpm_solver, only: simulation_type, advance, stable_time_step
     use mpm_setup, only: start_simulation
+    use mpm_particles, only: domain_half_sizes
     implicit none
 
     type(test_suite_type) :: suite
@@ -52,7 +53,8 @@ contains
         type(error_type), allocatable :: error
         character(len=64) :: gravity
         character(len=:), allocatable :: label
-        real(wp) :: s_exact, lift, lowest
+        real(wp) :: s_exact, lift, lowest, lp(2)
+        integer :: p
 
         s = 0.0_wp
         label = "mu = "//mu_text//", "//floor
@@ -89,7 +91,11 @@ contains
         end do
         s = sum(sim%particles%mass*sim%particles%u(1, :))/sum(sim%particles%mass)
         lift = maxval(sim%particles%u(2, :))
-        lowest = minval(sim%particles%x(2, :) - sim%particles%lp(2, :))
+        lowest = huge(1.0_wp)
+        do p = 1, sim%particles%n
+            call domain_half_sizes(sim%particles%f(:, :, p), sim%particles%lp0(:, p), 2, lp)
+            lowest = min(lowest, sim%particles%x(2, p) - lp(2))
+        end do
         if (mu < tan(theta)) then
             s_exact = 0.5_wp*g*(sin(theta) - mu*cos(theta))*tend**2
             call check_close(suite, s, s_exact, 0.02_wp*s_exact, &

@@ -5,7 +5,7 @@ module mpm_kernel_contact
     use mpm_kinds, only: wp
     use mpm_grid, only: grid_type, contact_index, node_owned
     use mpm_terrain, only: terrain_distance
-    use mpm_particles, only: particles_type
+    use mpm_particles, only: particles_type, domain_half_sizes
     use mpm_stencil, only: stencils_type, particle_weights
     use mpm_shape, only: max_stencil_nodes
     implicit none
@@ -218,18 +218,22 @@ contains
 
         integer :: a, side, c, k, dim
         integer :: node(max_stencil_nodes)
-        real(wp) :: gap, face, w(max_stencil_nodes), x(3), d, n(3)
+        real(wp) :: gap, face, w(max_stencil_nodes), x(3), d, n(3), lp(3)
         logical :: have_nodes, found
 
         have_nodes = .false.
         dim = grid%dim
+        ! the particle domain's half-sizes, for the gaps of the contacts there are
+        if (allocated(grid%terrain) .or. any(grid%contact_offset >= 0)) then
+            call domain_half_sizes(particles%f(:, :, p), particles%lp0(:, p), dim, lp(1:dim))
+        end if
         if (allocated(grid%terrain)) then
             ! the terrain: the distance from the particle domain to the surface
             x = 0.0_wp
             x(1:dim) = particles%x(:, p)
             call terrain_distance(grid%terrain, x, found, d, n)
             if (found) then
-                gap = d - sum(particles%lp(:, p)*abs(n(1:dim)))
+                gap = d - sum(lp(1:dim)*abs(n(1:dim)))
                 call particle_weights(stc, p, node, w)
                 have_nodes = .true.
                 do k = 1, stc%count
@@ -244,10 +248,10 @@ contains
                 if (grid%contact_offset(side, a) < 0) cycle
                 if (side == 1) then
                     face = grid%origin(a)
-                    gap = particles%x(a, p) - particles%lp(a, p) - face
+                    gap = particles%x(a, p) - lp(a) - face
                 else
                     face = grid%origin(a) + grid%dx*real(grid%nn(a) - 1, wp)
-                    gap = face - particles%x(a, p) - particles%lp(a, p)
+                    gap = face - particles%x(a, p) - lp(a)
                 end if
                 if (gap > 2.0_wp*grid%dx) cycle
                 if (.not. have_nodes) then

@@ -1,6 +1,6 @@
 !> The stress of a block of particles: the kernel of the stress pass (mpm_transfer). For the
 !> velocity-gradient increments of a block of particles it hands the strain increments and
-!> spins to the materials, updates F, the volume and the cpGIMP domain, and sums the work of
+!> spins to the materials, updates F and the volume, and sums the work of
 !> the stresses and the stored elastic energy by work kind. It sees the particle arrays it
 !> works on, the laws and the block: no particles_type, grid, case, I/O or coarrays.
 module mpm_kernel_stress
@@ -25,13 +25,14 @@ contains
     !> increments ldt(:, :, j) = dt L of their velocity gradients (ldt(i, k) =
     !> dt d v_i / d x_k, particle order(j)): strain increments D dt and spins W dt to
     !> the materials, one call per run of particles of the same material (update_stress_block:
-    !> no call per particle for the simple ones), then F <- (I + ldt) F, V = det(F) V0,
-    !> lp from F (domain_half_sizes); adds the work of the stresses over the step and the
-    !> elastic energy the particles store at its end to `work` (by work kind of the materials,
-    !> see nstress_sums), particle by particle in order. A kernel: it sees the particle arrays
+    !> no call per particle for the simple ones), then F <- (I + ldt) F, V = det(F) V0 (the
+    !> cpGIMP domain follows from F where it is needed: mpm_particles::domain_half_sizes); adds
+    !> the work of the stresses over the step and the elastic energy the particles store at
+    !> its end to `work` (by work kind of the materials, see nstress_sums), particle by
+    !> particle in order. A kernel: it sees the particle arrays
     !> it works on, the laws and the block, no particles_type, grid, case, I/O or coarrays.
-    subroutine stress_block(order, material, stress, state, f, volume, volume0, lp0, lp, &
-            materials, ldt, dt, dim, work, strain)
+    subroutine stress_block(order, material, stress, state, f, volume, volume0, materials, &
+            ldt, dt, dim, work, strain)
         integer, intent(in) :: order(:)
             !! the block's particles, in order (at most gather_block)
         integer, intent(in) :: material(:)
@@ -46,10 +47,6 @@ contains
             !! current volume (all particles) [m3]
         real(wp), intent(in) :: volume0(:)
             !! initial volume (all particles) [m3]
-        real(wp), contiguous, intent(in) :: lp0(:, :)
-            !! half-sizes of the initial domain (dim, all particles) [m]
-        real(wp), contiguous, intent(inout) :: lp(:, :)
-            !! half-sizes of the current domain (dim, all particles) [m]
         type(material_holder_type), intent(in) :: materials(:)
             !! materials of the case
         real(wp), intent(in) :: ldt(3, 3, gather_block)
@@ -125,13 +122,11 @@ contains
             if (present(strain)) then
                 strain(:, p) = strain(:, p) + de(1:ns, j)
             end if
-            ! deformation gradient F <- (I + ldt) F, volume and particle domain
-            ! (the half-sizes from the new F before it is stored, not read back from f; no
-            ! measurable change in time, docs/performance.md 2026-12-06)
+            ! deformation gradient F <- (I + ldt) F and volume
             if (dim == 2) then
-                call deform_2d(f(:, :, p), ldt(:, :, j), lp0(:, p), jac, lp(:, p))
+                call deform_2d(f(:, :, p), ldt(:, :, j), jac)
             else
-                call deform_3d(f(:, :, p), ldt(:, :, j), lp0(:, p), jac, lp(:, p))
+                call deform_3d(f(:, :, p), ldt(:, :, j), jac)
             end if
             vold = volume(p)
             volume(p) = jac*volume0(p)
@@ -151,48 +146,14 @@ contains
         end do
     end subroutine stress_block
 
-    !> Half-sizes of a particle's cpGIMP domain from its deformation gradient: along axis a,
-    !> lp_a = sqrt(sum_b (F_ab lp0_b)^2), the root-mean-square extent along x_a of the
-    !> deformed reference box (edges F e_b lp0_b). A stretch along the axes gives lp0_a F_aa,
-    !> as lp0_a |F_aa| does, but a rotation leaves the size unchanged: lp0_a |F_aa| shrank
-    !> the domain of a particle turned by 90 degrees to a point (linear hat weights), and the
-    !> free end of a hanging cantilever turned unstable there (docs/accuracy-vs-cost.md).
-    pure subroutine domain_half_sizes(f, lp0, dim, lp)
-        integer, intent(in) :: dim
-            !! space dimensions (2 or 3)
-        real(wp), intent(in) :: f(dim, dim)
-            !! deformation gradient
-        real(wp), intent(in) :: lp0(dim)
-            !! half-sizes of the reference domain [m]
-        real(wp), intent(out) :: lp(dim)
-            !! half-sizes of the current domain [m]
-        integer :: a
-
-        ! the plain root of the sum of squares, not norm2: norm2 rescales element by element
-        ! against overflow (a division and a branch each), which only half-sizes beyond
-        ! 1e150 m would need
-        if (dim == 2) then
-            lp(1) = sqrt((f(1, 1)*lp0(1))**2 + (f(1, 2)*lp0(2))**2)
-            lp(2) = sqrt((f(2, 1)*lp0(1))**2 + (f(2, 2)*lp0(2))**2)
-        else
-            do a = 1, 3
-                lp(a) = sqrt((f(a, 1)*lp0(1))**2 + (f(a, 2)*lp0(2))**2 + (f(a, 3)*lp0(3))**2)
-            end do
-        end if
-    end subroutine domain_half_sizes
-
-    !> F <- (I + ldt) F in 2D, its determinant and the domain half-sizes of the new F.
-    pure subroutine deform_2d(f, ldt, lp0, jac, lp)
+    !> F <- (I + ldt) F in 2D and its determinant.
+    pure subroutine deform_2d(f, ldt, jac)
         real(wp), intent(inout) :: f(2, 2)
             !! deformation gradient
         real(wp), intent(in) :: ldt(3, 3)
             !! dt times the velocity gradient
-        real(wp), intent(in) :: lp0(2)
-            !! half-sizes of the reference domain [m]
         real(wp), intent(out) :: jac
             !! det F
-        real(wp), intent(out) :: lp(2)
-            !! half-sizes of the current domain [m]
         real(wp) :: g(2, 2)
         integer :: b
 
@@ -201,22 +162,17 @@ contains
             g(2, b) = f(2, b) + ldt(2, 1)*f(1, b) + ldt(2, 2)*f(2, b)
         end do
         jac = g(1, 1)*g(2, 2) - g(1, 2)*g(2, 1)
-        call domain_half_sizes(g, lp0, 2, lp)
         f = g
     end subroutine deform_2d
 
-    !> F <- (I + ldt) F in 3D, its determinant and the domain half-sizes of the new F.
-    pure subroutine deform_3d(f, ldt, lp0, jac, lp)
+    !> F <- (I + ldt) F in 3D and its determinant.
+    pure subroutine deform_3d(f, ldt, jac)
         real(wp), intent(inout) :: f(3, 3)
             !! deformation gradient
         real(wp), intent(in) :: ldt(3, 3)
             !! dt times the velocity gradient
-        real(wp), intent(in) :: lp0(3)
-            !! half-sizes of the reference domain [m]
         real(wp), intent(out) :: jac
             !! det F
-        real(wp), intent(out) :: lp(3)
-            !! half-sizes of the current domain [m]
         real(wp) :: g(3, 3)
         integer :: a, b
 
@@ -226,7 +182,6 @@ contains
             end do
         end do
         jac = determinant(g, 3)
-        call domain_half_sizes(g, lp0, 3, lp)
         f = g
     end subroutine deform_3d
 
