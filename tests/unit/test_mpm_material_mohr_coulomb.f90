@@ -33,6 +33,11 @@ program test_mpm_material_mohr_coulomb
     real(wp), parameter :: tol_mixed = 1.0e3_wp*eps*p0
     real(wp), parameter :: zero3(3) = 0.0_wp
     integer, parameter :: constant_cell = 1, constant_mean = 2
+    ! the materials of the chunk tests: with an apex (phi > 0, with and without cohesion,
+    ! associated and not) and without (Tresca)
+    real(wp), parameter :: chunk_phis(4) = [30.0_wp, 40.0_wp, 0.0_wp, 25.0_wp]
+    real(wp), parameter :: chunk_cohs(4) = [0.0_wp, 1.0e4_wp, 2.0e4_wp, 5.0e3_wp]
+    real(wp), parameter :: chunk_psis(4) = [0.0_wp, 10.0_wp, 0.0_wp, 25.0_wp]
 
     call new_suite(suite, "mpm_material_mohr_coulomb")
     call check_triaxial(30.0_wp, 0.0_wp, 0.0_wp)
@@ -740,14 +745,11 @@ contains
         logical :: plastic(material_chunk), plastic_c(material_chunk)
         integer :: imat, round, j, n, nsame, ntotal, nface, nedge, napex, nelastic
         integer(i8) :: seed
-        real(wp), parameter :: phis(4) = [30.0_wp, 40.0_wp, 0.0_wp, 25.0_wp]
-        real(wp), parameter :: cohs(4) = [0.0_wp, 1.0e4_wp, 2.0e4_wp, 5.0e3_wp]
-        real(wp), parameter :: psis(4) = [0.0_wp, 10.0_wp, 0.0_wp, 25.0_wp]
         character(len=80) :: label
 
         seed = 4242
-        do imat = 1, size(phis)
-            call make_material(mat, phis(imat), cohs(imat), psis(imat), -1.0_wp)
+        do imat = 1, size(chunk_phis)
+            call make_material(mat, chunk_phis(imat), chunk_cohs(imat), chunk_psis(imat), -1.0_wp)
             nsame = 0
             ntotal = 0
             nface = 0
@@ -757,12 +759,8 @@ contains
             do round = 1, 40
                 n = material_chunk - mod(round, 7)
                 do j = 1, n
-                    pt = 2.0e5_wp*uniform(seed) - 1.5e5_wp + 6.0e4_wp*(2*[uniform(seed), &
-                        uniform(seed), uniform(seed)] - 1)
                     ! some sets on an edge's line (two values equal) and some at rest
-                    if (mod(j, 5) == 0) pt(2) = pt(1)
-                    if (mod(j, 7) == 0) pt(2) = pt(3)
-                    if (mod(j, 13) == 0) pt = 0.0_wp
+                    pt = chunk_trial_values(seed, j, 0.0_wp)
                     t(1) = maxval(pt)
                     t(3) = minval(pt)
                     t(2) = sum(pt) - t(1) - t(3)
@@ -778,7 +776,7 @@ contains
                     if (.not. plastic(j)) then
                         nelastic = nelastic + 1
                     else if (abs(s(j, 1) - s(j, 3)) <= 1.0e-9_wp*maxval(abs(s(j, :))) .and. &
-                        phis(imat) > 0.0_wp) then
+                        chunk_phis(imat) > 0.0_wp) then
                         napex = napex + 1
                     else if (s(j, 1) - s(j, 2) <= 1.0e-9_wp*maxval(abs(s(j, :))) .or. &
                         s(j, 2) - s(j, 3) <= 1.0e-9_wp*maxval(abs(s(j, :)))) then
@@ -788,11 +786,11 @@ contains
                     end if
                 end do
             end do
-            write (label, "(a,f4.1,a,es8.1,a,f4.1)") "chunk return phi ", phis(imat), " c ", &
-                cohs(imat), " psi ", psis(imat)
+            write (label, "(a,f4.1,a,es8.1,a,f4.1)") "chunk return phi ", chunk_phis(imat), " c ", &
+                chunk_cohs(imat), " psi ", chunk_psis(imat)
             call check(suite, nsame == ntotal, trim(label)//": the bits of the set-by-set return")
             call check(suite, nelastic > 20 .and. nface > 20 .and. nedge > 20 .and. &
-                (napex > 5 .or. phis(imat) == 0.0_wp), trim(label)// &
+                (napex > 5 .or. chunk_phis(imat) == 0.0_wp), trim(label)// &
                 ": elastic sets, faces, edges and apexes all reached")
             if (nsame /= ntotal .or. .not. (nelastic > 20 .and. nface > 20 .and. nedge > 20)) &
                 write (*, "(a,6(1x,i0))") "  same, total, elastic, face, edge, apex:", nsame, &
@@ -815,14 +813,11 @@ contains
         real(wp) :: st(2, material_chunk), stv(2, material_chunk), pt(3), r(3, 3), d(3, 3)
         integer :: imat, round, j, i, n, nsame, ntotal, nplastic, nclose
         integer(i8) :: seed
-        real(wp), parameter :: phis(4) = [30.0_wp, 40.0_wp, 0.0_wp, 25.0_wp]
-        real(wp), parameter :: cohs(4) = [0.0_wp, 1.0e4_wp, 2.0e4_wp, 5.0e3_wp]
-        real(wp), parameter :: psis(4) = [0.0_wp, 10.0_wp, 0.0_wp, 25.0_wp]
         character(len=80) :: label
 
         seed = 5151
-        do imat = 1, size(phis)
-            call make_material(mat, phis(imat), cohs(imat), psis(imat), -1.0_wp)
+        do imat = 1, size(chunk_phis)
+            call make_material(mat, chunk_phis(imat), chunk_cohs(imat), chunk_psis(imat), -1.0_wp)
             nsame = 0
             ntotal = 0
             nplastic = 0
@@ -830,15 +825,9 @@ contains
             do round = 1, 40
                 n = material_chunk - mod(round, 7)
                 do j = 1, n
-                    pt = 2.0e5_wp*uniform(seed) - 1.5e5_wp + 6.0e4_wp*(2*[uniform(seed), &
-                        uniform(seed), uniform(seed)] - 1)
                     ! some with a close or repeated pair (Jacobi), some at rest
-                    if (mod(j, 5) == 0) then
-                        pt(2) = pt(1)*(1.0_wp + 1.0e-6_wp*uniform(seed))
-                        nclose = nclose + 1
-                    end if
-                    if (mod(j, 7) == 0) pt(2) = pt(3)
-                    if (mod(j, 13) == 0) pt = 0.0_wp
+                    pt = chunk_trial_values(seed, j, 1.0e-6_wp)
+                    if (mod(j, 5) == 0) nclose = nclose + 1
                     r = rotation(7*uniform(seed), 7*uniform(seed), 7*uniform(seed))
                     d = 0.0_wp
                     do i = 1, 3
@@ -858,8 +847,8 @@ contains
                     if (st(1, j) > 0.0_wp) nplastic = nplastic + 1
                 end do
             end do
-            write (label, "(a,f4.1,a,es8.1,a,f4.1)") "3D chunk return phi ", phis(imat), " c ", &
-                cohs(imat), " psi ", psis(imat)
+            write (label, "(a,f4.1,a,es8.1,a,f4.1)") "3D chunk return phi ", chunk_phis(imat), " c ", &
+                chunk_cohs(imat), " psi ", chunk_psis(imat)
             call check(suite, nsame == ntotal, trim(label)// &
                 ": the bits of the particle-by-particle values and corrections")
             call check(suite, nplastic > ntotal/4 .and. ntotal - nplastic > ntotal/10 .and. &
@@ -868,6 +857,28 @@ contains
                 ntotal, nplastic
         end do
     end subroutine check_chunk_return_3d
+
+    !> Random principal values about the pyramid for set j of a chunk test: every fifth with
+    !> its first two values `close` apart (relative; 0: equal), every seventh with the last two
+    !> equal, every thirteenth zero.
+    function chunk_trial_values(seed, j, close) result(pt)
+        integer(i8), intent(inout) :: seed
+        integer, intent(in) :: j
+        real(wp), intent(in) :: close
+        real(wp) :: pt(3)
+
+        pt = 2.0e5_wp*uniform(seed) - 1.5e5_wp + 6.0e4_wp*(2*[uniform(seed), uniform(seed), &
+            uniform(seed)] - 1)
+        if (mod(j, 5) == 0) then
+            if (close > 0.0_wp) then
+                pt(2) = pt(1)*(1.0_wp + close*uniform(seed))
+            else
+                pt(2) = pt(1)
+            end if
+        end if
+        if (mod(j, 7) == 0) pt(2) = pt(3)
+        if (mod(j, 13) == 0) pt = 0.0_wp
+    end function chunk_trial_values
 
     !> Nearly repeated principal trial stresses, 3D with random axes: two of them a gap
     !> g |p|max apart (g = 0, 1e-12, 1e-8, 1e-4, 5e-4, 1.05e-3, 1.5e-3, 1e-2; the upper or the
