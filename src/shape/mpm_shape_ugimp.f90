@@ -3,7 +3,7 @@
 !> the deformation. The weights are those of the cpGIMP formulas (truncated at the grid
 !> ends in the same way); only the half-size they are given differs (`initial_domain`:
 !> mpm_stencil passes particles%lp0). The contact gaps of the frictional faces still take
-!> the deformed domain (mpm_particles::domain_half_sizes of F).
+!> the deformed domain (mpm_particle_domain::domain_half_sizes of F).
 module mpm_shape_ugimp
     use mpm_shape, only: shape_name_width
     use mpm_shape_gimp, only: gimp_shape_type

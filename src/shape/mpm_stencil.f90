@@ -23,7 +23,8 @@ module mpm_stencil
     use mpm_error, only: error_type, fatal_error, exit_other, exit_numerical
     use mpm_strings, only: int_text
     use mpm_grid, only: grid_type
-    use mpm_particles, only: particles_type, particle_number, domain_half_sizes_block
+    use mpm_particles, only: particles_type, particle_number
+    use mpm_particle_domain, only: domain_half_sizes_block
     use mpm_shape, only: shape_type, full_shape_type, max_nodes_per_axis
     implicit none
     private

@@ -17,7 +17,7 @@ program test_gimp_rotation
     use mpm_error, only: error_type
     use mpm_case, only: case_type, read_case_string
     use mpm_solver, only: simulation_type, new_simulation, advance, start_energy_balance
-    use mpm_particles, only: domain_half_sizes
+    use mpm_particle_domain, only: domain_half_sizes
     implicit none
 
     real(wp), parameter :: omega = 1.0_wp

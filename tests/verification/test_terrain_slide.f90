@@ -21,7 +21,7 @@ program test_terrain_slide
     use mpm_case, only: case_type, read_case_string
     use mpm_solver, only: simulation_type, advance, stable_time_step
     use mpm_setup, only: start_simulation
-    use mpm_particles, only: domain_half_sizes
+    use mpm_particle_domain, only: domain_half_sizes
     implicit none
 
     type(test_suite_type) :: suite

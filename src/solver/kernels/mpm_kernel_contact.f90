@@ -5,7 +5,8 @@ module mpm_kernel_contact
     use mpm_kinds, only: wp
     use mpm_grid, only: grid_type, contact_index, node_owned
     use mpm_terrain, only: terrain_distance
-    use mpm_particles, only: particles_type, domain_half_sizes
+    use mpm_particles, only: particles_type
+    use mpm_particle_domain, only: domain_half_sizes
     use mpm_stencil, only: stencils_type, particle_weights
     use mpm_shape, only: max_stencil_nodes
     implicit none

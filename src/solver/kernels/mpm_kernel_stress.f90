@@ -26,7 +26,7 @@ contains
     !> dt d v_i / d x_k, particle order(j)): strain increments D dt and spins W dt to
     !> the materials, one call per run of particles of the same material (update_stress_block:
     !> no call per particle for the simple ones), then F <- (I + ldt) F, V = det(F) V0 (the
-    !> cpGIMP domain follows from F where it is needed: mpm_particles::domain_half_sizes); adds
+    !> cpGIMP domain follows from F where it is needed: mpm_particle_domain::domain_half_sizes); adds
     !> the work of the stresses over the step and the elastic energy the particles store at
     !> its end to `work` (by work kind of the materials, see nstress_sums), particle by
     !> particle in order. A kernel: it sees the particle arrays
