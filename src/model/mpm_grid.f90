@@ -3,6 +3,8 @@
 !> Nodes are numbered lexicographically, x fastest: node (i, j, k) (0-based) has the index
 !> 1 + i + nn(1) * (j + nn(2) * k). In 2D nn(3) = 1 and k = 0.
 module mpm_grid
+    use, intrinsic :: iso_c_binding, only: c_f_pointer, c_loc
+    use, intrinsic :: iso_fortran_env, only: int64
     use mpm_kinds, only: wp
     use mpm_error, only: error_type, fatal_error, exit_other
     use mpm_case, only: case_type
@@ -497,16 +499,22 @@ contains
     end function grid_bytes
 
     !> a = 0, writing only the blocks of a memory page that hold something else: the pages
-    !> of zeros a fresh allocation maps are read, never written, and take no memory.
+    !> of zeros a fresh allocation maps are read, never written, and take no memory. The bits
+    !> are compared, not the values: memory the heap hands out again may hold any pattern, a
+    !> signalling NaN included (a floating-point comparison would trap in a Debug build).
     subroutine clear_reals(a)
-        real(wp), contiguous, intent(inout) :: a(:)
+        real(wp), contiguous, intent(inout), target :: a(:)
             !! array
 
+        integer(int64), pointer, contiguous :: bits(:)
         integer :: i, last
 
+        if (size(a) == 0) return
+        ! one 64-bit integer per real(wp) (mpm_kinds: 15 digits)
+        call c_f_pointer(c_loc(a), bits, [size(a)])
         do i = 1, size(a), page_entries
             last = min(size(a), i + page_entries - 1)
-            if (any(a(i:last) /= 0.0_wp)) a(i:last) = 0.0_wp
+            if (any(bits(i:last) /= 0_int64)) a(i:last) = 0.0_wp
         end do
     end subroutine clear_reals
 
