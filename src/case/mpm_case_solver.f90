@@ -20,7 +20,8 @@ module mpm_case_solver
         !! longest value of solver.shape_function kept
 
     character(len=*), parameter :: solver_keys(*) = [character(len=18) :: "scheme", &
-        "shape_function", "locking_correction", "transfer", "flip_fraction", "xpic_order"]
+        "shape_function", "locking_correction", "transfer", "flip_fraction", "xpic_order", &
+        "one_pass"]
         !! keys of `solver`
 
     !> `solver`: how a step is computed.
@@ -44,6 +45,9 @@ module mpm_case_solver
         logical :: fbar = .false.
             !! F-bar volumetric locking correction: the volume change of each step is averaged
             !! over the particles of a cell (solver.locking_correction = "fbar")
+        logical :: one_pass = .true.
+            !! USL and MUSL without F-bar on one image: the last particle pass of a step also
+            !! scatters the next step's P2G (solver.one_pass; false: a P2G pass of its own)
     end type solver_section_type
 
 contains
@@ -109,6 +113,8 @@ contains
             return
         end if
         call cur%get_int("xpic_order", solver%xpic_order, error, at_least=1, at_most=10)
+        if (allocated(error)) return
+        call cur%get_bool("one_pass", solver%one_pass, error)
     end subroutine read_solver
 
 end module mpm_case_solver

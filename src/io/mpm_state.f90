@@ -79,6 +79,9 @@ module mpm_state
             !! ascending
         real(wp), allocatable :: terrain_load(:)
             !! running normal load of each terrain contact pair of terrain_node [N s]
+        integer, allocatable :: scatter_order(:)
+            !! a one-pass run: the particle order of the P2G its last step did for the next one
+            !! (the restart does that P2G again in that order: the same sums)
     end type run_record_type
 
 contains
@@ -294,6 +297,12 @@ contains
             call hdf5_write_dataset(group, "terrain_node", run%terrain_node, error, units="-")
             if (allocated(error)) return
             call hdf5_write_dataset(group, "terrain_load", run%terrain_load, error, units="N s")
+            if (allocated(error)) return
+        end if
+        if (allocated(run%scatter_order)) then
+            call hdf5_write_attribute(group, "scatter_particles", size(run%scatter_order), error)
+            if (allocated(error)) return
+            call hdf5_write_dataset(group, "scatter_order", run%scatter_order, error, units="-")
         end if
     end subroutine write_run_record
 
@@ -440,6 +449,18 @@ contains
             call hdf5_read_dataset(group, "terrain_node", run%terrain_node, error)
             if (allocated(error)) return
             call hdf5_read_dataset(group, "terrain_load", run%terrain_load, error)
+            if (allocated(error)) return
+        end if
+        if (hdf5_has_attribute(group, "scatter_particles")) then
+            call hdf5_read_attribute(group, "scatter_particles", nbytes, error)
+            if (allocated(error)) return
+            if (nbytes < 0) then
+                call fatal_error(error, "the run record is damaged (scatter_particles "// &
+                    int_text(nbytes)//")", exit_input)
+                return
+            end if
+            allocate (run%scatter_order(nbytes))
+            call hdf5_read_dataset(group, "scatter_order", run%scatter_order, error)
         end if
     end subroutine read_run_group
 

@@ -29,12 +29,14 @@ module mpm_stencil
     implicit none
     private
     public :: stencils_type, compute_stencils, particle_nodes, particle_weights, stencil_bytes, axis_derivatives, &
-        axis_derivatives_any, fixed_width
+        axis_derivatives_any, fixed_width, sort_stencils, restencil, chunk_holds, cut_chunks
 
     integer, parameter :: fixed_width = 3
         !! widest stencil the kernels with scratch of fixed size serve (constant-width loops
         !! of widths 2 and 3, narrow grids): axis_derivatives
 
+    integer, parameter :: stencil_block = 256
+        !! particles per block of the weights and the stencils' own work
     integer, parameter :: particles_per_chunk = 2048
         !! particles per chunk of a scatter pass (at least; fewer chunks for small runs)
     integer, parameter :: max_chunks = 32
@@ -93,6 +95,10 @@ module mpm_stencil
         integer, allocatable :: chunk_offset(:)
             !! buffer entries of chunk k start after chunk_offset(k); chunk_offset(nchunks + 1)
             !! is the buffer size
+        integer :: margin = 0
+            !! node layers and nodes the scatter layout (chunk layers, box) adds on every side
+            !! of the stencils: 1 in a one-pass step, whose scatter takes the stencils after
+            !! the moves (a particle moves less than a cell per step)
         integer :: layer_lo = 0, layer_hi = -1
             !! node layers (slowest axis) that some chunk touches
         integer :: box_lo(3) = 0, box_hi(3) = -1
@@ -119,8 +125,8 @@ module mpm_stencil
 contains
 
     !> Evaluate the stencils of every particle at its current position, sort the particles by
-    !> cell layer and cut the chunks of the scatter passes.
-    subroutine compute_stencils(stc, grid, particles, shape, error, cells)
+    !> cell layer (or take the order given) and cut the chunks of the scatter passes.
+    subroutine compute_stencils(stc, grid, particles, shape, error, cells, margin, order)
         type(stencils_type), intent(inout) :: stc
             !! stencils (allocated on first use and when the particle count changes)
         type(grid_type), intent(in) :: grid
@@ -133,15 +139,15 @@ contains
             !! set when the scratch cannot be allocated
         logical, intent(in), optional :: cells
             !! also keep the cell of each particle (stc%cell; F-bar)
+        integer, intent(in), optional :: margin
+            !! node layers and nodes the scatter layout adds around the stencils (stc%margin;
+            !! default 0)
+        integer, intent(in), optional :: order(:)
+            !! the particle order of the scatter passes instead of the sorted one (a restart
+            !! of a one-pass run: the order its last scatter took)
 
-        integer, parameter :: stencil_block = 256
-            !! particles per block of the weights and the stencils' own work
-        integer :: p, a, k, dim, nps, c, q, nlayers, nb, b, bad, p0, p1
-        integer :: cell_stride(3)
-        logical :: windowed_stencils, initial
-        real(wp) :: lp2(2, stencil_block), lp3(3, stencil_block)
+        integer :: nps, bad, p0, p1
 
-        dim = grid%dim
         nps = shape%nodes_per_axis()
         stc%with_cells = .false.
         if (present(cells)) stc%with_cells = cells
@@ -153,6 +159,8 @@ contains
         end select
         call allocate_stencils(stc, grid, particles%n, nps, error)
         if (allocated(error)) return
+        stc%margin = 0
+        if (present(margin)) stc%margin = margin
         select type (shape)
         class is (full_shape_type)
             ! weights and gradients per node of the box (CPDI)
@@ -165,55 +173,107 @@ contains
         class default
             ! tensor-product shapes: their weights are evaluated block by block below
         end select
-        initial = stc%tensor .and. shape%initial_domain()
-        cell_stride = [1, grid%ncells(1), grid%ncells(1)*grid%ncells(2)]
-        windowed_stencils = windowed(stc)
         ! block by block: the weights of a block (the shape function's weights_all), then
         ! what the stencils keep of them while they are in the cache
-        !$omp parallel do default(none) schedule(static) &
-        !$omp shared(stc, grid, particles, shape, dim, nps, cell_stride, windowed_stencils, &
-        !$omp initial) &
-        !$omp private(p0, p1, p, a, c, lp2, lp3)
+        !$omp parallel do default(none) schedule(static) shared(stc, grid, particles, shape) &
+        !$omp private(p0, p1)
         do p0 = 1, particles%n, stencil_block
             p1 = min(p0 + stencil_block - 1, particles%n)
-            if (initial) then
-                ! uGIMP: the particle domain at its initial size
-                call shape%weights_all(grid, particles%x(:, p0:p1), particles%lp0(:, p0:p1), &
-                    stc%first(:, p0:p1), stc%w(:, :, p0:p1), stc%dw(:, :, p0:p1))
-            else if (stc%tensor) then
-                ! the domain half-sizes from F (they are not kept between steps)
-                ! (scratch of the dimension's extent: a section lp3(1:2, :) would be copied)
-                if (dim == 2) then
-                    call domain_half_sizes_block(2, p1 - p0 + 1, particles%f(:, :, p0:p1), &
-                        particles%lp0(:, p0:p1), lp2)
-                    call shape%weights_all(grid, particles%x(:, p0:p1), lp2(:, 1:p1 - p0 + 1), &
-                        stc%first(:, p0:p1), stc%w(:, :, p0:p1), stc%dw(:, :, p0:p1))
-                else
-                    call domain_half_sizes_block(3, p1 - p0 + 1, particles%f(:, :, p0:p1), &
-                        particles%lp0(:, p0:p1), lp3)
-                    call shape%weights_all(grid, particles%x(:, p0:p1), lp3(:, 1:p1 - p0 + 1), &
-                        stc%first(:, p0:p1), stc%w(:, :, p0:p1), stc%dw(:, :, p0:p1))
-                end if
-            end if
-            if (stc%tensor) then
-                ! keep the stencils inside the grid: the nodes they drop have zero weight
-                call keep_inside(nps, dim, p1 - p0 + 1, grid%nn, stc%nper, stc%first(:, p0:p1), &
-                    stc%w(:, :, p0:p1), stc%dw(:, :, p0:p1))
-                if (windowed_stencils) call nonzero_windows(dim, p1 - p0 + 1, &
-                    stc%w(:, :, p0:p1), stc%window(p0:p1))
-            end if
-            if (stc%with_cells) then
-                do p = p0, p1
-                    c = 1
-                    do a = 1, dim
-                        c = c + axis_cell(grid, particles%x(a, p), a)*cell_stride(a)
-                    end do
-                    stc%cell(p) = c
-                end do
-            end if
+            call block_stencils(stc, grid, particles, shape, p0, p1)
         end do
         !$omp end parallel do
 
+        if (present(order)) then
+            stc%order = order
+            call cut_chunks(stc, grid)
+        else
+            call sort_stencils(stc, grid, particles)
+        end if
+    end subroutine compute_stencils
+
+    !> The stencils of the particles p0 .. p1 (at most stencil_block) at their positions: the
+    !> weights of the block (the shape function's weights_all; tensor products), then what
+    !> the stencils keep of them while they are in the cache; the cells too when kept.
+    subroutine block_stencils(stc, grid, particles, shape, p0, p1)
+        type(stencils_type), intent(inout) :: stc
+            !! stencils; those of the block are replaced
+        type(grid_type), intent(in) :: grid
+            !! the grid
+        type(particles_type), intent(in) :: particles
+            !! particles
+        class(shape_type), intent(in) :: shape
+            !! shape function
+        integer, intent(in) :: p0, p1
+            !! the block
+
+        integer :: p, dim, nps
+        real(wp) :: lp2(2, stencil_block), lp3(3, stencil_block)
+
+        dim = stc%dim
+        nps = stc%nps
+        if (stc%tensor .and. shape%initial_domain()) then
+            ! uGIMP: the particle domain at its initial size
+            call shape%weights_all(grid, particles%x(:, p0:p1), particles%lp0(:, p0:p1), &
+                stc%first(:, p0:p1), stc%w(:, :, p0:p1), stc%dw(:, :, p0:p1))
+        else if (stc%tensor) then
+            ! the domain half-sizes from F (they are not kept between steps)
+            ! (scratch of the dimension's extent: a section lp3(1:2, :) would be copied)
+            if (dim == 2) then
+                call domain_half_sizes_block(2, p1 - p0 + 1, particles%f(:, :, p0:p1), &
+                    particles%lp0(:, p0:p1), lp2)
+                call shape%weights_all(grid, particles%x(:, p0:p1), lp2(:, 1:p1 - p0 + 1), &
+                    stc%first(:, p0:p1), stc%w(:, :, p0:p1), stc%dw(:, :, p0:p1))
+            else
+                call domain_half_sizes_block(3, p1 - p0 + 1, particles%f(:, :, p0:p1), &
+                    particles%lp0(:, p0:p1), lp3)
+                call shape%weights_all(grid, particles%x(:, p0:p1), lp3(:, 1:p1 - p0 + 1), &
+                    stc%first(:, p0:p1), stc%w(:, :, p0:p1), stc%dw(:, :, p0:p1))
+            end if
+        end if
+        if (stc%tensor) then
+            ! keep the stencils inside the grid: the nodes they drop have zero weight
+            call keep_inside(nps, dim, p1 - p0 + 1, grid%nn, stc%nper, stc%first(:, p0:p1), &
+                stc%w(:, :, p0:p1), stc%dw(:, :, p0:p1))
+            if (windowed(stc)) call nonzero_windows(dim, p1 - p0 + 1, stc%w(:, :, p0:p1), &
+                stc%window(p0:p1))
+        end if
+        if (stc%with_cells) then
+            do p = p0, p1
+                stc%cell(p) = particle_cell(grid, particles%x(:, p))
+            end do
+        end if
+    end subroutine block_stencils
+
+    !> The cell of a position, 1-based linear index (clamped to the grid).
+    pure integer function particle_cell(grid, x)
+        type(grid_type), intent(in) :: grid
+            !! the grid
+        real(wp), intent(in) :: x(:)
+            !! position (dim) [m]
+
+        integer :: a, stride
+
+        particle_cell = 1
+        stride = 1
+        do a = 1, grid%dim
+            particle_cell = particle_cell + axis_cell(grid, x(a), a)*stride
+            stride = stride*grid%ncells(a)
+        end do
+    end function particle_cell
+
+    !> Sort the particles by the cell layer of their positions along the slowest axis and cut
+    !> the chunks of the scatter passes (stencils evaluated at those positions).
+    subroutine sort_stencils(stc, grid, particles)
+        type(stencils_type), intent(inout) :: stc
+            !! stencils of the particles at their positions
+        type(grid_type), intent(in) :: grid
+            !! the grid
+        type(particles_type), intent(in) :: particles
+            !! particles
+
+        integer :: p, k, dim, c, q, nlayers, nb, b
+
+        dim = grid%dim
         ! counting sort by node layer of the cell along the slowest axis, in parallel over
         ! fixed blocks of particles: stable (by layer, then particle index), so the order is
         ! fixed for a given state whatever the number of threads
@@ -253,7 +313,137 @@ contains
         end do
         !$omp end parallel do
         call cut_chunks(stc, grid)
-    end subroutine compute_stencils
+    end subroutine sort_stencils
+
+    !> Evaluate again the stencils of the particles `idx` at their current positions (a
+    !> one-pass step: the particles of a chunk after their moves, for the scatter of the next
+    !> step); tensor-product shape functions. The particles' positions, deformation gradients
+    !> and initial half-sizes are copied to scratch, the weights of the copy evaluated and
+    !> kept as compute_stencils keeps them (the same bits: the same operations on the same
+    !> values), and the stencils written back. The order and the chunks are not changed.
+    subroutine restencil(stc, grid, particles, shape, idx)
+        type(stencils_type), intent(inout) :: stc
+            !! stencils; those of the particles idx are replaced
+        type(grid_type), intent(in) :: grid
+            !! the grid
+        type(particles_type), intent(in) :: particles
+            !! particles
+        class(shape_type), intent(in) :: shape
+            !! shape function (a tensor product)
+        integer, intent(in) :: idx(:)
+            !! the particles
+
+        integer, parameter :: block = 64
+            !! particles per block of scratch
+        integer :: i0, nb, i, p, dim, nps
+        integer :: first(stc%dim, block), window(block)
+        real(wp) :: x(stc%dim, block), f(stc%dim, stc%dim, block), lp0(stc%dim, block), &
+            lp(stc%dim, block), w(stc%nps, stc%dim, block), dw(stc%nps - 1, stc%dim, block)
+        logical :: initial
+
+        dim = stc%dim
+        nps = stc%nps
+        if (size(idx) == 0) return
+        if (size(idx) <= stencil_block .and. idx(size(idx)) - idx(1) == size(idx) - 1) then
+            ! consecutive particles (the common case: the order follows the particle numbers
+            ! within a cell layer): on the particle arrays themselves
+            if (all(idx(2:) - idx(:size(idx) - 1) == 1)) then
+                call block_stencils(stc, grid, particles, shape, idx(1), idx(size(idx)))
+                return
+            end if
+        end if
+        initial = shape%initial_domain()
+        do i0 = 1, size(idx), block
+            nb = min(block, size(idx) - i0 + 1)
+            ! copies of sizes known here (a runtime-sized one calls memmove)
+            if (dim == 2) then
+                do i = 1, nb
+                    p = idx(i0 + i - 1)
+                    x(1:2, i) = particles%x(1:2, p)
+                    lp0(1:2, i) = particles%lp0(1:2, p)
+                    if (.not. initial) f(1:2, 1:2, i) = particles%f(1:2, 1:2, p)
+                end do
+            else
+                do i = 1, nb
+                    p = idx(i0 + i - 1)
+                    x(1:3, i) = particles%x(1:3, p)
+                    lp0(1:3, i) = particles%lp0(1:3, p)
+                    if (.not. initial) f(1:3, 1:3, i) = particles%f(1:3, 1:3, p)
+                end do
+            end if
+            if (initial) then
+                lp(:, 1:nb) = lp0(:, 1:nb)
+            else
+                call domain_half_sizes_block(dim, nb, f(:, :, 1:nb), lp0(:, 1:nb), lp(:, 1:nb))
+            end if
+            call shape%weights_all(grid, x(:, 1:nb), lp(:, 1:nb), first(:, 1:nb), &
+                w(:, :, 1:nb), dw(:, :, 1:nb))
+            call keep_inside(nps, dim, nb, grid%nn, stc%nper, first(:, 1:nb), &
+                w(:, :, 1:nb), dw(:, :, 1:nb))
+            if (windowed(stc)) then
+                call nonzero_windows(dim, nb, w(:, :, 1:nb), window(1:nb))
+                do i = 1, nb
+                    stc%window(idx(i0 + i - 1)) = window(i)
+                end do
+            end if
+            if (dim == 2 .and. nps == 3) then
+                do i = 1, nb
+                    p = idx(i0 + i - 1)
+                    stc%first(1:2, p) = first(1:2, i)
+                    stc%w(1:3, 1:2, p) = w(1:3, 1:2, i)
+                    stc%dw(1:2, 1:2, p) = dw(1:2, 1:2, i)
+                end do
+            else if (dim == 3 .and. nps == 3) then
+                do i = 1, nb
+                    p = idx(i0 + i - 1)
+                    stc%first(1:3, p) = first(1:3, i)
+                    stc%w(1:3, 1:3, p) = w(1:3, 1:3, i)
+                    stc%dw(1:2, 1:3, p) = dw(1:2, 1:3, i)
+                end do
+            else
+                do i = 1, nb
+                    p = idx(i0 + i - 1)
+                    stc%first(:, p) = first(:, i)
+                    stc%w(:, :, p) = w(:, :, i)
+                    stc%dw(:, :, p) = dw(:, :, i)
+                end do
+            end if
+            if (stc%with_cells) then
+                do i = 1, nb
+                    p = idx(i0 + i - 1)
+                    stc%cell(p) = particle_cell(grid, particles%x(:, p))
+                end do
+            end if
+        end do
+    end subroutine restencil
+
+    !> Whether the stencils of the particles order(qlo:qhi) of chunk k lie inside the chunk's
+    !> part of the scatter layout: its node layers along the slowest axis and the box along
+    !> the others.
+    pure logical function chunk_holds(stc, k, qlo, qhi)
+        type(stencils_type), intent(in) :: stc
+            !! stencils, order and chunks
+        integer, intent(in) :: k, qlo, qhi
+            !! the chunk and its range of the order
+
+        integer :: q, p, a, lo(3), hi(3)
+
+        lo = stc%box_lo
+        hi = stc%box_hi
+        lo(stc%slow) = stc%chunk_lo(k)
+        hi(stc%slow) = stc%chunk_hi(k)
+        do a = 1, stc%dim
+            hi(a) = hi(a) - stc%nper(a) + 1
+        end do
+        chunk_holds = .true.
+        do q = qlo, qhi
+            p = stc%order(q)
+            do a = 1, stc%dim
+                chunk_holds = chunk_holds .and. stc%first(a, p) >= lo(a) .and. &
+                    stc%first(a, p) <= hi(a)
+            end do
+        end do
+    end function chunk_holds
 
     !> The error of a particle whose full (CPDI) stencil does not fit its box: its domain,
     !> the image of its initial box under F, spans more than the box's nodes along an axis,
@@ -540,7 +730,8 @@ contains
         stc%box_hi = hi3
         if (nc > 0) then
             do a = 1, stc%dim
-                stc%box_hi(a) = min(stc%box_hi(a) + stc%nper(a) - 1, grid%nn(a) - 1)
+                stc%box_lo(a) = max(stc%box_lo(a) - stc%margin, 0)
+                stc%box_hi(a) = min(stc%box_hi(a) + stc%nper(a) - 1 + stc%margin, grid%nn(a) - 1)
             end do
         end if
         stc%bstride = 0
@@ -563,7 +754,8 @@ contains
                 lo = min(lo, stc%first(s, p))
                 hi = max(hi, stc%first(s, p))
             end do
-            hi = min(hi + stc%nper(s) - 1, nlayers - 1)
+            lo = max(lo - stc%margin, 0)
+            hi = min(hi + stc%nper(s) - 1 + stc%margin, nlayers - 1)
             stc%chunk_lo(k) = lo
             stc%chunk_hi(k) = hi
             stc%chunk_offset(k + 1) = stc%chunk_offset(k) + (hi - lo + 1)*cross

@@ -469,6 +469,8 @@ contains
         call output_list(writer, run%output_time, run%output_step, run%output_counts, &
             run%output_id)
         call contact_loads(sim, run%face_load, run%terrain_node, run%terrain_load)
+        ! a one-pass run: the order of the P2G its last step did for the next
+        if (sim%scatter_ready) run%scatter_order = sim%stencils%order
     end subroutine record_run
 
     !> Write a checkpoint of the run now (collective).

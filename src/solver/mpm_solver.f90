@@ -25,14 +25,14 @@ module mpm_solver
         global_cell
     use mpm_parallel, only: image_count, image_id, sum_over_images, max_over_images, &
         min_over_images, exchange_neighbours, agree_on_failure
-    use mpm_shape, only: shape_type
+    use mpm_shape, only: shape_type, full_shape_type
     use mpm_shape_factory, only: new_shape
     use mpm_material, only: material_holder_type, nwork_kinds
     use mpm_case_materials, only: material_laws, state_variable_count
     use mpm_state, only: run_record_type
     use mpm_contact_loads, only: face_loads, take_face_loads, face_node_count, terrain_loads, &
         take_terrain_loads
-    use mpm_stencil, only: stencils_type, compute_stencils
+    use mpm_stencil, only: stencils_type, compute_stencils, sort_stencils
     use mpm_transfer, only: p2g, p2g_options_type, g2p, motion_type, report_lost, update_stress, &
         nstress_sums
     use mpm_kernel_nodal, only: nnodal_sums, nodal_friction, &
@@ -128,6 +128,17 @@ module mpm_solver
         real(wp), allocatable :: terrain_corner(:, :, :)
             !! (3, 3, triangles) corners of the terrain surface as read (contact.type =
             !! "terrain_stl"): each new slab grid indexes it again
+        logical :: one_pass = .false.
+            !! the last particle pass of a step scatters the next step's P2G (solver.one_pass;
+            !! USL and MUSL without F-bar, tensor-product shape functions, one image)
+        logical :: scatter_ready = .false.
+            !! one-pass: the grid holds the P2G of the next step, the stencils are those of
+            !! the particles' positions, and stencils%order is the order of that P2G
+        real(wp) :: next_grid_kinetic = 0.0_wp
+            !! one-pass: the nodes' kinetic energy of that P2G [J]
+        integer, allocatable :: scatter_order(:)
+            !! a restart of a one-pass run: the particle order of the P2G of its first step
+            !! (that of the step before the checkpoint)
     end type simulation_type
 
     !> What a simulation starts from besides its case: the data of the files the case names
@@ -260,6 +271,19 @@ contains
             end if
             sim%particles%affine = 0.0_wp
         end if
+        ! one pass over the particles per step where the scheme allows it: the P2G of the
+        ! next step needs no more than the particle itself once it has moved (not F-bar's
+        ! cell means, not USF's two scatters), stencils that are tensor products (CPDI
+        ! evaluates all particles at once), and no halo to trade before the scatter
+        sim%one_pass = case%solver%one_pass .and. .not. case%solver%fbar .and. &
+            (case%solver%scheme == scheme_usl .or. case%solver%scheme == scheme_musl) .and. &
+            image_count() == 1
+        select type (shape => sim%shape)
+        class is (full_shape_type)
+            sim%one_pass = .false.
+        class default
+            ! tensor products: their stencils are evaluated block by block (restencil)
+        end select
         call start_energy_balance(sim)
     end subroutine new_simulation
 
@@ -341,7 +365,45 @@ contains
         call take_face_loads(sim%case, sim%grid, sim%dec, run%face_load)
         call take_terrain_loads(sim%case, sim%grid, sim%dec, run%terrain_node, &
             run%terrain_load, complete)
+        ! the order of the P2G the checkpoint's last step did for the next one (a one-pass run
+        ! on one image); without it the first step sorts, and the sums differ in round-off
+        if (allocated(run%scatter_order) .and. sim%one_pass) then
+            if (.not. is_permutation(run%scatter_order, sim%particles%n)) then
+                call fatal_error(error, "the run record's scatter_order is not an order of "// &
+                    "the checkpoint's "//int_text(sim%particles%n)//" particles (the file "// &
+                    "is damaged)", exit_input)
+                return
+            end if
+            sim%scatter_order = run%scatter_order
+        end if
     end subroutine resume_simulation
+
+    !> Whether `order` holds each of 1 .. n once.
+    pure logical function is_permutation(order, n)
+        integer, intent(in) :: order(:)
+            !! the order
+        integer, intent(in) :: n
+            !! its length
+
+        logical, allocatable :: seen(:)
+        integer :: q
+
+        is_permutation = size(order) == n
+        if (.not. is_permutation) return
+        allocate (seen(n))
+        seen = .false.
+        do q = 1, n
+            if (order(q) < 1 .or. order(q) > n) then
+                is_permutation = .false.
+                return
+            end if
+            if (seen(order(q))) then
+                is_permutation = .false.
+                return
+            end if
+            seen(order(q)) = .true.
+        end do
+    end function is_permutation
 
     !> The running normal loads of the contacts, for a checkpoint (collective): every
     !> frictional face node of the whole grid (face_loads), and every terrain pair by node
@@ -656,19 +718,34 @@ contains
             grid_kinetic(2), blend_loss, sums(nsums + size(sim%grid%face_impulse))
         integer :: scheme, k
         integer, allocatable :: passes(:)
-        logical :: grid_energy
+        logical :: grid_energy, one_pass, ready
         type(motion_type) :: motion
         type(energies_type) :: next
 
         scheme = sim%case%solver%scheme
+        ! one pass: the last particle pass scatters the next step's P2G (a prescribed body
+        ! force may change between the steps: its P2G stays in its own pass)
+        one_pass = sim%one_pass .and. .not. allocated(sim%particles%body_force)
+        ready = one_pass .and. sim%scatter_ready
+        sim%scatter_ready = .false.
         ! the nodes' kinetic energies are booked only when G2P gives the particles the nodal
         ! velocities (step_energies); FLIP runs do not pay for the two sums
         grid_energy = sim%case%solver%apic .or. sim%case%solver%flip_fraction == 0.0_wp
         stopped = 0.0_wp
         grid_kinetic = 0.0_wp
         clock = wall_time()
-        call compute_stencils(sim%stencils, sim%grid, sim%particles, sim%shape, error, &
-            cells=sim%case%solver%fbar)
+        if (ready) then
+            ! the stencils of the positions and the P2G come from the last step: the order
+            ! and the chunks of this step's positions
+            call sort_stencils(sim%stencils, sim%grid, sim%particles)
+        else if (allocated(sim%scatter_order) .and. one_pass) then
+            ! a restart: the P2G in the order of the step before the checkpoint
+            call compute_stencils(sim%stencils, sim%grid, sim%particles, sim%shape, error, &
+                margin=1, order=sim%scatter_order)
+        else
+            call compute_stencils(sim%stencils, sim%grid, sim%particles, sim%shape, error, &
+                cells=sim%case%solver%fbar, margin=merge(1, 0, one_pass))
+        end if
         if (allocated(error)) return
         call lap(sim, phase_stencils, clock)
         passes = step_passes(scheme, sim%case%solver%fbar, xpic=sim%case%solver%xpic)
@@ -692,10 +769,20 @@ contains
                     call scatter_to_nodes(sim, p2g_options_type(fint=.true., fbar=fbar))
                     call lap(sim, phase_p2g, clock)
                 case (pass_p2g)
-                    call scatter_to_nodes(sim, p2g_options_type(mass=.true., fint=.true., &
-                        fbar=fbar))
-                    if (grid_energy) grid_kinetic(1) = nodal_kinetic(grid)
-                    if (.not. grid_energy) call keep_contact_start(grid)
+                    if (ready) then
+                        ! done by the last pass of the step before (finish_next_p2g)
+                        grid_kinetic(1) = sim%next_grid_kinetic
+                    else
+                        call scatter_to_nodes(sim, p2g_options_type(mass=.true., fint=.true., &
+                            fbar=fbar))
+                        if (grid_energy) grid_kinetic(1) = nodal_kinetic(grid)
+                        if (.not. grid_energy) call keep_contact_start(grid)
+                        if (allocated(sim%scatter_order)) then
+                            ! a restart's P2G done: the order of this step's positions
+                            deallocate (sim%scatter_order)
+                            call sort_stencils(stc, grid, particles)
+                        end if
+                    end if
                     call lap(sim, phase_p2g, clock)
                 case (pass_nodes)
                     call update_nodes(grid, sim%case%domain%face, sim%time, dt, &
@@ -717,11 +804,21 @@ contains
                 case (pass_g2p_stress)
                     ! USL without F-bar: the stress update needs the nodal velocities of the
                     ! moves, in the same pass
-                    call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, &
-                        sim%case%gravity, remap=.false., motion=motion, kinetic=kinetic, &
-                        materials=sim%materials, strain_work=work, blend_loss=blend_loss, &
-                        xpic=sim%case%solver%xpic)
-                    call lap(sim, phase_g2p, clock)
+                    if (one_pass) then
+                        call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, &
+                            sim%case%gravity, remap=.false., motion=motion, kinetic=kinetic, &
+                            materials=sim%materials, strain_work=work, blend_loss=blend_loss, &
+                            xpic=sim%case%solver%xpic, shape=sim%shape)
+                        call lap(sim, phase_g2p, clock)
+                        call finish_next_p2g(sim, grid_energy, motion%lost > 0)
+                        call lap(sim, phase_p2g, clock)
+                    else
+                        call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, &
+                            sim%case%gravity, remap=.false., motion=motion, kinetic=kinetic, &
+                            materials=sim%materials, strain_work=work, blend_loss=blend_loss, &
+                            xpic=sim%case%solver%xpic)
+                        call lap(sim, phase_g2p, clock)
+                    end if
                 case (pass_g2p)
                     ! USL with F-bar, USF: the particles move here
                     call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, &
@@ -760,9 +857,18 @@ contains
                     ! times the nodal acceleration) feeds particle noise under tension that
                     ! FLIP never damps (growth ~ sigma dt / (rho dx^2), see
                     ! docs/accuracy-vs-cost.md)
-                    call update_stress(grid, particles, stc, sim%materials, dt, fbar=fbar, &
-                        strain_work=work, gravity=sim%case%gravity, motion=motion)
-                    call lap(sim, phase_stress, clock)
+                    if (one_pass) then
+                        call update_stress(grid, particles, stc, sim%materials, dt, fbar=fbar, &
+                            strain_work=work, gravity=sim%case%gravity, motion=motion, &
+                            shape=sim%shape)
+                        call lap(sim, phase_stress, clock)
+                        call finish_next_p2g(sim, grid_energy, motion%lost > 0)
+                        call lap(sim, phase_p2g, clock)
+                    else
+                        call update_stress(grid, particles, stc, sim%materials, dt, fbar=fbar, &
+                            strain_work=work, gravity=sim%case%gravity, motion=motion)
+                        call lap(sim, phase_stress, clock)
+                    end if
                 case default
                     call fatal_error(error, "advance: pass "//int_text(passes(k))// &
                         " of step_passes has no branch (a defect of mpm-geo)", exit_other)
@@ -823,6 +929,30 @@ contains
         if (opts%mass) call halo_contact_gaps(sim%grid, layers)
         if (opts%mass) call settle_light_nodes(sim%grid, layers)
     end subroutine scatter_to_nodes
+
+    !> The end of the next step's P2G that the last particle pass of a one-pass step did
+    !> (the part of scatter_to_nodes after the scatter), and what the next step takes from it:
+    !> the nodes' kinetic energy, or the contact velocities at its start (FLIP). Nothing when
+    !> a particle left the grid (the step fails).
+    subroutine finish_next_p2g(sim, grid_energy, lost)
+        type(simulation_type), intent(inout) :: sim
+            !! the simulation, its grid holding the scattered sums
+        logical, intent(in) :: grid_energy
+            !! the nodes' kinetic energies are booked (step_energies)
+        logical, intent(in) :: lost
+            !! a particle left the grid in the pass
+
+        integer :: layers
+
+        if (lost) return
+        layers = sim%shape%halo_width()
+        call halo_sum(sim%grid, layers, mass=.true., momentum=.true., fint=.true., fext=.false.)
+        call halo_contact_gaps(sim%grid, layers)
+        call settle_light_nodes(sim%grid, layers)
+        if (grid_energy) sim%next_grid_kinetic = nodal_kinetic(sim%grid)
+        if (.not. grid_energy) call keep_contact_start(sim%grid)
+        sim%scatter_ready = .true.
+    end subroutine finish_next_p2g
 
     !> Make a failure of any image the failure of all (collective): every image returns the
     !> error, and only the one that reports it keeps a message (one message per run).
@@ -956,6 +1086,8 @@ contains
             sim%energy%damping = sim%energy%damping + sim%energy%kinetic
             sim%particles%v = 0.0_wp
             sim%energy%kinetic = 0.0_wp
+            ! the momenta of a one-pass step's P2G are those of the velocities before
+            sim%scatter_ready = .false.
         end if
         sim%kinetic_previous = sim%energy%kinetic
     end subroutine kinetic_damping

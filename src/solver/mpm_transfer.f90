@@ -23,8 +23,8 @@ module mpm_transfer
     use mpm_error, only: error_type, fatal_error, exit_numerical
     use mpm_grid, only: grid_type
     use mpm_particles, only: particles_type, particle_number
-    use mpm_stencil, only: stencils_type, particle_weights
-    use mpm_shape, only: max_stencil_nodes
+    use mpm_stencil, only: stencils_type, particle_weights, restencil, chunk_holds, cut_chunks
+    use mpm_shape, only: max_stencil_nodes, shape_type
     use mpm_material, only: material_holder_type
     use mpm_kernel_stress, only: stress_block, determinant, gather_block, nstress_sums
     use mpm_kernel_scatter, only: scatter_particle
@@ -64,6 +64,25 @@ module mpm_transfer
             !! sum m b . dx [J]
     end type motion_type
 
+    !> The P2G of the next step in the last particle pass of a one-pass step (USL, MUSL):
+    !> each chunk, after its particles have moved and their stresses are updated, takes its
+    !> stencils at the new positions (mpm_stencil::restencil) and scatters mass, momentum and
+    !> internal force into its buffer of the step's layout, whose layers and box have room
+    !> for the moves (stc%margin). The nodal sums depend only on the order of the particles
+    !> and their cut into chunks, not on the layout: a chunk whose stencils do not fit
+    !> (a particle that moved more than the margin) is scattered again after the pass with the
+    !> layout of the new stencils, to the same bits.
+    type :: next_scatter_type
+        logical :: on = .false.
+            !! the pass scatters the next step's P2G
+        integer :: mass_row = 0, fint_row = 0, body_row = 0
+            !! rows of the buffers (p2g_rows)
+        logical :: apic = .false., body = .false.
+            !! APIC momentum, extra body force
+        logical, allocatable :: spilled(:)
+            !! the chunks whose stencils did not fit (or that lost a particle)
+    end type next_scatter_type
+
 contains
 
     !> Scatter particle mass, momentum and body forces (opts%mass) and the internal force
@@ -87,24 +106,16 @@ contains
             !! with mass: the box of nodes the step's grid work covers (0-based), when it is
             !! larger than the stencils' (on several images: mpm_halo::halo_box)
 
-        integer :: p, q, k, c, dim, ns, shift, fint_row, body_row, rows, mass_row, lo(3), hi(3)
-        real(wp) :: s(6), vs(6), xp(3), vp(3), aff(3, 3), bf(3)
-        logical :: apic, body, with_mass, with_fint, fbar
-        real(wp), allocatable :: cell_pv(:), cell_v(:), gaps(:)
+        integer :: p, q, k, c, fint_row, body_row, rows, mass_row, lo(3), hi(3)
+        logical :: apic, body
+        real(wp), allocatable :: cell_pv(:), cell_v(:)
         real(wp), pointer, contiguous :: buf(:, :)
 
-        with_mass = opts%mass
-        with_fint = opts%fint
-        fbar = opts%fbar
         lo = stc%box_lo
         hi = stc%box_hi
         if (present(box_lo)) lo = box_lo
         if (present(box_hi)) hi = box_hi
-        dim = grid%dim
-        ns = particles%nstress
-        apic = allocated(particles%affine) .and. with_mass
-        body = allocated(particles%body_force) .and. with_mass
-        if (with_fint .and. fbar) then
+        if (opts%fint .and. opts%fbar) then
             ! the stress power sum_p V_p p_p (mean of dJ over the cell) equals
             ! sum_q V_q (mean of V p over the cell) tr(L_q): the force that does the work of
             ! the averaged strains uses the averaged pressure
@@ -121,58 +132,164 @@ contains
         else
             allocate (cell_pv(1))
         end if
-        rows = 0
-        mass_row = 0
-        if (with_mass) mass_row = 1
-        if (with_mass) rows = 1 + dim
-        fint_row = 0
-        if (with_fint) fint_row = rows + 1
-        if (with_fint) rows = rows + dim
-        body_row = 0
-        if (body) body_row = rows + 1
-        if (body) rows = rows + dim
+        call p2g_rows(particles, grid%dim, opts, rows, mass_row, fint_row, body_row, apic, body)
         call scatter_buffer(grid, rows, stc%chunk_offset(stc%nchunks + 1), buf)
 
         !$omp parallel do default(none) schedule(dynamic, 1) &
-        !$omp shared(grid, particles, stc, buf, with_mass, with_fint, fbar, apic, body, &
-        !$omp dim, ns, cell_pv, fint_row, body_row, mass_row) &
-        !$omp private(k, q, p, shift, s, vs, xp, vp, aff, bf)
+        !$omp shared(grid, particles, stc, buf, opts, apic, body, cell_pv, fint_row, body_row, &
+        !$omp mass_row) private(k)
         do k = 1, stc%nchunks
-            shift = stc%chunk_base(k)
-            buf(:, stc%chunk_offset(k) + 1:stc%chunk_offset(k + 1)) = 0.0_wp
-            xp = 0.0_wp
-            vp = 0.0_wp
-            aff = 0.0_wp
-            bf = 0.0_wp
-            s = 0.0_wp
-            vs = 0.0_wp
-            do q = stc%chunk_start(k), stc%chunk_start(k + 1) - 1
-                p = stc%order(q)
-                if (with_mass) then
-                    vp(1:2) = particles%v(1:2, p)
-                    if (dim == 3) vp(3) = particles%v(3, p)
-                    if (apic) then
-                        xp(1:dim) = particles%x(:, p)
-                        aff(1:dim, 1:dim) = particles%affine(:, :, p)
-                    end if
-                    if (body) bf(1:dim) = particles%body_force(:, p)
-                end if
-                if (with_fint) then
-                    ! copies of a size known here (a runtime-sized one calls memcpy)
-                    if (ns == 4) then
-                        s(1:4) = particles%stress(1:4, p)
-                    else
-                        s(1:6) = particles%stress(1:6, p)
-                    end if
-                    if (fbar) s(1:3) = s(1:3) + cell_pv(stc%cell(p)) - sum(s(1:3))/3.0_wp
-                    vs = -particles%volume(p)*s
-                end if
-                call scatter_particle(stc, grid%origin, grid%dx, p, shift, particles%mass(p), xp, vp, aff, apic, &
-                    mass_row=mass_row, momentum_row=mass_row + 1, vs=vs, fint_row=fint_row, bf=bf, &
-                    body_row=body_row, buf=buf)
-            end do
+            call scatter_chunk(grid, particles, stc, k, opts, apic, body, cell_pv, mass_row, &
+                fint_row, body_row, buf)
         end do
         !$omp end parallel do
+
+        call finish_p2g(grid, particles, stc, buf, opts%mass, fint_row, body_row, lo, hi)
+    end subroutine p2g
+
+    !> The rows of a P2G pass's buffer (0: a row not scattered), and whether it scatters the
+    !> affine velocities (APIC) and the extra body force.
+    pure subroutine p2g_rows(particles, dim, opts, rows, mass_row, fint_row, body_row, apic, &
+            body)
+        type(particles_type), intent(in) :: particles
+            !! particles
+        integer, intent(in) :: dim
+            !! space dimensions
+        type(p2g_options_type), intent(in) :: opts
+            !! what to scatter
+        integer, intent(out) :: rows, mass_row, fint_row, body_row
+            !! rows of a node, first rows of the mass (then momentum), internal force and body
+            !! force
+        logical, intent(out) :: apic, body
+            !! APIC momentum, extra body force
+
+        apic = allocated(particles%affine) .and. opts%mass
+        body = allocated(particles%body_force) .and. opts%mass
+        rows = 0
+        mass_row = 0
+        if (opts%mass) mass_row = 1
+        if (opts%mass) rows = 1 + dim
+        fint_row = 0
+        if (opts%fint) fint_row = rows + 1
+        if (opts%fint) rows = rows + dim
+        body_row = 0
+        if (body) body_row = rows + 1
+        if (body) rows = rows + dim
+    end subroutine p2g_rows
+
+    !> P2G of the particles of chunk k into the chunk's part of the buffer (zeroed first), in
+    !> their sorted order.
+    subroutine scatter_chunk(grid, particles, stc, k, opts, apic, body, cell_pv, mass_row, &
+            fint_row, body_row, buf)
+        type(grid_type), intent(in) :: grid
+            !! the grid (origin and cell size)
+        type(particles_type), intent(in) :: particles
+            !! particles
+        type(stencils_type), intent(in) :: stc
+            !! stencils, order and chunks
+        integer, intent(in) :: k
+            !! the chunk
+        type(p2g_options_type), intent(in) :: opts
+            !! what to scatter
+        logical, intent(in) :: apic, body
+            !! APIC momentum, extra body force (p2g_rows)
+        real(wp), intent(in) :: cell_pv(:)
+            !! with F-bar, the mean pressure of each cell [Pa]
+        integer, intent(in) :: mass_row, fint_row, body_row
+            !! rows of the buffer (p2g_rows)
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! scatter buffer of the pass
+
+        buf(:, stc%chunk_offset(k) + 1:stc%chunk_offset(k + 1)) = 0.0_wp
+        call scatter_range(grid, particles, stc, k, stc%chunk_start(k), &
+            stc%chunk_start(k + 1) - 1, opts, apic, body, cell_pv, mass_row, fint_row, &
+            body_row, buf)
+    end subroutine scatter_chunk
+
+    !> P2G of the particles order(qlo:qhi) of chunk k into the chunk's part of the buffer, in
+    !> that order.
+    subroutine scatter_range(grid, particles, stc, k, qlo, qhi, opts, apic, body, cell_pv, &
+            mass_row, fint_row, body_row, buf)
+        type(grid_type), intent(in) :: grid
+            !! the grid (origin and cell size)
+        type(particles_type), intent(in) :: particles
+            !! particles
+        type(stencils_type), intent(in) :: stc
+            !! stencils, order and chunks
+        integer, intent(in) :: k
+            !! the chunk
+        integer, intent(in) :: qlo, qhi
+            !! the particles' range of the order, in the chunk's
+        type(p2g_options_type), intent(in) :: opts
+            !! what to scatter
+        logical, intent(in) :: apic, body
+            !! APIC momentum, extra body force (p2g_rows)
+        real(wp), intent(in) :: cell_pv(:)
+            !! with F-bar, the mean pressure of each cell [Pa]
+        integer, intent(in) :: mass_row, fint_row, body_row
+            !! rows of the buffer (p2g_rows)
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! scatter buffer of the pass
+
+        integer :: p, q, dim, ns, shift
+        real(wp) :: s(6), vs(6), xp(3), vp(3), aff(3, 3), bf(3)
+
+        dim = grid%dim
+        ns = particles%nstress
+        shift = stc%chunk_base(k)
+        xp = 0.0_wp
+        vp = 0.0_wp
+        aff = 0.0_wp
+        bf = 0.0_wp
+        s = 0.0_wp
+        vs = 0.0_wp
+        do q = qlo, qhi
+            p = stc%order(q)
+            if (opts%mass) then
+                vp(1:2) = particles%v(1:2, p)
+                if (dim == 3) vp(3) = particles%v(3, p)
+                if (apic) then
+                    xp(1:dim) = particles%x(:, p)
+                    aff(1:dim, 1:dim) = particles%affine(:, :, p)
+                end if
+                if (body) bf(1:dim) = particles%body_force(:, p)
+            end if
+            if (opts%fint) then
+                ! copies of a size known here (a runtime-sized one calls memcpy)
+                if (ns == 4) then
+                    s(1:4) = particles%stress(1:4, p)
+                else
+                    s(1:6) = particles%stress(1:6, p)
+                end if
+                if (opts%fbar) s(1:3) = s(1:3) + cell_pv(stc%cell(p)) - sum(s(1:3))/3.0_wp
+                vs = -particles%volume(p)*s
+            end if
+            call scatter_particle(stc, grid%origin, grid%dx, p, shift, particles%mass(p), xp, &
+                vp, aff, apic, mass_row=mass_row, momentum_row=mass_row + 1, vs=vs, &
+                fint_row=fint_row, bf=bf, body_row=body_row, buf=buf)
+        end do
+    end subroutine scatter_range
+
+    !> The end of a P2G pass: the chunk buffers folded into the grid and, with the masses,
+    !> the smallest gap of each contact pair.
+    subroutine finish_p2g(grid, particles, stc, buf, with_mass, fint_row, body_row, lo, hi)
+        type(grid_type), intent(inout) :: grid
+            !! grid receiving the nodal sums
+        type(particles_type), intent(in) :: particles
+            !! particles
+        type(stencils_type), intent(in) :: stc
+            !! stencils, order and chunks of the scatter
+        real(wp), contiguous, intent(in) :: buf(:, :)
+            !! the chunk buffers
+        logical, intent(in) :: with_mass
+            !! the buffers hold masses and momenta (rows 1 : 1 + dim)
+        integer, intent(in) :: fint_row, body_row
+            !! first rows of the internal and the extra body force, 0 for none
+        integer, intent(in) :: lo(3), hi(3)
+            !! with mass, the box of nodes of the step's grid work
+
+        integer :: p
+        real(wp), allocatable :: gaps(:)
 
         call fold(grid, stc, buf, mass_rows=with_mass, fint_row=fint_row, body_row=body_row, &
             box_lo=lo, box_hi=hi)
@@ -188,7 +305,102 @@ contains
             !$omp end parallel do
             grid%contact_gap = gaps
         end if
-    end subroutine p2g
+    end subroutine finish_p2g
+
+    !> The options of the next step's P2G of a one-pass step: mass, momentum and internal
+    !> force.
+    pure function next_options() result(opts)
+        type(p2g_options_type) :: opts
+        opts = p2g_options_type(mass=.true., fint=.true.)
+    end function next_options
+
+    !> Start the next step's P2G in a pass: the rows and the chunk buffers.
+    subroutine open_next_scatter(grid, particles, stc, next, buf)
+        type(grid_type), intent(inout), target :: grid
+            !! grid owning the buffers
+        type(particles_type), intent(in) :: particles
+            !! particles
+        type(stencils_type), intent(in) :: stc
+            !! stencils, order and chunks of the step (its layout with stc%margin)
+        type(next_scatter_type), intent(inout) :: next
+            !! the scatter
+        real(wp), pointer, contiguous, intent(out) :: buf(:, :)
+            !! the chunk buffers
+
+        integer :: rows
+
+        call p2g_rows(particles, grid%dim, next_options(), rows, next%mass_row, next%fint_row, &
+            next%body_row, next%apic, next%body)
+        call scatter_buffer(grid, rows, stc%chunk_offset(stc%nchunks + 1), buf)
+        allocate (next%spilled(stc%nchunks))
+        next%spilled = .false.
+    end subroutine open_next_scatter
+
+    !> The next step's P2G of the particles order(qlo:qhi) of chunk k (a block of it, the
+    !> blocks in order; the chunk's buffer zeroed before the first), after their moves and
+    !> stress updates, while they are in the cache: their stencils at the new positions, and
+    !> their scatter when they fit the chunk's layout (not when the chunk lost a particle:
+    !> the step fails).
+    subroutine next_scatter(grid, particles, stc, shape, k, qlo, qhi, lost, next, buf)
+        type(grid_type), intent(in) :: grid
+            !! the grid
+        type(particles_type), intent(in) :: particles
+            !! particles, moved
+        type(stencils_type), intent(inout) :: stc
+            !! stencils (those of the chunk's particles replaced), order and chunks
+        class(shape_type), intent(in) :: shape
+            !! shape function
+        integer, intent(in) :: k
+            !! the chunk
+        integer, intent(in) :: qlo, qhi
+            !! the block's range of the order
+        logical, intent(in) :: lost
+            !! a particle of the chunk left the grid
+        type(next_scatter_type), intent(inout) :: next
+            !! the scatter
+        real(wp), contiguous, intent(inout) :: buf(:, :)
+            !! the chunk buffers
+
+        real(wp) :: no_cells(1)
+
+        if (qlo == stc%chunk_start(k)) buf(:, stc%chunk_offset(k) + 1:stc%chunk_offset(k + 1)) &
+            = 0.0_wp
+        next%spilled(k) = next%spilled(k) .or. lost
+        if (next%spilled(k)) return
+        call restencil(stc, grid, particles, shape, stc%order(qlo:qhi))
+        next%spilled(k) = .not. chunk_holds(stc, k, qlo, qhi)
+        no_cells = 0.0_wp
+        if (.not. next%spilled(k)) call scatter_range(grid, particles, stc, k, qlo, qhi, &
+            next_options(), next%apic, next%body, no_cells, next%mass_row, next%fint_row, &
+            next%body_row, buf)
+    end subroutine next_scatter
+
+    !> End the next step's P2G of a pass: fold the chunk buffers into the grid, or, when some
+    !> chunk's stencils did not fit, scatter every chunk again with the layout of the new
+    !> stencils (the same order and chunks: the same sums). Nothing when a particle was lost.
+    subroutine close_next_scatter(grid, particles, stc, next, buf, lost)
+        type(grid_type), intent(inout), target :: grid
+            !! grid receiving the next step's nodal sums
+        type(particles_type), intent(in) :: particles
+            !! particles, moved
+        type(stencils_type), intent(inout) :: stc
+            !! stencils at the new positions (their layout cut again after a spill)
+        type(next_scatter_type), intent(in) :: next
+            !! the scatter
+        real(wp), contiguous, intent(in) :: buf(:, :)
+            !! the chunk buffers
+        logical, intent(in) :: lost
+            !! a particle left the grid in the pass
+
+        if (lost) return
+        if (any(next%spilled)) then
+            call cut_chunks(stc, grid)
+            call p2g(grid, particles, stc, next_options())
+        else
+            call finish_p2g(grid, particles, stc, buf, .true., next%fint_row, next%body_row, &
+                stc%box_lo, stc%box_hi)
+        end if
+    end subroutine close_next_scatter
 
     !> A rows x n view of the grid's scatter scratch, which grows when it is too small and is
     !> kept from pass to pass.
@@ -342,13 +554,15 @@ contains
     !> as the moves), the same pass also updates the stresses: one gather per particle and step
     !> instead of two; the blocks and the order of the work sums are those of update_stress.
     subroutine g2p(grid, particles, stc, dt, flip, gravity, remap, motion, kinetic, materials, &
-            strain_work, blend_loss, xpic)
+            strain_work, blend_loss, xpic, shape)
         type(grid_type), intent(inout), target :: grid
-            !! grid after the nodal update (momentum replaced with `remap`)
+            !! grid after the nodal update (momentum replaced with `remap`; with `shape`, the
+            !! P2G of the next step)
         type(particles_type), intent(inout) :: particles
             !! particles whose velocities are updated
-        type(stencils_type), intent(in) :: stc
-            !! stencils, order and chunks of the step
+        type(stencils_type), intent(inout) :: stc
+            !! stencils, order and chunks of the step (with `shape`, the stencils at the
+            !! particles' new positions on return)
         real(wp), intent(in) :: dt
             !! time step [s]
         real(wp), intent(in) :: flip
@@ -376,35 +590,44 @@ contains
         logical, intent(in), optional :: xpic
             !! XPIC(m) update (solver.transfer = "xpic"): v_p = sum N_i (grid%xpic_i + dt a_i),
             !! with grid%xpic set by the XPIC pass of the step (default .false.)
+        class(shape_type), intent(in), optional :: shape
+            !! with materials, a one-pass step: after the moves and the stresses of a chunk,
+            !! its stencils at the new positions and its P2G of the next step (next_scatter)
 
-        integer :: k, q, p, dim, shift, ng, qlo, qhi
+        integer :: k, q, p, dim, shift, ng, qlo, qhi, q0, q1
         real(wp) :: xp(3), vp(3), aff(3, 3), bf(3), vs(6), dx(3), gradv(3, 3), ke, loss, &
             blended, ldts(3, 3, gather_block), work(nstress_sums)
-        logical :: apic, stress, extended
+        logical :: apic, stress, extended, chunks
         real(wp), allocatable :: partial(:, :), partial_ke(:), partial_loss(:)
         real(wp), pointer, contiguous :: buf(:, :)
         type(motion_type), allocatable :: moved(:)
         type(motion_type) :: mine
+        type(next_scatter_type) :: next
 
         dim = grid%dim
         apic = allocated(particles%affine)
         extended = .false.
         if (present(xpic)) extended = xpic
         stress = present(materials) .and. .not. remap
-        ! the remap scatters: chunks; otherwise only gathers: small blocks balance the threads
-        ng = group_count(stc, remap)
+        next%on = present(shape) .and. stress
+        ! the scatters (remap, next step) by chunks; otherwise only gathers: small blocks
+        ! balance the threads
+        chunks = remap .or. next%on
+        ng = group_count(stc, chunks)
         allocate (moved(ng), partial(nstress_sums, ng), partial_ke(ng), partial_loss(ng))
         if (remap) then
             ! the momentum only: the nodal masses do not change
             call scatter_buffer(grid, dim, stc%chunk_offset(stc%nchunks + 1), buf)
+        else if (next%on) then
+            call open_next_scatter(grid, particles, stc, next, buf)
         else
             call scatter_buffer(grid, 1, 1, buf)
         end if
         !$omp parallel do default(none) schedule(dynamic, 1) &
         !$omp shared(grid, particles, stc, dt, flip, gravity, remap, buf, dim, apic, moved, ng, &
-        !$omp materials, stress, partial, partial_ke, partial_loss, extended) &
+        !$omp materials, stress, partial, partial_ke, partial_loss, extended, chunks, next, shape) &
         !$omp private(k, q, p, shift, xp, vp, aff, bf, vs, dx, qlo, qhi, mine, gradv, work, ldts, &
-        !$omp ke, loss, blended)
+        !$omp ke, loss, blended, q0, q1)
         do k = 1, ng
             ! records and sums in private variables, stored once per group: neighbouring
             ! groups run on other threads, and their array entries share cache lines
@@ -412,7 +635,7 @@ contains
             work = 0.0_wp
             ke = 0.0_wp
             loss = 0.0_wp
-            call group_range(stc, remap, k, qlo, qhi)
+            call group_range(stc, chunks, k, qlo, qhi)
             shift = 0
             if (remap) then
                 shift = stc%chunk_base(k)
@@ -423,29 +646,35 @@ contains
             aff = 0.0_wp
             bf = 0.0_wp
             vs = 0.0_wp
-            do q = qlo, qhi
-                p = stc%order(q)
-                call update_particle_velocity(grid, particles, stc, p, dt, flip, apic, &
-                    need_v=.not. remap, with_gradient=stress, dx=dx, gradv=gradv, &
-                    blend_loss=blended, xpic=extended)
-                ke = ke + 0.5_wp*particles%mass(p)*sum(particles%v(:, p)**2)
-                loss = loss + blended
-                if (.not. remap) call move_particle(grid, particles, p, dx, gravity, mine)
-                if (stress) ldts(:, :, q - qlo + 1) = dt*gradv
-                if (remap) then
-                    vp(1:dim) = particles%v(:, p)
-                    if (apic) then
-                        xp(1:dim) = particles%x(:, p)
-                        aff(1:dim, 1:dim) = particles%affine(:, :, p)
+            ! the stresses by blocks of at most gather_block particles (a chunk holds several)
+            do q0 = qlo, qhi, gather_block
+                q1 = min(q0 + gather_block - 1, qhi)
+                do q = q0, q1
+                    p = stc%order(q)
+                    call update_particle_velocity(grid, particles, stc, p, dt, flip, apic, &
+                        need_v=.not. remap, with_gradient=stress, dx=dx, gradv=gradv, &
+                        blend_loss=blended, xpic=extended)
+                    ke = ke + 0.5_wp*particles%mass(p)*sum(particles%v(:, p)**2)
+                    loss = loss + blended
+                    if (.not. remap) call move_particle(grid, particles, p, dx, gravity, mine)
+                    if (stress) ldts(:, :, q - q0 + 1) = dt*gradv
+                    if (remap) then
+                        vp(1:dim) = particles%v(:, p)
+                        if (apic) then
+                            xp(1:dim) = particles%x(:, p)
+                            aff(1:dim, 1:dim) = particles%affine(:, :, p)
+                        end if
+                        call scatter_particle(stc, grid%origin, grid%dx, p, shift, &
+                            particles%mass(p), xp, vp, aff, apic, mass_row=0, momentum_row=1, &
+                            vs=vs, fint_row=0, bf=bf, body_row=0, buf=buf)
                     end if
-                    call scatter_particle(stc, grid%origin, grid%dx, p, shift, particles%mass(p), xp, vp, aff, &
-                        apic, mass_row=0, momentum_row=1, vs=vs, fint_row=0, bf=bf, body_row=0, &
-                        buf=buf)
-                end if
+                end do
+                if (stress) call stress_block(stc%order(q0:q1), particles%material, &
+                    particles%stress, particles%state, particles%f, particles%volume, &
+                    particles%volume0, materials, ldts, dt, dim, work, strain=particles%strain)
+                if (next%on) call next_scatter(grid, particles, stc, shape, k, q0, q1, &
+                    mine%lost > 0, next, buf)
             end do
-            if (stress) call stress_block(stc%order(qlo:qhi), particles%material, &
-                particles%stress, particles%state, particles%f, particles%volume, &
-                particles%volume0, materials, ldts, dt, dim, work, strain=particles%strain)
             moved(k) = mine
             partial(:, k) = work
             partial_ke(k) = ke
@@ -473,6 +702,7 @@ contains
             call fold(grid, stc, buf, mass_rows=.true., fint_row=0, body_row=0, &
                 only_momentum=.true.)
         end if
+        if (next%on) call close_next_scatter(grid, particles, stc, next, buf, motion%lost > 0)
     end subroutine g2p
 
     !> The G2P update of one particle: velocity (FLIP, PIC blend or APIC) and the position
@@ -645,13 +875,14 @@ contains
     !> leaves a checkerboard of pressures, and with it of strengths, between the particles of
     !> a cell (Coombs et al. 2018; Wyser et al. 2021 average the pressure per cell).
     subroutine update_stress(grid, particles, stc, materials, dt, fbar, strain_work, gravity, &
-            motion)
-        type(grid_type), intent(in) :: grid
-            !! grid with nodal velocities
+            motion, shape)
+        type(grid_type), intent(inout), target :: grid
+            !! grid with nodal velocities (with `shape`, the P2G of the next step on return)
         type(particles_type), intent(inout) :: particles
             !! particles to update
-        type(stencils_type), intent(in) :: stc
-            !! stencils, order and chunks of the step
+        type(stencils_type), intent(inout) :: stc
+            !! stencils, order and chunks of the step (with `shape`, the stencils at the
+            !! particles' new positions on return)
         type(material_holder_type), intent(in) :: materials(:)
             !! materials of the case
         real(wp), intent(in) :: dt
@@ -666,20 +897,27 @@ contains
         type(motion_type), intent(out), optional :: motion
             !! when present (MUSL), the particles move by dt sum_i N_i v_i with the same nodal
             !! velocities as the strain, and this records the moves
+        class(shape_type), intent(in), optional :: shape
+            !! with motion and without fbar, a one-pass step: after the moves and the stresses
+            !! of a chunk, its stencils at the new positions and its P2G of the next step
+            !! (next_scatter)
 
         integer :: p, q, k, dim, a
         real(wp) :: gradv(3, 3), ldt(3, 3), dF(3, 3), jac, scale, v(3), a3(3), &
             ldts(3, 3, gather_block)
-        integer :: ng, qlo, qhi
+        integer :: ng, qlo, qhi, q0, q1
         real(wp), allocatable :: grads(:, :, :), vels(:, :), cell_old(:), cell_new(:), &
             partial(:, :)
+        real(wp), pointer, contiguous :: buf(:, :)
         type(motion_type), allocatable :: moved(:)
         type(motion_type) :: mine
+        type(next_scatter_type) :: next
         real(wp) :: work(nstress_sums)
         logical :: move
 
         dim = grid%dim
         move = present(motion)
+        next%on = present(shape) .and. move .and. .not. fbar
         if (fbar) then
             allocate (grads(3, 3, particles%n), vels(3, particles%n))
             allocate (cell_old(product(grid%ncells)), cell_new(product(grid%ncells)))
@@ -701,45 +939,59 @@ contains
                     + particles%volume(p)*determinant(dF, dim)
             end do
         end if
-        ng = group_count(stc, chunks=.false.)
+        ! by chunks when the pass scatters the next step's P2G; otherwise small blocks
+        ! balance the threads
+        ng = group_count(stc, chunks=next%on)
         allocate (partial(nstress_sums, ng), moved(ng))
+        if (next%on) then
+            call open_next_scatter(grid, particles, stc, next, buf)
+        else
+            call scatter_buffer(grid, 1, 1, buf)
+        end if
         !$omp parallel do default(none) schedule(dynamic, 1) &
         !$omp shared(grid, particles, stc, materials, dt, dim, fbar, grads, vels, gravity, &
-        !$omp cell_old, cell_new, move, moved, partial, ng) &
-        !$omp private(k, q, p, gradv, v, ldt, dF, jac, a, scale, a3, qlo, qhi, work, mine, ldts)
+        !$omp cell_old, cell_new, move, moved, partial, ng, next, shape, buf) &
+        !$omp private(k, q, p, gradv, v, ldt, dF, jac, a, scale, a3, qlo, qhi, work, mine, ldts, &
+        !$omp q0, q1)
         do k = 1, ng
             work = 0.0_wp
             mine = motion_type()
-            call group_range(stc, chunks=.false., g=k, qlo=qlo, qhi=qhi)
-            do q = qlo, qhi
-                p = stc%order(q)
-                if (fbar) then
-                    gradv = grads(:, :, p)
-                    v = vels(:, p)
-                else
-                    call gather_particle(stc, p, grid%velocity, grid%velocity, with_a=.false., &
-                        with_v=.true., with_gradient=.true., a=a3, v=v, gradient=gradv)
-                end if
-                ! gradv(i, j) = d v_i / d x_j; ldt = dt gradv, dF = I + ldt
-                ldt = dt*gradv
-                if (fbar) then
-                    dF = increment(gradv, dt, dim)
-                    jac = determinant(dF, dim)
-                    if (jac > 0.0_wp .and. cell_new(stc%cell(p)) > 0.0_wp) then
-                        scale = (cell_new(stc%cell(p))/(cell_old(stc%cell(p))*jac)) &
-                            **(1.0_wp/dim)
-                        ldt(1:dim, 1:dim) = scale*dF(1:dim, 1:dim)
-                        do a = 1, dim
-                            ldt(a, a) = ldt(a, a) - 1.0_wp
-                        end do
+            call group_range(stc, chunks=next%on, g=k, qlo=qlo, qhi=qhi)
+            ! by blocks of at most gather_block particles (a chunk holds several)
+            do q0 = qlo, qhi, gather_block
+                q1 = min(q0 + gather_block - 1, qhi)
+                do q = q0, q1
+                    p = stc%order(q)
+                    if (fbar) then
+                        gradv = grads(:, :, p)
+                        v = vels(:, p)
+                    else
+                        call gather_particle(stc, p, grid%velocity, grid%velocity, with_a=.false., &
+                            with_v=.true., with_gradient=.true., a=a3, v=v, gradient=gradv)
                     end if
-                end if
-                ldts(:, :, q - qlo + 1) = ldt
-                if (move) call move_particle(grid, particles, p, dt*v, gravity, mine)
+                    ! gradv(i, j) = d v_i / d x_j; ldt = dt gradv, dF = I + ldt
+                    ldt = dt*gradv
+                    if (fbar) then
+                        dF = increment(gradv, dt, dim)
+                        jac = determinant(dF, dim)
+                        if (jac > 0.0_wp .and. cell_new(stc%cell(p)) > 0.0_wp) then
+                            scale = (cell_new(stc%cell(p))/(cell_old(stc%cell(p))*jac)) &
+                                **(1.0_wp/dim)
+                            ldt(1:dim, 1:dim) = scale*dF(1:dim, 1:dim)
+                            do a = 1, dim
+                                ldt(a, a) = ldt(a, a) - 1.0_wp
+                            end do
+                        end if
+                    end if
+                    ldts(:, :, q - q0 + 1) = ldt
+                    if (move) call move_particle(grid, particles, p, dt*v, gravity, mine)
+                end do
+                call stress_block(stc%order(q0:q1), particles%material, particles%stress, &
+                    particles%state, particles%f, particles%volume, particles%volume0, &
+                    materials, ldts, dt, dim, work, strain=particles%strain)
+                if (next%on) call next_scatter(grid, particles, stc, shape, k, q0, q1, &
+                    mine%lost > 0, next, buf)
             end do
-            call stress_block(stc%order(qlo:qhi), particles%material, particles%stress, &
-                particles%state, particles%f, particles%volume, particles%volume0, &
-                materials, ldts, dt, dim, work, strain=particles%strain)
             ! stored once per group (neighbouring entries share cache lines across threads)
             partial(:, k) = work
             moved(k) = mine
@@ -750,6 +1002,7 @@ contains
         do k = 1, ng
             strain_work = strain_work + partial(:, k)
         end do
+        if (next%on) call close_next_scatter(grid, particles, stc, next, buf, motion%lost > 0)
     end subroutine update_stress
 
     !> Groups of sorted particles of a pass: the scatter chunks (`chunks`), or blocks of
