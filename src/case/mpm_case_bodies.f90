@@ -1,20 +1,23 @@
-!> The `bodies` key of a case: boxes or closed STL surfaces filled with particles.
+!> The `bodies` key of a case: boxes, 2D polygons or closed STL surfaces filled with
+!> particles.
 module mpm_case_bodies
     use mpm_kinds, only: wp, i8
     use mpm_error, only: error_type, fatal_error, exit_other
     use mpm_strings, only: int_text, fmt_real, fmt_vector, fmt_box, same
     use mpm_stl, only: read_stl
     use mpm_surface_mesh, only: stl_mesh_type, check_closed
+    use mpm_polygon, only: polygon_area, polygon_crossing, polygon_walls
     use mpm_case_cursor, only: cursor_type
     use mpm_case_domain, only: domain_section_type
     use mpm_case_particles, only: particles_section_type
     use mpm_case_materials, only: material_spec_type, material_index, material_list
     implicit none
     private
-    public :: body_spec_type, read_bodies, body_keys, body_count_interface, domain_digits
+    public :: body_spec_type, read_bodies, body_keys, body_count_interface, &
+        body_overlap_interface, domain_digits
 
     character(len=*), parameter :: body_keys(*) = [character(len=8) :: "name", "material", &
-        "min", "max", "velocity", "file", "scale", "offset"]
+        "min", "max", "velocity", "file", "scale", "offset", "polygon"]
         !! keys of an item of `bodies`
     character(len=*), parameter :: body_stl_keys(*) = [character(len=6) :: "scale", "offset"]
         !! keys of a body that only apply with `file`
@@ -23,27 +26,31 @@ module mpm_case_bodies
     integer, parameter :: domain_digits = 12
         !! significant digits of computed coordinates (origin + n dx) in messages
 
-    !> A body of particles of one material: a box, or the inside of a closed STL surface.
+    !> A body of particles of one material: a box, a 2D polygon, or the inside of a closed
+    !> STL surface.
     type :: body_spec_type
         character(len=:), allocatable :: name
             !! name of the body (for messages and output)
         integer :: material = 0
             !! index into case%materials
         real(wp) :: xmin(3) = 0.0_wp
-            !! lower corner of the box (of the surface's bounding box for an STL body) [m]
+            !! lower corner of the box (of the bounding box of a polygon or a surface) [m]
         real(wp) :: xmax(3) = 0.0_wp
-            !! upper corner of the box (of the surface's bounding box for an STL body) [m]
+            !! upper corner of the box (of the bounding box of a polygon or a surface) [m]
         real(wp) :: velocity(3) = 0.0_wp
             !! initial velocity [m/s]
         character(len=:), allocatable :: file
-            !! STL file of the closed surface ("" for a box)
+            !! STL file of the closed surface ("" for a box or a polygon)
+        real(wp), allocatable :: polygon(:, :)
+            !! (2, vertices) a 2D polygon body's vertices in order; not allocated otherwise [m]
         real(wp) :: scale = 1.0_wp
             !! factor applied to the STL coordinates before `offset` [m per unit]
         real(wp) :: offset(3) = 0.0_wp
             !! translation added to the scaled STL coordinates [m]
         real(wp), allocatable :: triangle(:, :, :)
             !! corners (coordinate, corner 1..3, triangle) of the closed surface after scale and
-            !! offset; not allocated for a box [m]
+            !! offset, or of the walls of a polygon extruded across z = 0 (mpm_polygon::
+            !! polygon_walls); not allocated for a box [m]
         integer(i8) :: particles = -1
             !! particles the body holds, counted by the reader (-1: not counted)
     end type body_spec_type
@@ -63,14 +70,30 @@ module mpm_case_bodies
             integer, intent(in) :: b
                 !! body index
         end function body_count_interface
+
+        !> Number of particle sites bodies i and j both hold (j < i); -1 when the memory to
+        !> test them is missing.
+        integer(i8) function body_overlap_interface(dim, domain, particles, bodies, i, j)
+            import :: i8, domain_section_type, particles_section_type, body_spec_type
+            integer, intent(in) :: dim
+                !! number of space dimensions
+            type(domain_section_type), intent(in) :: domain
+                !! the grid
+            type(particles_section_type), intent(in) :: particles
+                !! particles per cell and their placement
+            type(body_spec_type), intent(in) :: bodies(:)
+                !! bodies 1..i set
+            integer, intent(in) :: i, j
+                !! the two bodies
+        end function body_overlap_interface
     end interface
 
 contains
 
-    !> `bodies`: boxes or closed STL surfaces filled with particles, inside the domain, not
-    !> overlapping (bounding boxes for STL bodies), each with particles.
-    subroutine read_bodies(root, dim, domain, particles, materials, load_state, count, bodies, &
-            error)
+    !> `bodies`: boxes, 2D polygons or closed STL surfaces filled with particles, inside the
+    !> domain, each with particles, no two holding the same particle site.
+    subroutine read_bodies(root, dim, domain, particles, materials, load_state, count, &
+            overlap, bodies, error)
         type(cursor_type), intent(in) :: root
             !! top-level object
         integer, intent(in) :: dim
@@ -85,6 +108,8 @@ contains
             !! state file the particles come from ("" for none)
         procedure(body_count_interface) :: count
             !! particles a body holds (the case layer's geometry, mpm_case_sites)
+        procedure(body_overlap_interface) :: overlap
+            !! particle sites two bodies both hold (mpm_case_sites)
         type(body_spec_type), allocatable, intent(out) :: bodies(:)
             !! the bodies, in file order
         type(error_type), allocatable, intent(out) :: error
@@ -106,9 +131,9 @@ contains
             return
         end if
         if (.not. root%has("bodies")) then
-            call root%fail(error, "missing required key 'bodies' (an array of boxes or " &
-                //"closed STL surfaces of particles); give load_state instead to start from a " &
-                //"saved state")
+            call root%fail(error, "missing required key 'bodies' (an array of boxes, 2D " &
+                //"polygons or closed STL surfaces of particles); give load_state instead to " &
+                //"start from a saved state")
             return
         end if
         call root%get_list("bodies", "body", list, error)
@@ -145,12 +170,15 @@ contains
                 if (item%has("file")) then
                     call read_body_surface(item, dim, body, error)
                     if (allocated(error)) return
+                else if (item%has("polygon")) then
+                    call read_body_polygon(item, dim, domain%dx, body, error)
+                    if (allocated(error)) return
                 else
                     if (.not. (item%has("min") &
                         .or. item%has("max"))) then
-                        call root%fail(error, path//' "'//body%name//'": give either ' &
-                            //"'file' (a closed STL surface) or 'min' and 'max' (a box); " &
-                            //"neither was given")
+                        call root%fail(error, path//' "'//body%name//'": give one of ' &
+                            //"'min' and 'max' (a box), 'polygon' (2D) or 'file' (a closed " &
+                            //"STL surface); none was given")
                         return
                     end if
                     do j = 1, 2
@@ -172,7 +200,8 @@ contains
                     unit="m/s")
                 if (allocated(error)) return
             end associate
-            call check_body_box(root, dim, domain, particles, count, bodies, i, error)
+            call check_body_box(root, dim, domain, particles, count, overlap, bodies, i, &
+                error)
             if (allocated(error)) return
             total = total + bodies(i)%particles
         end do
@@ -202,9 +231,9 @@ contains
 
         path = item%path
         label = path//' "'//body%name//'"'
-        if (item%has("min") .or. item%has("max")) then
-            call item%fail(error, label//": give either 'file' (a closed STL surface) " &
-                //"or 'min' and 'max' (a box), not both")
+        if (item%has("min") .or. item%has("max") .or. item%has("polygon")) then
+            call item%fail(error, label//": give one of 'file' (a closed STL surface), " &
+                //"'min' and 'max' (a box) or 'polygon', not several")
             return
         end if
         body%file = ""
@@ -245,9 +274,75 @@ contains
         end if
     end subroutine read_body_surface
 
+    !> A 2D polygon body (`polygon`): its vertices, refused when it is not simple (edges that
+    !> cross or touch, a repeated vertex) or has no area, or with `min`, `max`, `scale` or
+    !> `offset`; sets min/max to its bounding box and the triangles the filler counts
+    !> crossings with (its walls across z = 0).
+    subroutine read_body_polygon(item, dim, dx, body, error)
+        type(cursor_type), intent(in) :: item
+            !! the body's object ("bodies[i]")
+        integer, intent(in) :: dim
+            !! number of space dimensions
+        real(wp), intent(in) :: dx
+            !! cell size (the height of the extruded walls) [m]
+        type(body_spec_type), intent(inout) :: body
+            !! the body (name set)
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        character(len=:), allocatable :: path, label
+        integer :: j, e1, e2
+
+        path = item%path
+        label = path//' "'//body%name//'"'
+        if (dim /= 2) then
+            call item%fail(error, path//".polygon: a polygon body is two-dimensional " &
+                //"(dimension = 2); in 3D give a closed STL surface ('file')")
+            return
+        end if
+        if (item%has("min") .or. item%has("max")) then
+            call item%fail(error, label//": give either 'polygon' or 'min' and 'max' (a " &
+                //"box), not both")
+            return
+        end if
+        do j = 1, size(body_stl_keys)
+            if (item%has(trim(body_stl_keys(j)))) then
+                call item%fail(error, path//"."//trim(body_stl_keys(j))//" only applies to " &
+                    //"a body given by 'file' (a closed STL surface); remove it")
+                return
+            end if
+        end do
+        call item%get_points("polygon", 2, body%polygon, error, required=.true., unit="m", &
+            at_least=3)
+        if (allocated(error)) return
+        call polygon_crossing(body%polygon, e1, e2)
+        if (e1 > 0 .and. e1 == e2) then
+            call item%fail(error, path//".polygon: vertex "//int_text(e1)//" " &
+                //fmt_vector(body%polygon(:, e1))//" is repeated by the vertex after it; " &
+                //"give each vertex once")
+            return
+        else if (e1 > 0) then
+            call item%fail(error, path//".polygon crosses itself: the edge from vertex " &
+                //int_text(e1)//" "//fmt_vector(body%polygon(:, e1))//" meets the edge from " &
+                //"vertex "//int_text(e2)//" "//fmt_vector(body%polygon(:, e2))//"; give the " &
+                //"vertices in order around the outline (either sense), the last joined to " &
+                //"the first")
+            return
+        end if
+        if (.not. abs(polygon_area(body%polygon)) > 0.0_wp) then
+            call item%fail(error, path//".polygon encloses no area; give at least three " &
+                //"vertices not on one line")
+            return
+        end if
+        body%xmin(1:2) = minval(body%polygon, dim=2)
+        body%xmax(1:2) = maxval(body%polygon, dim=2)
+        body%triangle = polygon_walls(body%polygon, dx)
+    end subroutine read_body_polygon
+
     !> Geometric checks of body `i`: a proper box, inside the domain, holding particles and
-    !> overlapping none of the bodies before it.
-    subroutine check_body_box(root, dim, domain, particles, count_particles, bodies, i, error)
+    !> sharing no particle site with the bodies before it (two boxes: no common volume).
+    subroutine check_body_box(root, dim, domain, particles, count_particles, overlap, bodies, &
+            i, error)
         type(cursor_type), intent(in) :: root
             !! top-level object (for messages)
         integer, intent(in) :: dim
@@ -258,6 +353,8 @@ contains
             !! particles per cell and their placement
         procedure(body_count_interface) :: count_particles
             !! particles a body holds
+        procedure(body_overlap_interface) :: overlap
+            !! particle sites two bodies both hold
         type(body_spec_type), intent(inout) :: bodies(:)
             !! bodies 1..i read; body i gets its particle count
         integer, intent(in) :: i
@@ -268,14 +365,18 @@ contains
         character(len=:), allocatable :: label, corner, what
         real(wp) :: lower(3), upper(3), tol
         integer :: d, j
-        integer(i8) :: count
+        integer(i8) :: count, shared
 
         tol = box_tolerance*domain%dx
         associate (body => bodies(i))
             label = "bodies["//int_text(i)//'] "'//body%name//'"'
             corner = "corner"
             what = "the box "//fmt_box(body%xmin(1:dim), body%xmax(1:dim))//" [m]"
-            if (allocated(body%triangle)) then
+            if (allocated(body%polygon)) then
+                corner = "the bounding box of the polygon, corner"
+                what = "the polygon (bounding box "//fmt_box(body%xmin(1:dim), &
+                    body%xmax(1:dim))//" [m])"
+            else if (allocated(body%triangle)) then
                 corner = "the bounding box of the surface '"//body%file//"', corner"
                 what = "the closed surface '"//body%file//"' (bounding box " &
                     //fmt_box(body%xmin(1:dim), body%xmax(1:dim))//" [m]"
@@ -319,14 +420,30 @@ contains
             end if
             do j = 1, i - 1
                 associate (other => bodies(j))
-                    if (all(min(body%xmax(1:dim), other%xmax(1:dim)) &
-                        - max(body%xmin(1:dim), other%xmin(1:dim)) > tol)) then
+                    if (.not. all(min(body%xmax(1:dim), other%xmax(1:dim)) &
+                        - max(body%xmin(1:dim), other%xmin(1:dim)) > tol)) cycle
+                    if (.not. (allocated(body%triangle) .or. allocated(other%triangle))) then
                         call root%fail(error, label//" overlaps bodies["//int_text(j) &
-                            //'] "'//other%name//'": the boxes (bounding boxes of STL ' &
-                            //"surfaces) " &
+                            //'] "'//other%name//'": the boxes ' &
                             //fmt_box(body%xmin(1:dim), body%xmax(1:dim))//" and " &
                             //fmt_box(other%xmin(1:dim), other%xmax(1:dim))//" [m] share a " &
                             //"volume; bodies must not overlap")
+                        return
+                    end if
+                    ! a polygon or a surface: their bounding boxes may meet where the bodies
+                    ! do not (layers of a slope); the particle sites decide
+                    shared = overlap(dim, domain, particles, bodies, i, j)
+                    if (shared < 0) then
+                        call fatal_error(error, root%src//": "//label//": cannot allocate " &
+                            //"the memory to compare its particle sites with those of " &
+                            //"bodies["//int_text(j)//"]", exit_other)
+                        return
+                    else if (shared > 0) then
+                        call root%fail(error, label//" overlaps bodies["//int_text(j) &
+                            //'] "'//other%name//'": '//int_text(shared)//" particle " &
+                            //"sites lie in both (bounding boxes "//fmt_box(body%xmin(1:dim), &
+                            body%xmax(1:dim))//" and "//fmt_box(other%xmin(1:dim), &
+                            other%xmax(1:dim))//" [m]); bodies must not overlap")
                         return
                     end if
                 end associate

@@ -73,6 +73,8 @@ module mpm_case_cursor
         procedure :: get_int => cursor_get_int
         !> An array of one number per axis.
         procedure :: get_vector => cursor_get_vector
+        !> An array of points, each an array of one number per axis.
+        procedure :: get_points => cursor_get_points
         !> A non-empty string.
         procedure :: get_string => cursor_get_string
         !> A file or folder name the system takes.
@@ -527,6 +529,63 @@ contains
         end do
         values(1:n) = x(1:n)
     end subroutine cursor_get_vector
+
+    !> Read an array of points, each an array of n numbers (a polygon's vertices).
+    subroutine cursor_get_points(cur, key, n, points, error, required, unit, at_least)
+        class(cursor_type), intent(in) :: cur
+            !! object holding the key
+        character(len=*), intent(in) :: key
+            !! key to read
+        integer, intent(in) :: n
+            !! numbers per point (the dimension)
+        real(wp), allocatable, intent(inout) :: points(:, :)
+            !! (n, points) set when the key is present; unchanged otherwise
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+        logical, intent(in), optional :: required
+            !! the key must be present
+        character(len=*), intent(in), optional :: unit
+            !! unit shown in messages
+        integer, intent(in), optional :: at_least
+            !! fewest points allowed (default 1)
+
+        type(cursor_type) :: val, point, item
+        character(len=:), allocatable :: expect, one
+        logical :: is_present
+        integer :: i, j, fewest
+        real(wp), allocatable :: x(:, :)
+
+        fewest = 1
+        if (present(at_least)) fewest = at_least
+        one = "an array of "//int_text(n)//" numbers"//range_text(unit=unit)
+        expect = "an array of at least "//int_text(fewest)//" points, each "//one
+        call cur%get_typed(key, "array", expect, val, is_present, error, required)
+        if (allocated(error) .or. .not. is_present) return
+        if (val%size() < fewest) then
+            call cur%fail(error, val%path//" has "//int_text(val%size())//" points; give at " &
+                //"least "//int_text(fewest)//", each "//one)
+            return
+        end if
+        allocate (x(n, val%size()))
+        do j = 1, val%size()
+            point = val%item(j)
+            call point%check_type("array", one, error)
+            if (allocated(error)) return
+            if (point%size() /= n) then
+                call cur%fail(error, point%path//" must have "//int_text(n)//" numbers (one " &
+                    //"per axis, dimension = "//int_text(n)//"), found "//int_text(point%size()))
+                return
+            end if
+            do i = 1, n
+                item = point%item(i)
+                call item%check_type("number", "a number", error)
+                if (allocated(error)) return
+                call number_value(item, x(i, j), error)
+                if (allocated(error)) return
+            end do
+        end do
+        call move_alloc(x, points)
+    end subroutine cursor_get_points
 
     !> Read a non-empty string.
     subroutine cursor_get_string(cur, key, value, error, required, found)

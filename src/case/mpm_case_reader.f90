@@ -18,7 +18,7 @@ submodule (mpm_case) mpm_case_reader
     use mpm_material_registry, only: material_models, material_choices, material_choice_codes, &
         keys_of
     use mpm_case_bodies, only: read_bodies, body_keys
-    use mpm_case_sites, only: body_site_count
+    use mpm_case_sites, only: body_site_count, body_shared_sites
     use mpm_case_states, only: read_states
     use mpm_case_solver, only: read_solver, solver_keys
     use mpm_case_time, only: read_time, time_keys
@@ -177,7 +177,7 @@ contains
         call read_states(root, case%save_state, case%load_state, error)
         if (allocated(error)) return
         call read_bodies(root, case%dim, case%domain, case%particles, case%materials, &
-            case%load_state, body_site_count, case%bodies, error)
+            case%load_state, body_site_count, body_shared_sites, case%bodies, error)
         if (allocated(error)) return
         call root%get_vector("gravity", case%dim, case%gravity, error, unit="m/s2")
         if (allocated(error)) return

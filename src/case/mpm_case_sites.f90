@@ -12,7 +12,8 @@ module mpm_case_sites
     use mpm_case_bodies, only: body_spec_type
     implicit none
     private
-    public :: body_site_count, body_sites, body_subcell_range, particle_position
+    public :: body_site_count, body_shared_sites, body_sites, body_subcell_range, &
+        particle_position
 
     ! Shift of the test line off the particle, in sub-cells along the two axes across it:
     ! irrational fractions, so the line never meets an edge or a corner of a mesh whose
@@ -53,6 +54,60 @@ contains
             end do
         end if
     end function body_site_count
+
+    !> Number of particle sites (sub-cells) that bodies i and j both hold: a box holds every
+    !> site of its range, a polygon or a surface the sites whose particle lies inside (see
+    !> body_sites); -1 when the memory to test the sites cannot be allocated.
+    integer(i8) function body_shared_sites(dim, domain, particles, bodies, i, j)
+        integer, intent(in) :: dim
+            !! number of space dimensions
+        type(domain_section_type), intent(in) :: domain
+            !! the grid
+        type(particles_section_type), intent(in) :: particles
+            !! particles per cell and their placement
+        type(body_spec_type), intent(in) :: bodies(:)
+            !! bodies 1..max(i, j) set
+        integer, intent(in) :: i, j
+            !! the two bodies
+
+        integer :: lo(3, 2), hi(3, 2), l(3), u(3), first, x, y, z
+        logical, allocatable :: in_i(:, :, :), in_j(:, :, :)
+        type(error_type), allocatable :: error
+
+        body_shared_sites = -1_i8
+        call body_sites(dim, domain, particles, bodies, i, lo(:, 1), hi(:, 1), first, in_i, &
+            error)
+        if (allocated(error)) return
+        call body_sites(dim, domain, particles, bodies, j, lo(:, 2), hi(:, 2), first, in_j, &
+            error)
+        if (allocated(error)) return
+        l = max(lo(:, 1), lo(:, 2))
+        u = min(hi(:, 1), hi(:, 2))
+        body_shared_sites = 0_i8
+        do z = l(3), u(3)
+            do y = l(2), u(2)
+                do x = l(1), u(1)
+                    if (holds(in_i, x, y, z) .and. holds(in_j, x, y, z)) then
+                        body_shared_sites = body_shared_sites + 1_i8
+                    end if
+                end do
+            end do
+        end do
+
+    contains
+
+        !> Whether a body holds site (x, y, z): every site of a box's range.
+        pure logical function holds(inside, x, y, z)
+            logical, allocatable, intent(in) :: inside(:, :, :)
+                !! the sites of a polygon or surface inside it, with their ranges' bounds
+            integer, intent(in) :: x, y, z
+                !! the site
+
+            holds = .true.
+            if (allocated(inside)) holds = inside(x, y, z)
+        end function holds
+
+    end function body_shared_sites
 
     !> Range of particle sub-cells of a body along each axis (0-based, inclusive).
     !>

@@ -72,7 +72,14 @@ contains
                             line = line//' material "'//case%materials(body%material)%name//'"'
                         end if
                     end if
-                    text = text//line//": "//fmt_box(body%xmin(1:dim), body%xmax(1:dim)) &
+                    line = line//": "
+                    if (allocated(body%polygon)) then
+                        line = line//"polygon of "//int_text(size(body%polygon, 2)) &
+                            //" vertices in "
+                    else if (allocated(body%file)) then
+                        if (len(body%file) > 0) line = line//"surface '"//body%file//"' in "
+                    end if
+                    text = text//line//fmt_box(body%xmin(1:dim), body%xmax(1:dim)) &
                         //" m, v = "//fmt_vector(body%velocity(1:dim))//" m/s, " &
                         //int_text(count)//" particles"//nl
                 end associate

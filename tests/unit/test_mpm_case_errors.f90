@@ -24,6 +24,7 @@ program test_mpm_case_errors
     call test_value_errors()
     call test_body_errors()
     call test_stl_body_errors()
+    call test_polygon_body_errors()
     call test_time_errors()
     call test_section_errors()
     call test_document_errors()
@@ -191,11 +192,13 @@ contains
         end if
         call expect_error(suite, case_text(bodies='"bodies": [{"name": "s", "material": "soil", ' &
             //cube//', "min": [0, 0], "max": [0.1, 0.1]}]'), [character(len=200) :: &
-            'bodies[1] "s"', "give either 'file'", "or 'min' and 'max'", "not both"], &
+            'bodies[1] "s"', "give one of 'file' (a closed STL surface), 'min' and 'max' " &
+            //"(a box) or 'polygon', not several"], &
             "STL body with min and max")
         call expect_error(suite, case_text(bodies='"bodies": [{"name": "s", "material": "soil"}]'), &
-            [character(len=200) :: 'bodies[1] "s"', "give either 'file'", "'min' and 'max'", &
-            "neither was given"], "body with neither file nor min/max")
+            [character(len=200) :: 'bodies[1] "s"', "give one of 'min' and 'max' (a box), " &
+            //"'polygon' (2D) or 'file'", &
+            "none was given"], "body with neither file nor min/max")
         call expect_error(suite, case_text(bodies='"bodies": [{"name": "s", "material": "soil", ' &
             //'"min": [0, 0], "max": [0.1, 0.1], "scale": 2}]'), [character(len=200) :: &
             "bodies[1].scale only applies to a body given by 'file'"], "scale of a box")
@@ -223,6 +226,67 @@ contains
             //cube//', "scale": 0.1, "offset": [0.1, 0, -0.05]}]'), [character(len=200) :: &
             'bodies[2] "s" overlaps bodies[1] "a"'], "STL bounding box overlaps a box")
     end subroutine test_stl_body_errors
+
+    subroutine test_polygon_body_errors()
+        type(case_type) :: case
+        character(len=*), parameter :: lower = '{"name": "lower", "material": "soil", ' &
+            //'"polygon": [[0, 0], [0.4, 0], [0.4, 0.2]]}'
+        character(len=*), parameter :: upper = '{"name": "upper", "material": "soil", ' &
+            //'"polygon": [[0, 0], [0.4, 0.2], [0, 0.2]]}'
+
+        ! two triangles that split the domain along its diagonal: their bounding boxes are
+        ! the same, their particles are not (no particle centre lies on the diagonal)
+        call read_valid(suite, case_text(bodies='"bodies": ['//lower//', '//upper//']'), case, &
+            "polygons whose bounding boxes meet, bodies that do not")
+        if (allocated(case%bodies)) then
+            call check(suite, case%bodies(1)%particles + case%bodies(2)%particles == 32 .and. &
+                case%bodies(1)%particles == 16, "the two triangles share the 32 particles " &
+                //"of the domain, 16 each")
+            call check(suite, allocated(case%bodies(2)%polygon) .and. &
+                all(case%bodies(2)%xmax(1:2) == [0.4_wp, 0.2_wp]), &
+                "a polygon keeps its vertices; min and max are its bounding box")
+        end if
+        call read_valid(suite, case_text(bodies='"bodies": [{"material": "soil", ' &
+            //'"polygon": [[0, 0], [0.2, 0], [0.2, 0.1], [0, 0.1]]}]'), case, "a rectangle")
+        if (allocated(case%bodies)) call check(suite, case%bodies(1)%particles == 8, &
+            "a rectangle holds the particles of the equal box (8)")
+        call expect_error(suite, case_text(bodies='"bodies": ['//lower//', {"name": "b", ' &
+            //'"material": "soil", "polygon": [[0.1, 0], [0.4, 0], [0.4, 0.2], [0.1, 0.2]]}]'), &
+            [character(len=200) :: 'bodies[2] "b" overlaps bodies[1] "lower": 15 particle ' &
+            //"sites lie in both"], "overlapping polygons")
+        call expect_error(suite, case_text(bodies='"bodies": [{"material": "soil", ' &
+            //'"polygon": [[0, 0], [0.2, 0.2], [0.2, 0], [0, 0.2]]}]'), [character(len=200) :: &
+            "bodies[1].polygon crosses itself: the edge from vertex 1 (0, 0) meets the edge " &
+            //"from vertex 3 (0.2, 0)"], "a bow tie")
+        call expect_error(suite, case_text(bodies='"bodies": [{"material": "soil", ' &
+            //'"polygon": [[0, 0], [0.2, 0], [0.2, 0], [0, 0.2]]}]'), [character(len=200) :: &
+            "bodies[1].polygon: vertex 2 (0.2, 0) is repeated"], "a repeated vertex")
+        call expect_error(suite, case_text(bodies='"bodies": [{"material": "soil", ' &
+            //'"polygon": [[0, 0], [0.1, 0], [0.2, 0]]}]'), [character(len=200) :: &
+            "bodies[1].polygon crosses itself"], "three vertices on a line")
+        call expect_error(suite, case_text(bodies='"bodies": [{"material": "soil", ' &
+            //'"polygon": [[0, 0], [0.2, 0]]}]'), [character(len=200) :: &
+            "bodies[1].polygon has 2 points; give at least 3, each an array of 2 numbers"], &
+            "two vertices")
+        call expect_error(suite, case_text(bodies='"bodies": [{"material": "soil", ' &
+            //'"polygon": [[0, 0], [0.2, 0, 0], [0.2, 0.1]]}]'), [character(len=200) :: &
+            "bodies[1].polygon[2] must have 2 numbers"], "a vertex of three numbers")
+        call expect_error(suite, case_text(bodies='"bodies": [{"material": "soil", ' &
+            //'"polygon": [[0, 0], [0.2, 0], "a"]}]'), [character(len=200) :: &
+            "bodies[1].polygon[3] has the wrong type"], "a vertex that is no array")
+        call expect_error(suite, case_text(bodies='"bodies": [{"material": "soil", ' &
+            //'"polygon": [[0, 0], [0.5, 0], [0.2, 0.1]]}]'), [character(len=200) :: &
+            "the bounding box of the polygon, corner max = (0.5, 0.1) lies outside the domain"], &
+            "a polygon outside the domain")
+        call expect_error(suite, case_text(bodies='"bodies": [{"name": "p", "material": "soil", ' &
+            //'"min": [0, 0], "polygon": [[0, 0], [0.2, 0], [0.2, 0.1]]}]'), &
+            [character(len=200) :: "give either 'polygon' or 'min' and 'max' (a box), not both"], &
+            "a polygon and a box")
+        call expect_error(suite, case_text(domain='"dimension": 3, "domain": {"nx": 4, ' &
+            //'"ny": 2, "nz": 2, "dx": 0.1}', bodies='"bodies": [{"material": "soil", ' &
+            //'"polygon": [[0, 0], [0.2, 0], [0.2, 0.1]]}]'), [character(len=200) :: &
+            "bodies[1].polygon: a polygon body is two-dimensional"], "a polygon in 3D")
+    end subroutine test_polygon_body_errors
 
     subroutine test_time_errors()
         type(case_type) :: case
