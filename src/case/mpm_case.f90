@@ -20,6 +20,7 @@ module mpm_case
     use mpm_case_time, only: time_section_type
     use mpm_case_damping, only: damping_section_type, damping_none, damping_local, &
         damping_kinetic, damping_names
+    use mpm_case_initial_stress, only: initial_stress_section_type, initial_none, initial_k0
     use mpm_case_contact, only: contact_section_type
     use mpm_case_output, only: output_section_type
     use mpm_case_progress, only: progress_section_type
@@ -32,7 +33,8 @@ module mpm_case
     public :: domain_section_type, particles_section_type, material_spec_type, body_spec_type
     public :: solver_section_type, time_section_type, damping_section_type
     public :: contact_section_type, output_section_type, progress_section_type
-    public :: checkpoint_section_type, guard_section_type
+    public :: checkpoint_section_type, guard_section_type, initial_stress_section_type
+    public :: initial_none, initial_k0
     public :: scheme_usf, scheme_usl, scheme_musl, scheme_names
     public :: damping_none, damping_local, damping_kinetic, damping_names
     public :: dist_regular, dist_random, distribution_names
@@ -62,6 +64,8 @@ module mpm_case
             !! `time`: end time and time step
         type(damping_section_type) :: damping
             !! `damping`
+        type(initial_stress_section_type) :: initial_stress
+            !! `initial_stress`
         type(contact_section_type) :: contact
             !! `contact`: the rigid terrain surface
         type(output_section_type) :: output

@@ -23,6 +23,7 @@ submodule (mpm_case) mpm_case_reader
     use mpm_case_solver, only: read_solver, solver_keys
     use mpm_case_time, only: read_time, time_keys
     use mpm_case_damping, only: read_damping, damping_keys
+    use mpm_case_initial_stress, only: read_initial_stress, initial_stress_keys
     use mpm_case_contact, only: read_contact, contact_keys
     use mpm_case_output, only: read_output, output_keys
     use mpm_case_progress, only: read_progress, progress_keys
@@ -30,9 +31,10 @@ submodule (mpm_case) mpm_case_reader
     use mpm_case_guard, only: read_guard, guard_keys
     implicit none
 
-    character(len=*), parameter :: top_keys(*) = [character(len=10) :: "name", "dimension", &
+    character(len=*), parameter :: top_keys(*) = [character(len=14) :: "name", "dimension", &
         "domain", "particles", "materials", "bodies", "gravity", "solver", "time", "damping", &
-        "contact", "output", "progress", "save_state", "load_state", "checkpoint", "guard"]
+        "contact", "output", "progress", "save_state", "load_state", "checkpoint", "guard", &
+        "initial_stress"]
         !! keys of the top level
     integer, parameter :: case_path_width = 80
         !! longest key path case_key_paths can list ("materials[type=...].softening.strain")
@@ -106,6 +108,7 @@ contains
         call add_key_paths(list, "solver", solver_keys)
         call add_key_paths(list, "time", time_keys)
         call add_key_paths(list, "damping", damping_keys)
+        call add_key_paths(list, "initial_stress", initial_stress_keys)
         call add_key_paths(list, "contact", contact_keys)
         call add_key_paths(list, "output", output_keys)
         call add_key_paths(list, "progress", progress_keys)
@@ -187,6 +190,9 @@ contains
             error)
         if (allocated(error)) return
         call read_damping(root, case%damping, error)
+        if (allocated(error)) return
+        call read_initial_stress(root, case%dim, case%gravity, case%materials, case%load_state, &
+            case%initial_stress, error)
         if (allocated(error)) return
         call read_contact(root, case%contact, error)
         if (allocated(error)) return

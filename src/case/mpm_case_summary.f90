@@ -113,6 +113,15 @@ contains
         line = "damping     "//trim(damping_names(case%damping%type))
         if (case%damping%type == damping_local) line = line//", alpha = "//fmt_real(case%damping%value)
         text = text//line//nl
+        if (case%initial_stress%type == initial_k0) then
+            line = "initial     geostatic stress,"
+            do m = 1, size(case%materials)
+                line = line//" "//case%materials(m)%name//" K0 = " &
+                    //fmt_real(case%initial_stress%k0_material(m), 4)
+                if (m < size(case%materials)) line = line//","
+            end do
+            text = text//line//nl
+        end if
         text = text//"contact     "//text_or(case%contact%type, "none")//nl
         line = "output      "//text_or(case%output%directory, "?")
         if (case%output%interval > 0.0_wp) then

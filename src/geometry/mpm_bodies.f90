@@ -2,7 +2,7 @@
 module mpm_bodies
     use mpm_kinds, only: wp, i8
     use mpm_error, only: error_type, fatal_error, exit_other
-    use mpm_case, only: case_type
+    use mpm_case, only: case_type, initial_k0
     use mpm_case_sites, only: body_site_count, body_sites, particle_position
     use mpm_particles, only: particles_type, new_particles
     implicit none
@@ -16,7 +16,10 @@ module mpm_bodies
         integer :: hi(3) = 0
             !! last sub-cell along each axis
         logical, allocatable :: inside(:, :, :)
-            !! site holds a particle (STL body only; a box holds all its sites)
+            !! site holds a particle (polygon and STL bodies; a box holds all its sites)
+        integer, allocatable :: above(:, :, :)
+            !! with inside and the geostatic initial stress: the sites of the body that hold
+            !! a particle above this one in its column (along the last axis)
     end type sites_type
 
 contains
@@ -33,7 +36,8 @@ contains
             case%bodies, b)
     end function count_body_particles
 
-    !> Create the particles of every body: positions, volumes, masses, velocities, sizes.
+    !> Create the particles of every body: positions, volumes, masses, velocities, sizes,
+    !> and with initial_stress.type = "k0" their geostatic stresses (geostatic_stress).
     !>
     !> With `slab`, only the particles whose cell along axis slab(1) is in [slab(2), slab(3))
     !> (an image's part of the grid, mpm_decomposition), numbered in particles%id by their
@@ -74,6 +78,11 @@ contains
         end do
         h = case%domain%dx/real(case%particles%ppc, wp)
         vol = h**dim
+        if (case%initial_stress%type == initial_k0) then
+            do b = 1, size(case%bodies)
+                call count_above(sites(b), dim)
+            end do
+        end if
         if (.not. present(slab)) then
             call new_particles(particles, dim, int(total), error, nstate)
             if (allocated(error)) return
@@ -123,6 +132,10 @@ contains
                                 particles%mass(q) = rho*vol
                                 particles%lp0(:, q) = 0.5_wp*h
                                 particles%material(q) = body%material
+                                if (case%initial_stress%type == initial_k0) then
+                                    call geostatic_stress(case, sites, s, h, body%material, &
+                                        particles%stress(:, q))
+                                end if
                             end do
                         end do
                     end do
@@ -130,6 +143,109 @@ contains
             end do
         end do
     end subroutine create_particles
+
+    !> For each site of a polygon or surface body, the sites of the body above it in its
+    !> column that hold a particle (sites%above; nothing for a box).
+    subroutine count_above(sites, dim)
+        type(sites_type), intent(inout) :: sites
+            !! the body's sites
+        integer, intent(in) :: dim
+            !! number of space dimensions
+
+        integer :: i, j, k, n
+
+        if (.not. allocated(sites%inside)) return
+        allocate (sites%above(sites%lo(1):sites%hi(1), sites%lo(2):sites%hi(2), &
+            sites%lo(3):sites%hi(3)))
+        if (dim == 2) then
+            do i = sites%lo(1), sites%hi(1)
+                n = 0
+                do j = sites%hi(2), sites%lo(2), -1
+                    sites%above(i, j, 0) = n
+                    if (sites%inside(i, j, 0)) n = n + 1
+                end do
+            end do
+        else
+            do j = sites%lo(2), sites%hi(2)
+                do i = sites%lo(1), sites%hi(1)
+                    n = 0
+                    do k = sites%hi(3), sites%lo(3), -1
+                        sites%above(i, j, k) = n
+                        if (sites%inside(i, j, k)) n = n + 1
+                    end do
+                end do
+            end do
+        end if
+    end subroutine count_above
+
+    !> The geostatic stress of the particle of site s (initial_stress.type = "k0"): the
+    !> vertical stress (along the last axis, which gravity points down) is the weight per
+    !> unit area of the material above the particle's centre, rho g h for every site above
+    !> it in its column, whatever body holds it, and half its own; the horizontal stresses
+    !> K0 times it, the shear stresses zero. Tension positive.
+    pure subroutine geostatic_stress(case, sites, s, h, material, stress)
+        type(case_type), intent(in) :: case
+            !! resolved case
+        type(sites_type), intent(in) :: sites(:)
+            !! the sites of every body, with the counts above (count_above)
+        integer, intent(in) :: s(3)
+            !! the particle's site
+        real(wp), intent(in) :: h
+            !! site size [m]
+        integer, intent(in) :: material
+            !! the particle's material
+        real(wp), intent(out) :: stress(:)
+            !! its stress (Voigt) [Pa]
+
+        integer :: b, dim
+        real(wp) :: load, k0
+
+        dim = case%dim
+        load = 0.5_wp*case%materials(material)%density
+        do b = 1, size(sites)
+            load = load + case%materials(case%bodies(b)%material)%density &
+                *real(sites_above(sites(b), dim, s), wp)
+        end do
+        load = load*abs(case%gravity(dim))*h
+        k0 = case%initial_stress%k0_material(material)
+        stress = 0.0_wp
+        stress(1:3) = -k0*load
+        stress(dim) = -load
+    end subroutine geostatic_stress
+
+    !> The sites of a body that hold a particle above site s, in its column (none when the
+    !> column is not the body's).
+    pure integer function sites_above(sites, dim, s)
+        type(sites_type), intent(in) :: sites
+            !! the body's sites
+        integer, intent(in) :: dim
+            !! number of space dimensions
+        integer, intent(in) :: s(3)
+            !! the site
+
+        integer :: c(3), w
+
+        sites_above = 0
+        if (any(s(1:dim - 1) < sites%lo(1:dim - 1) .or. s(1:dim - 1) > sites%hi(1:dim - 1))) then
+            return
+        end if
+        w = s(dim)
+        if (w >= sites%hi(dim)) return
+        if (.not. allocated(sites%inside)) then
+            ! a box: every site of the column above
+            sites_above = sites%hi(dim) - max(w, sites%lo(dim) - 1)
+            return
+        end if
+        c = s
+        if (w < sites%lo(dim)) then
+            ! below the body's range: all of the column
+            c(dim) = sites%lo(dim)
+            sites_above = sites%above(c(1), c(2), c(3))
+            if (sites%inside(c(1), c(2), c(3))) sites_above = sites_above + 1
+        else
+            sites_above = sites%above(c(1), c(2), c(3))
+        end if
+    end function sites_above
 
     !> Particles per cell layer along axis a, of all the particles the bodies hold.
     subroutine body_cell_histogram(case, a, histogram)

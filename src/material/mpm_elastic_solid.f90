@@ -42,6 +42,8 @@ module mpm_elastic_solid
         procedure :: work_kind => elastic_solid_work_kind
         !> 1/2 sigma : C^-1 : sigma.
         procedure :: elastic_energy_block => elastic_solid_energy_block
+        !> K0 of an elastic solid confined laterally: nu / (1 - nu).
+        procedure :: at_rest_ratio => elastic_solid_at_rest_ratio
         !> Set E, nu, rho and the Lame parameters.
         procedure :: set_elasticity
     end type elastic_solid_type
@@ -141,6 +143,15 @@ contains
 
         elastic_solid_work_kind = work_stored
     end function elastic_solid_work_kind
+
+    !> K0 of an elastic solid loaded by its weight under lateral confinement (no horizontal
+    !> strain): nu / (1 - nu).
+    pure real(wp) function elastic_solid_at_rest_ratio(self)
+        class(elastic_solid_type), intent(in) :: self
+            !! the material
+
+        elastic_solid_at_rest_ratio = self%poisson/(1.0_wp - self%poisson)
+    end function elastic_solid_at_rest_ratio
 
     !> Stored elastic energy per unit volume, 1/2 sigma : C^-1 : sigma (isotropic elasticity
     !> of E and nu; in an elasto-plastic solid the stress is elastic, the plastic strain holds

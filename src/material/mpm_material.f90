@@ -67,6 +67,10 @@ module mpm_material
         procedure :: elastic_energy_block => material_elastic_energy_block
             !! stored elastic energy per unit volume of a block of particles (default 0: all
             !! the work of the stresses is dissipated)
+        procedure :: at_rest_ratio => material_at_rest_ratio
+            !! K0, the ratio of the horizontal to the vertical stress at rest of the geostatic
+            !! initial stress (initial_stress.type = "k0") when the case gives none (default
+            !! 1: hydrostatic, a fluid)
     end type material_type
 
     !> Holder so that materials of different types fit in one array.
@@ -216,6 +220,13 @@ contains
             !! the material
         material_nstate = 0
     end function material_nstate
+
+    !> Default K0: 1, the hydrostatic stress of a fluid at rest.
+    pure real(wp) function material_at_rest_ratio(self)
+        class(material_type), intent(in) :: self
+            !! the material
+        material_at_rest_ratio = 1.0_wp
+    end function material_at_rest_ratio
 
     !> Default: the work of the stresses is dissipated (plastic), nothing is stored.
     pure integer function material_work_kind(self)

@@ -76,6 +76,8 @@ module mpm_material_drucker_prager
             !! phi, c and psi after a given plastic shear strain
         procedure :: work_kind => drucker_prager_work_kind
             !! plastic: the work beyond the stored elastic energy is dissipated
+        !> K0 after Jaky (1944): 1 - sin(phi), of the peak friction angle.
+        procedure :: at_rest_ratio => drucker_prager_at_rest_ratio
     end type drucker_prager_material_type
 
 contains
@@ -139,6 +141,15 @@ contains
     end subroutine drucker_prager_summary
 
     !> Where the work of the stresses goes: plastic dissipation beyond the stored part.
+    !> K0 of a normally consolidated soil after Jaky (1944): 1 - sin(phi), phi the peak
+    !> friction angle.
+    pure real(wp) function drucker_prager_at_rest_ratio(self)
+        class(drucker_prager_material_type), intent(in) :: self
+            !! the material
+
+        drucker_prager_at_rest_ratio = 1.0_wp - sin(self%strength%friction)
+    end function drucker_prager_at_rest_ratio
+
     pure integer function drucker_prager_work_kind(self)
         class(drucker_prager_material_type), intent(in) :: self
             !! the material

@@ -206,11 +206,22 @@ module mpm_material_mohr_coulomb
             !! phi, c, psi and the tensile strength after a given plastic shear strain
         procedure :: work_kind => mohr_coulomb_work_kind
             !! plastic: the work beyond the stored elastic energy is dissipated
+        !> K0 after Jaky (1944): 1 - sin(phi), of the peak friction angle.
+        procedure :: at_rest_ratio => mohr_coulomb_at_rest_ratio
     end type mohr_coulomb_material_type
 
 contains
 
     !> Where the work of the stresses goes: plastic dissipation beyond the stored part.
+    !> K0 of a normally consolidated soil after Jaky (1944): 1 - sin(phi), phi the peak
+    !> friction angle.
+    pure real(wp) function mohr_coulomb_at_rest_ratio(self)
+        class(mohr_coulomb_material_type), intent(in) :: self
+            !! the material
+
+        mohr_coulomb_at_rest_ratio = 1.0_wp - sin(self%strength%friction)
+    end function mohr_coulomb_at_rest_ratio
+
     pure integer function mohr_coulomb_work_kind(self)
         class(mohr_coulomb_material_type), intent(in) :: self
             !! the material

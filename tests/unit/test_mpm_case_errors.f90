@@ -365,6 +365,29 @@ contains
             "progress.interval = 0 is out of range: must be > 0 [s]"], "progress 0")
         call expect_error(suite, case_text(extra='"output": {"interval": -1}'), [character(len=200) :: &
             "output.interval = -1 is out of range: must be >= 0 [s]"], "output interval < 0")
+        ! initial_stress
+        call expect_error(suite, case_text(extra='"gravity": [0, -9.81], "initial_stress": ' &
+            //'{"type": "k0", "k0": 0}'), [character(len=200) :: "initial_stress.k0", &
+            "> 0 and < 10"], "k0 of zero")
+        call expect_error(suite, case_text(extra='"gravity": [0, -9.81], "initial_stress": ' &
+            //'{"type": "k0", "k0": 12}'), [character(len=200) :: "initial_stress.k0"], &
+            "k0 of 12")
+        call expect_error(suite, case_text(extra='"gravity": [0, -9.81], "initial_stress": ' &
+            //'{"type": "none", "k0": 0.5}'), [character(len=200) :: &
+            'initial_stress.k0 only applies to initial_stress.type = "k0"'], "k0 without k0 type")
+        call expect_error(suite, case_text(extra='"gravity": [3, -9.81], "initial_stress": ' &
+            //'{"type": "k0"}'), [character(len=200) :: 'initial_stress.type = "k0" needs ' &
+            //"gravity along -y (the vertical of a 2D case) and no other component; gravity " &
+            //"= (3, -9.81) m/s2"], "k0 with tilted gravity")
+        call expect_error(suite, case_text(extra='"initial_stress": {"type": "k0"}'), &
+            [character(len=200) :: "needs gravity along -y"], "k0 without gravity")
+        call expect_error(suite, case_text(extra='"gravity": [0, -9.81], "initial_stress": ' &
+            //'{"type": "geostatic"}'), [character(len=200) :: "initial_stress.type", &
+            '"none", "k0"'], "unknown initial stress type")
+        call expect_error(suite, "{"//domain_2d//", "//materials_1//', "load_state": "' &
+            //state_file//'", "gravity": [0, -9.81], "time": {"tend": 1}, "initial_stress": ' &
+            //'{"type": "k0"}}', [character(len=200) :: 'initial_stress.type = "k0" cannot be ' &
+            //"used with load_state"], "k0 with load_state")
     end subroutine test_section_errors
 
     subroutine test_document_errors()
