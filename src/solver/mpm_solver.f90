@@ -132,10 +132,10 @@ module mpm_solver
             !! the last particle pass of a step scatters the next step's P2G (solver.one_pass;
             !! USL and MUSL without F-bar, tensor-product shape functions, one image)
         logical :: scatter_ready = .false.
-            !! one-pass: the grid holds the P2G of the next step, the stencils are those of
-            !! the particles' positions, and stencils%order is the order of that P2G
+            !! in a one-pass step, the grid holds the P2G of the next step, the stencils are
+            !! those of the particles' positions, and stencils%order is the order of that P2G
         real(wp) :: next_grid_kinetic = 0.0_wp
-            !! one-pass: the nodes' kinetic energy of that P2G [J]
+            !! in a one-pass step, the kinetic energy of the nodes of that P2G [J]
         integer, allocatable :: scatter_order(:)
             !! a restart of a one-pass run: the particle order of the P2G of its first step
             !! (that of the step before the checkpoint)
