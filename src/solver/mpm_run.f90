@@ -10,7 +10,7 @@ module mpm_run
     use mpm_signals, only: catch_stop_signals, release_stop_signals, stop_signal, signal_name
     use mpm_particles, only: particles_type, particle_bytes, pack_particles, rebuild_particles, &
         record_length
-    use mpm_case, only: case_type
+    use mpm_case, only: case_type, initial_k0
     use mpm_case_guard, only: snapshot_in_file
     use mpm_boundary, only: face_nodes_type
     use mpm_setup, only: start_simulation
@@ -138,6 +138,10 @@ contains
         logical :: written, copies
         type(thread_governor_type) :: threads
         integer :: nthreads
+        integer, parameter :: equilibrium_steps = 100
+            !! steps over which a geostatic start is checked for rest
+        logical :: check_rest
+        real(wp) :: start_kinetic
 
         resumed = present(restart) .and. present(run)
         call check_memory(case, error, restart)
@@ -230,6 +234,9 @@ contains
         ! the thread count of each step: the fastest (mpm_threads), starting with the largest
         call new_thread_governor(threads)
         nthreads = threads%most
+        ! a geostatic start (initial_stress.type = "k0"): whether the ground is at rest
+        check_rest = case%initial_stress%type == initial_k0 .and. .not. resumed
+        start_kinetic = 0.0_wp
         do while (sim%time < case%time%tend - eps_t .and. .not. allocated(error))
             clock = wall_time()
             dt = min(stable_time_step(sim), case%time%tend - sim%time)
@@ -309,6 +316,15 @@ contains
                     sim%phase_time(phase_output) = sim%phase_time(phase_output) &
                         + (wall_time() - clock)
                     if (allocated(error)) exit
+                end if
+            end if
+            if (check_rest) then
+                start_kinetic = max(start_kinetic, sim%energy%kinetic)
+                if (sim%step - first_step >= equilibrium_steps .or. &
+                    sim%time >= case%time%tend - eps_t) then
+                    check_rest = .false.
+                    if (.not. quiet) call report_rest(start_kinetic, sim%energy%initial, &
+                        sim%step - first_step)
                 end if
             end if
             if (.not. quiet .and. wall_time() - t_last_progress >= case%progress%interval) then
@@ -849,6 +865,34 @@ contains
         nodes = case%domain%nodes(side, axis, case%dim)
         is_velocity_face = nodes%prescribed
     end function is_velocity_face
+
+    !> Whether a geostatic start (initial_stress.type = "k0") is at rest: the largest kinetic
+    !> energy of its first steps against the energy it starts with (its elastic energy).
+    subroutine report_rest(kinetic, initial, steps)
+        real(wp), intent(in) :: kinetic
+            !! largest kinetic energy of those steps [J]
+        real(wp), intent(in) :: initial
+            !! the energy at the start (kinetic + elastic) [J]
+        integer(i8), intent(in) :: steps
+            !! the steps
+
+        real(wp), parameter :: at_rest = 1.0e-6_wp
+            !! largest ratio reported as equilibrium: round-off gives about 1e-30, a slope's
+            !! K0 state 1e-4 and more
+        real(wp) :: ratio
+
+        ratio = kinetic/max(initial, tiny(1.0_wp))
+        write (output_unit, "(a,i0,a,es9.2,a)") "mpm_geo: initial stress k0: the largest " &
+            //"kinetic energy of the first ", steps, " steps is ", ratio, " of the elastic " &
+            //"energy at the start"
+        if (ratio <= at_rest) then
+            write (output_unit, "(a)") "  the ground starts at rest (in equilibrium)"
+        else
+            write (output_unit, "(a)") "  the ground is not in equilibrium at the start (the " &
+                //"K0 state of a slope, or a K0 beyond a material's strength): it moves " &
+                //"towards it; a damped first stage reaches it (docs/input.md, initial_stress)"
+        end if
+    end subroutine report_rest
 
     subroutine print_progress(sim, tend, elapsed, imbalance, first_step, first_time)
         type(simulation_type), intent(in) :: sim

@@ -166,6 +166,30 @@ sed 's#"mu": 0.2, "file"#"mu": 0.2, "offset": [0, 100, 0], "file"#' "$tmp/floor.
 expect 2 "STL terrain far from the domain" -- "$exe" "$tmp/far.json" --output "$tmp/far" --quiet
 contains "does not come within reach of the domain" "STL terrain far from the domain: why"
 
+# a geostatic start (initial_stress k0) reports whether the ground is at rest: a layered
+# column is; with a K0 beyond the sand's strength (0.2 < (1 - sin 30)/(1 + sin 30)) it is not
+cat > "$tmp/k0.json" <<'JSON'
+{
+  "name": "k0",
+  "domain": {"nx": 4, "ny": 20, "dx": 0.5,
+             "boundaries": {"xmin": "sliding", "xmax": "sliding", "ymin": "fixed"}},
+  "materials": [{"name": "clay", "type": "linear_elastic", "E": 2e7, "nu": 0.3, "rho": 1800},
+                {"name": "sand", "type": "mohr_coulomb", "E": 4e7, "nu": 0.3, "rho": 2000,
+                 "phi": 30, "c": 0, "psi": 0}],
+  "bodies": [{"material": "sand", "min": [0, 0], "max": [2, 4]},
+             {"material": "clay", "polygon": [[0, 4], [2, 4], [2, 8], [0, 8]]}],
+  "gravity": [0, -9.81],
+  "initial_stress": {"type": "k0"},
+  "time": {"tend": 0.2, "cfl": 0.5},
+  "output": {"interval": 0.1}
+}
+JSON
+expect 0 "K0 start" -- "$exe" "$tmp/k0.json" --output "$tmp/k0"
+contains "the ground starts at rest (in equilibrium)" "K0 start: reported at rest"
+sed 's#{"type": "k0"}#{"type": "k0", "k0": 0.2}#' "$tmp/k0.json" > "$tmp/k0_low.json"
+expect 0 "K0 start beyond the strength" -- "$exe" "$tmp/k0_low.json" --output "$tmp/k0_low"
+contains "the ground is not in equilibrium at the start" "K0 beyond the strength: reported"
+
 # ParaView's readers on the outputs: tests/cli/test_paraview.sh
 
 echo "$passed passed, $failed failed"
