@@ -506,17 +506,35 @@ contains
         character(len=*), intent(in), optional :: unit
             !! unit shown in messages
 
-        type(cursor_type) :: val, item
+        type(cursor_type) :: val
         character(len=:), allocatable :: expect
         logical :: is_present
-        integer :: i
         real(wp) :: x(3)
 
         expect = "an array of "//int_text(n)//" numbers"//range_text(unit=unit)
         call cur%get_typed(key, "array", expect, val, is_present, error, required)
         if (allocated(error) .or. .not. is_present) return
+        call axis_numbers(val, n, x, error)
+        if (allocated(error)) return
+        values(1:n) = x(1:n)
+    end subroutine cursor_get_vector
+
+    !> The n numbers of an array of one number per axis (get_vector, get_points).
+    subroutine axis_numbers(val, n, x, error)
+        type(cursor_type), intent(in) :: val
+            !! the array
+        integer, intent(in) :: n
+            !! numbers expected (the dimension)
+        real(wp), intent(out) :: x(:)
+            !! the numbers (1..n)
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(cursor_type) :: item
+        integer :: i
+
         if (val%size() /= n) then
-            call cur%fail(error, val%path//" must have "//int_text(n)//" numbers (one per " &
+            call val%fail(error, val%path//" must have "//int_text(n)//" numbers (one per " &
                 //"axis, dimension = "//int_text(n)//"), found "//int_text(val%size()))
             return
         end if
@@ -527,8 +545,7 @@ contains
             call number_value(item, x(i), error)
             if (allocated(error)) return
         end do
-        values(1:n) = x(1:n)
-    end subroutine cursor_get_vector
+    end subroutine axis_numbers
 
     !> Read an array of points, each an array of n numbers (a polygon's vertices).
     subroutine cursor_get_points(cur, key, n, points, error, required, unit, at_least)
@@ -549,10 +566,10 @@ contains
         integer, intent(in), optional :: at_least
             !! fewest points allowed (default 1)
 
-        type(cursor_type) :: val, point, item
+        type(cursor_type) :: val, point
         character(len=:), allocatable :: expect, one
         logical :: is_present
-        integer :: i, j, fewest
+        integer :: j, fewest
         real(wp), allocatable :: x(:, :)
 
         fewest = 1
@@ -571,18 +588,8 @@ contains
             point = val%item(j)
             call point%check_type("array", one, error)
             if (allocated(error)) return
-            if (point%size() /= n) then
-                call cur%fail(error, point%path//" must have "//int_text(n)//" numbers (one " &
-                    //"per axis, dimension = "//int_text(n)//"), found "//int_text(point%size()))
-                return
-            end if
-            do i = 1, n
-                item = point%item(i)
-                call item%check_type("number", "a number", error)
-                if (allocated(error)) return
-                call number_value(item, x(i, j), error)
-                if (allocated(error)) return
-            end do
+            call axis_numbers(point, n, x(:, j), error)
+            if (allocated(error)) return
         end do
         call move_alloc(x, points)
     end subroutine cursor_get_points
