@@ -11,28 +11,23 @@ module mpm_solver
     use mpm_kinds, only: wp, i8
     use mpm_strings, only: vector_text, text_or, int_text
     use mpm_error, only: error_type, fatal_error, exit_numerical, exit_input, exit_other
-    use mpm_case, only: case_type, scheme_usf, scheme_usl, scheme_musl, damping_kinetic, &
-        damping_local
+    use mpm_case, only: case_type, scheme_usl, scheme_musl, damping_kinetic, damping_local
     use mpm_case_output_fields, only: output_fields
     use mpm_case_stability, only: p_wave_speed, viscous_time_step
-    use mpm_grid, only: grid_type, new_grid, add_terrain
-    use mpm_terrain, only: terrain_misses_domain
-    use mpm_particles, only: particles_type, pack_particles, rebuild_particles, particle_number, &
-        move_particles, particle_field_type, particle_field_count, particle_field, held_written, &
+    use mpm_particles, only: particles_type, particle_number, move_particles, &
+        particle_field_type, particle_field_count, particle_field, held_written, &
         release_field
-    use mpm_bodies, only: create_particles, body_cell_histogram
-    use mpm_decomposition, only: decomposition_type, new_decomposition, cut_axis, local_case, &
-        global_cell
-    use mpm_parallel, only: image_count, image_id, sum_over_images, max_over_images, &
-        min_over_images, exchange_neighbours, agree_on_failure
-    use mpm_shape, only: shape_type, full_shape_type
+    use mpm_bodies, only: create_particles
+    use mpm_decomposition, only: new_decomposition
+    use mpm_parallel, only: image_count, sum_over_images, max_over_images, min_over_images
+    use mpm_shape, only: full_shape_type
     use mpm_shape_factory, only: new_shape
-    use mpm_material, only: material_holder_type, nwork_kinds
+    use mpm_material, only: nwork_kinds
     use mpm_case_materials, only: material_laws, state_variable_count
     use mpm_state, only: run_record_type
     use mpm_contact_loads, only: face_loads, take_face_loads, face_node_count, terrain_loads, &
         take_terrain_loads
-    use mpm_stencil, only: stencils_type, compute_stencils, sort_stencils
+    use mpm_stencil, only: compute_stencils, sort_stencils
     use mpm_transfer, only: p2g, p2g_options_type, g2p, motion_type, report_lost, update_stress, &
         nstress_sums
     use mpm_kernel_nodal, only: nnodal_sums, nodal_friction, &
@@ -46,6 +41,11 @@ module mpm_solver
     use mpm_clock, only: wall_time
     use mpm_energy, only: energies_type, energy_total, energy_residual, energy_scale, &
         energy_record, energies_from_record, nenergy_record, step_energies
+    use mpm_simulation, only: simulation_type, start_type, agree, has_text, nphases, &
+        phase_names, phase_stencils, phase_p2g, phase_nodal, phase_g2p, phase_stress, &
+        phase_other, phase_output
+    use mpm_solver_slabs, only: slab_grid, terrain_contact, rebalance, decompose_bodies, &
+        decompose_loaded, migrate_particles
     implicit none
     private
     public :: simulation_type, new_simulation, advance, stable_time_step, energies_type
@@ -56,15 +56,6 @@ module mpm_solver
     public :: nphases, phase_names, phase_stencils, phase_p2g, phase_nodal, phase_g2p, &
         phase_stress, phase_other, phase_output
 
-    integer, parameter :: nphases = 7
-        !! phases of a step timed separately (summary, make bench)
-    integer, parameter :: phase_stencils = 1, phase_p2g = 2, phase_nodal = 3, phase_g2p = 4, &
-        phase_stress = 5, phase_other = 6, phase_output = 7
-    character(len=*), parameter :: phase_names(nphases) = [character(len=8) :: &
-        "sorting", "P2G", "nodal", "G2P", "stress", "other", "output"]
-        !! sorting (shape functions, particle order by cell layer and chunks); P2G (scatters);
-        !! nodal (nodal update); G2P (velocities, positions (USL, USF), the MUSL remap);
-        !! stress (stress update, MUSL: positions); other: time step, guard, energies; output
     real(wp), parameter :: empty_node_fraction = 1.0e-9_wp
         !! a node of at most this fraction of the lightest particle's mass is empty (at rest):
         !! round-off level (the cpGIMP weights lose about 1e-16 / l of their value), far
@@ -75,10 +66,6 @@ module mpm_solver
         !! neighbours (mpm_kernel_light). A node that a particle reaches only with the tail
         !! of its weights otherwise gives that particle its own stress back as an
         !! acceleration of its own (the torn root of the bspline2 cantilever)
-    integer, parameter :: rebalance_steps = 50
-        !! steps between two looks at the particle counts of the images
-    real(wp), parameter :: rebalance_threshold = 1.1_wp
-        !! the cuts move when the busiest image holds more than this times the mean count
     integer, parameter :: sum_block = 4096
         !! particles per partial sum of the energies (fixed order with any thread count)
 
@@ -86,78 +73,6 @@ module mpm_solver
         !! the guard's smallest energy scale is the elastic energy of a uniform strain of this
         !! size in every particle, 1/2 m c_p^2 floor_strain^2 summed (a run at rest is not
         !! stopped on the round-off of its energies) [-]
-
-    !> A model in time: case, grid, particles, materials and the clock.
-    type :: simulation_type
-        type(case_type) :: case
-            !! resolved case
-        type(grid_type) :: grid
-            !! background grid
-        type(particles_type) :: particles
-            !! material points
-        type(material_holder_type), allocatable :: materials(:)
-            !! constitutive models, in case order
-        class(shape_type), allocatable :: shape
-            !! shape function
-        real(wp), allocatable :: wave_speed(:)
-            !! P-wave speed of each material [m/s]
-        real(wp) :: face_reaction(3, 2, 3) = 0.0_wp
-            !! force each face (side, axis) applied on the material over the last step, over
-            !! the whole grid: the impulse of a velocity face / dt, zero for the others [N; N/m
-            !! in 2D]
-        real(wp), allocatable :: time_step_limit(:)
-            !! other stable-step limit of each material (viscosity), huge when none [s]
-        type(stencils_type) :: stencils
-            !! shape functions of the step, particle order and scatter chunks
-        type(decomposition_type) :: dec
-            !! this image's part of the grid (the whole grid on one image)
-        real(wp) :: phase_time(nphases) = 0.0_wp
-            !! wall time spent in each phase since the start [s]
-        real(wp) :: time = 0.0_wp
-            !! simulated time [s]
-        integer(i8) :: step = 0
-            !! steps done
-        real(wp) :: dt = 0.0_wp
-            !! time step of the last step [s]
-        type(energies_type) :: energy
-            !! energy terms, updated every step
-        real(wp) :: energy_floor = 0.0_wp
-            !! smallest energy scale of the blow-up guard (floor_strain) [J]
-        real(wp) :: kinetic_previous = 0.0_wp
-            !! kinetic energy of the previous step (kinetic damping) [J]
-        real(wp), allocatable :: terrain_corner(:, :, :)
-            !! (3, 3, triangles) corners of the terrain surface as read (contact.type =
-            !! "terrain_stl"): each new slab grid indexes it again
-        logical :: one_pass = .false.
-            !! the last particle pass of a step scatters the next step's P2G (solver.one_pass;
-            !! USL and MUSL without F-bar, tensor-product shape functions, one image)
-        logical :: scatter_ready = .false.
-            !! in a one-pass step, the grid holds the P2G of the next step, the stencils are
-            !! those of the particles' positions, and stencils%order is the order of that P2G
-        real(wp) :: next_grid_kinetic = 0.0_wp
-            !! in a one-pass step, the kinetic energy of the nodes of that P2G [J]
-        integer, allocatable :: scatter_order(:)
-            !! a restart of a one-pass run: the particle order of the P2G of its first step
-            !! (that of the step before the checkpoint)
-    end type simulation_type
-
-    !> What a simulation starts from besides its case: the data of the files the case names
-    !> (a state file, a checkpoint, the terrain surface), read by the set-up layer
-    !> (mpm_setup), since the solver reads no file.
-    type :: start_type
-        logical :: loaded = .false.
-            !! the particles come from a state file (load_state) or a checkpoint
-        logical :: restart = .false.
-            !! from a checkpoint: the run goes on at its time and step, displacements kept
-        type(particles_type) :: particles
-            !! the particles read (every particle of the file, on every image)
-        real(wp) :: time = 0.0_wp
-            !! simulated time of the state [s]
-        integer :: step = 0
-            !! time step number of the state
-        real(wp), allocatable :: terrain_corner(:, :, :)
-            !! (3, 3, triangles) corners of the terrain surface, contact.type = "terrain_stl" [m]
-    end type start_type
 
 contains
 
@@ -422,259 +337,7 @@ contains
         call terrain_loads(sim%case, sim%grid, sim%dec, terrain_node, terrain_load)
     end subroutine contact_loads
 
-    !> The grid of this image's part of the decomposition (the whole grid on one image).
-    subroutine slab_grid(sim, error)
-        type(simulation_type), intent(inout) :: sim
-            !! the simulation (case and decomposition set)
-        type(error_type), allocatable, intent(out) :: error
-            !! set when memory cannot be allocated
 
-        call new_grid(sim%grid, local_case(sim%case, sim%dec), error)
-        if (allocated(error)) return
-        if (sim%dec%axis > 0) then
-            sim%grid%halo_axis = sim%dec%axis
-            sim%grid%halo_left = sim%dec%left
-            sim%grid%halo_right = sim%dec%right
-            sim%grid%owned_lo = sim%dec%cell_lo - sim%dec%node_lo
-            sim%grid%owned_hi = sim%dec%cell_hi - sim%dec%node_lo - 1
-            if (sim%dec%right == 0) sim%grid%owned_hi = sim%grid%owned_hi + 1
-        end if
-        ! frictional faces average the normal impulse over five wave transits of a cell (the
-        ! weight 0.1 per step it had at CFL 0.5), so that a smaller step does not shorten it
-        sim%grid%contact_time = 5.0_wp*sim%case%domain%dx/max(maxval(sim%wave_speed), tiny(1.0_wp))
-    end subroutine slab_grid
-
-    !> Frictional contact with the terrain surface of contact.file (read by the set-up
-    !> layer, kept for the grids of later cuts). Collective.
-    subroutine terrain_contact(sim, error, start)
-        type(simulation_type), intent(inout) :: sim
-            !! the simulation, with its grid
-        type(error_type), allocatable, intent(out) :: error
-            !! set when the surface was not read or misses the domain
-        type(start_type), intent(inout), optional :: start
-            !! its terrain corners move into the simulation
-
-        logical :: read
-
-        read = .false.
-        if (present(start)) read = allocated(start%terrain_corner)
-        if (.not. read) then
-            call fatal_error(error, sim%case%file//": new_simulation: the terrain surface "// &
-                "of contact.file was not read (mpm_setup::read_start reads it)", exit_other)
-            return
-        end if
-        call move_alloc(start%terrain_corner, sim%terrain_corner)
-        call slab_terrain(sim, error)
-    end subroutine terrain_contact
-
-    !> The terrain pairs of this image's grid: nodes placed as in the whole grid, so that
-    !> the images sharing a node give it the same pair; the surface must come within reach
-    !> of some image's slab. Collective.
-    subroutine slab_terrain(sim, error)
-        type(simulation_type), intent(inout) :: sim
-            !! the simulation, its grid just made by slab_grid
-        type(error_type), allocatable, intent(out) :: error
-            !! set when the surface misses the domain or memory cannot be allocated
-
-        integer :: offset(3), near
-
-        offset = 0
-        if (sim%dec%axis > 0) offset(sim%dec%axis) = sim%dec%node_lo
-        call add_terrain(sim%grid, sim%terrain_corner, sim%case%contact%mu, sim%case%gravity, &
-            error, global_origin=sim%case%domain%origin, offset=offset, &
-            allow_empty=image_count() > 1)
-        if (image_count() > 1) then
-            call agree(error)
-            if (.not. allocated(error)) then
-                ! the surface misses the domain when it misses every slab (one message)
-                near = 0
-                if (size(sim%grid%terrain%list) > 0) near = 1
-                call max_over_images(near)
-                if (near == 0) then
-                    call fatal_error(error, terrain_misses_domain, exit_input)
-                    if (image_id() /= 1) error%message = ""
-                end if
-            end if
-        end if
-        if (allocated(error)) then
-            if (len(error%message) > 0) error%message = sim%case%file//': contact.file = "'// &
-                sim%case%contact%file//'": '//error%message
-        end if
-    end subroutine slab_terrain
-
-    !> Move the cuts when the particle counts of the images drift apart (a flow that travels
-    !> into other slabs): every `rebalance_steps` steps the particles per cell layer are
-    !> summed over the images, and when the busiest image holds more than
-    !> `rebalance_threshold` times the mean, the cuts are set again as at the start. The
-    !> particles then go to their new images (neighbour by neighbour), each image builds the
-    !> grid of its new slab (and its terrain pairs), and the running contact loads of the
-    !> frictional faces and the terrain (the only nodal state kept from step to step) follow
-    !> their nodes. Collective.
-    subroutine rebalance(sim, error)
-        type(simulation_type), intent(inout) :: sim
-            !! the simulation after a step
-        type(error_type), allocatable, intent(out) :: error
-            !! set when memory cannot be allocated
-
-        integer(i8), allocatable :: histogram(:)
-        type(decomposition_type) :: dec
-        real(wp), allocatable :: loads(:), terrain_load(:)
-        integer(i8), allocatable :: terrain_node(:)
-        real(wp) :: small_mass, light_mass, imbalance
-        integer :: axis, p, c, k, misplaced
-        logical :: complete
-
-        if (sim%dec%axis == 0 .or. mod(sim%step, int(rebalance_steps, i8)) /= 0) return
-        axis = sim%dec%axis
-        allocate (histogram(0:sim%case%domain%ncells(axis) - 1))
-        histogram = 0
-        do p = 1, sim%particles%n
-            c = global_cell(sim%case, sim%particles%x(axis, p), axis)
-            histogram(c) = histogram(c) + 1
-        end do
-        call sum_over_images(histogram)
-        imbalance = 0.0_wp
-        do k = 1, sim%dec%images
-            imbalance = max(imbalance, real(sum(histogram(sim%dec%cuts(k - 1): &
-                sim%dec%cuts(k) - 1)), wp))
-        end do
-        imbalance = imbalance*real(sim%dec%images, wp)/max(1.0_wp, real(sum(histogram), wp))
-        if (imbalance <= rebalance_threshold) return
-        call new_decomposition(dec, sim%case, sim%dec%images, sim%dec%me, histogram, error)
-        if (allocated(error)) return
-        if (all(dec%cuts == sim%dec%cuts)) return
-        call face_loads(sim%case, sim%grid, sim%dec, loads)
-        call terrain_loads(sim%case, sim%grid, sim%dec, terrain_node, terrain_load)
-        sim%dec = dec
-        ! the particles to their new slabs: one neighbour per pass
-        do
-            misplaced = 0
-            do p = 1, sim%particles%n
-                c = global_cell(sim%case, sim%particles%x(axis, p), axis)
-                if (c < dec%cell_lo .or. c >= dec%cell_hi) misplaced = misplaced + 1
-            end do
-            call max_over_images(misplaced)
-            if (misplaced == 0) exit
-            call migrate_particles(sim, error)
-            call agree(error)
-            if (allocated(error)) return
-        end do
-        small_mass = sim%grid%small_mass
-        light_mass = sim%grid%light_mass
-        call slab_grid(sim, error)
-        call agree(error)
-        if (allocated(error)) return
-        if (allocated(sim%terrain_corner)) then
-            call slab_terrain(sim, error)
-            if (allocated(error)) return
-        end if
-        sim%grid%small_mass = small_mass
-        sim%grid%light_mass = light_mass
-        call take_face_loads(sim%case, sim%grid, sim%dec, loads)
-        call take_terrain_loads(sim%case, sim%grid, sim%dec, terrain_node, terrain_load, &
-            complete)
-        if (.not. complete) then
-            call fatal_error(error, "internal error: a terrain contact pair of the new cuts "// &
-                "had no load before them")
-        end if
-        call agree(error)
-        if (allocated(error)) return
-        ! the stencil tables follow the new grid
-        sim%stencils = stencils_type()
-    end subroutine rebalance
-
-    !> Cut the grid among the images by the particles the bodies will hold.
-    subroutine decompose_bodies(sim, error)
-        type(simulation_type), intent(inout) :: sim
-            !! the simulation (case set)
-        type(error_type), allocatable, intent(out) :: error
-            !! set when the grid cannot be cut for the images
-
-        integer(i8), allocatable :: histogram(:)
-        integer :: axis
-
-        axis = cut_axis(sim%case)
-        allocate (histogram(0:sim%case%domain%ncells(axis) - 1))
-        call body_cell_histogram(sim%case, axis, histogram)
-        call new_decomposition(sim%dec, sim%case, image_count(), image_id(), histogram, error)
-    end subroutine decompose_bodies
-
-    !> Cut the grid among the images by the loaded particles (every image read them all), and
-    !> keep this image's; ids are the indices in the state file.
-    subroutine decompose_loaded(sim, error)
-        type(simulation_type), intent(inout) :: sim
-            !! the simulation, with every particle of the state file
-        type(error_type), allocatable, intent(out) :: error
-            !! set when the grid cannot be cut for the images
-
-        integer(i8), allocatable :: histogram(:)
-        integer :: axis, p, c
-        logical, allocatable :: keep(:)
-
-        if (image_count() == 1) then
-            call new_decomposition(sim%dec, sim%case, 1, 1, [integer(i8) ::], error)
-            return
-        end if
-        associate (particles => sim%particles)
-            axis = cut_axis(sim%case)
-            allocate (histogram(0:sim%case%domain%ncells(axis) - 1), keep(particles%n))
-            histogram = 0
-            do p = 1, particles%n
-                c = global_cell(sim%case, particles%x(axis, p), axis)
-                histogram(c) = histogram(c) + 1
-            end do
-            call new_decomposition(sim%dec, sim%case, image_count(), image_id(), histogram, &
-                error)
-            if (allocated(error)) return
-            do p = 1, particles%n
-                c = global_cell(sim%case, particles%x(axis, p), axis)
-                keep(p) = c >= sim%dec%cell_lo .and. c < sim%dec%cell_hi
-            end do
-            particles%id = [(p, p = 1, particles%n)]
-            call rebuild_particles(particles, keep, [real(wp) ::], error)
-        end associate
-    end subroutine decompose_loaded
-
-    !> Send the particles that left this image's slab to the neighbour that owns them now
-    !> (a particle moves less than a cell per step: to a neighbour at most), and take in
-    !> those that arrived. Collective.
-    subroutine migrate_particles(sim, error)
-        type(simulation_type), intent(inout) :: sim
-            !! the simulation after a step
-        type(error_type), allocatable, intent(out) :: error
-            !! set when memory cannot be allocated
-
-        integer :: p, c, axis
-        logical, allocatable :: to_left(:), to_right(:)
-        real(wp), allocatable :: send_left(:), send_right(:), recv_left(:), recv_right(:)
-
-        if (sim%dec%axis == 0) return
-        axis = sim%dec%axis
-        associate (particles => sim%particles)
-            allocate (to_left(particles%n), to_right(particles%n))
-            do p = 1, particles%n
-                c = global_cell(sim%case, particles%x(axis, p), axis)
-                to_left(p) = c < sim%dec%cell_lo
-                to_right(p) = c >= sim%dec%cell_hi
-            end do
-            call pack_particles(particles, to_left, send_left)
-            call pack_particles(particles, to_right, send_right)
-            call exchange_neighbours(sim%dec%left, sim%dec%right, send_left, send_right, &
-                recv_left, recv_right)
-            ! most steps move no particle across a cut: the arrays stay as they are
-            if (size(send_left) + size(send_right) + size(recv_left) + size(recv_right) > 0) then
-                call rebuild_particles(particles, .not. (to_left .or. to_right), &
-                    [recv_left, recv_right], error)
-            end if
-        end associate
-    end subroutine migrate_particles
-
-    !> True when an optional text setting is present and not empty.
-    pure logical function has_text(text)
-        character(len=:), allocatable, intent(in) :: text
-        has_text = .false.
-        if (allocated(text)) has_text = len(text) > 0
-    end function has_text
 
     !> Time step: the fixed dt of the case, or C dx / max_p (c_p + |v_p|).
     real(wp) function stable_time_step(sim)
@@ -954,23 +617,6 @@ contains
         sim%scatter_ready = .true.
     end subroutine finish_next_p2g
 
-    !> Make a failure of any image the failure of all (collective): every image returns the
-    !> error, and only the one that reports it keeps a message (one message per run).
-    subroutine agree(error)
-        type(error_type), allocatable, intent(inout) :: error
-            !! this image's failure, if any; on return the run's
-
-        integer :: code
-        logical :: reporter
-
-        code = 0
-        if (allocated(error)) code = error%code
-        call agree_on_failure(code, reporter)
-        if (code == 0) return
-        if (.not. allocated(error)) allocate (error)
-        error%code = code
-        if (.not. reporter) error%message = ""
-    end subroutine agree
 
     !> Add the wall time since `clock` to a phase and restart the clock.
     subroutine lap(sim, phase, clock)
