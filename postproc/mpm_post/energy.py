@@ -63,6 +63,7 @@ class EnergyBalance(NamedTuple):
     for (0 for an exactly conserving run; > 0 energy was created). ``gravity_work`` [J]: the
     work of gravity over the run, potential energy at the start - at the end (nan without a
     ``potential_energy`` column). ``start``, ``end`` [s]: the times of the two lines.
+    ``load_work`` [J]: the work of the loads over the run (0 without a ``load_work`` column).
     All energies per metre of thickness [J/m] in 2D.
     """
 
@@ -70,13 +71,31 @@ class EnergyBalance(NamedTuple):
     gravity_work: float
     start: float
     end: float
+    load_work: float = 0.0
+
+    @property
+    def supplied(self):
+        """The work given to the material: of gravity (when known) and of the loads [J]."""
+        if np.isnan(self.gravity_work):
+            return self.load_work if self.load_work != 0.0 else float("nan")
+        return self.gravity_work + self.load_work
+
+    @property
+    def supplied_name(self):
+        """What `supplied` is made of, in words."""
+        if self.load_work == 0.0:
+            return "the work of gravity"
+        if np.isnan(self.gravity_work) or self.gravity_work == 0.0:
+            return "the work of the loads"
+        return "the work of gravity and loads"
 
     @property
     def drift_of_gravity_work(self):
-        """drift / gravity_work [-], nan when gravity did no positive work."""
-        if not self.gravity_work > 0.0:
+        """drift / supplied (the work of gravity and of the loads) [-], nan when they did no
+        positive work."""
+        if not self.supplied > 0.0:
             return float("nan")
-        return self.drift / self.gravity_work
+        return self.drift / self.supplied
 
 
 def energy_balance(history):
@@ -93,7 +112,12 @@ def energy_balance(history):
     if "potential_energy" in history:
         potential = _column(history, "potential_energy")
         work = float(potential[0] - potential[-1])
-    return EnergyBalance(float(total[-1] - total[0]), work, float(time[0]), float(time[-1]))
+    loads = 0.0
+    if "load_work" in history:
+        load_work = _column(history, "load_work")
+        loads = float(load_work[-1] - load_work[0])
+    return EnergyBalance(float(total[-1] - total[0]), work, float(time[0]), float(time[-1]),
+                         loads)
 
 
 DRIFT_DEFINITION = "total at the end - total at the start: energy not accounted for"
@@ -112,12 +136,13 @@ def describe_drift(balance, unit="J"):
     """
     share = balance.drift_of_gravity_work
     if np.isfinite(share):
-        compared = (f"{100.0 * share:.3g} % of the work of gravity, "
-                    f"{balance.gravity_work:.3g} {unit}")
-    elif np.isnan(balance.gravity_work):
+        compared = (f"{100.0 * share:.3g} % of {balance.supplied_name}, "
+                    f"{balance.supplied:.3g} {unit}")
+    elif np.isnan(balance.supplied):
         compared = "no potential_energy column to compare with the work of gravity"
     else:
-        compared = f"the work of gravity is {balance.gravity_work:.3g} {unit}, not positive"
+        compared = (f"{balance.supplied_name} is {balance.supplied:.3g} {unit}, not "
+                    "positive")
     return f"{balance.drift:+.3g} {unit} ({DRIFT_DEFINITION}; {compared})"
 
 
@@ -154,8 +179,8 @@ def plot_run_energy(run, path):
                   f"- total at t = {balance.start:g} s")
         share = balance.drift_of_gravity_work
         if np.isfinite(share):
-            title += (f"\n({100.0 * share:.3g} % of the work of gravity, "
-                      f"{balance.gravity_work:.3g} {unit})")
+            title += (f"\n({100.0 * share:.3g} % of {balance.supplied_name}, "
+                      f"{balance.supplied:.3g} {unit})")
     return plot_energy(history, path, title=title, unit=unit), drift
 
 

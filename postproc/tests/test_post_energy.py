@@ -49,6 +49,19 @@ def test_columns_are_found_by_name_not_position(tmp_path):
     assert (balance.drift, balance.gravity_work, balance.end) == (0.5, 10.0, 0.1)
 
 
+def test_drift_is_compared_with_the_work_of_gravity_and_loads():
+    # a loaded run (history.csv's load_work): 2 J of gravity and 3 J of loads supplied
+    history = history_of([10.0, 10.5], [0.0, -2.0])
+    history["load_work"] = np.array([1.0, 4.0])
+    balance = energy_balance(history)
+    assert balance.load_work == 3.0 and balance.supplied == 5.0
+    assert describe_drift(balance, "J").endswith("10 % of the work of gravity and loads, 5 J)")
+    # loads only (no gravity): the share of the work of the loads
+    history["potential_energy"] = np.zeros(2)
+    assert describe_drift(energy_balance(history), "J").endswith(
+        "16.7 % of the work of the loads, 3 J)")
+
+
 def test_drift_without_gravity_work_says_so():
     assert describe_drift(energy_balance(history_of([1.0, 1.5])), "J/m") == (
         "+0.5 J/m (total at the end - total at the start: energy not accounted for; "

@@ -29,12 +29,13 @@ submodule (mpm_case) mpm_case_reader
     use mpm_case_progress, only: read_progress, progress_keys
     use mpm_case_checkpoint, only: read_checkpoint, checkpoint_keys
     use mpm_case_guard, only: read_guard, guard_keys
+    use mpm_case_loads, only: read_loads, load_keys, time_function_keys
     implicit none
 
     character(len=*), parameter :: top_keys(*) = [character(len=14) :: "name", "dimension", &
         "domain", "particles", "materials", "bodies", "gravity", "solver", "time", "damping", &
         "contact", "output", "progress", "save_state", "load_state", "checkpoint", "guard", &
-        "initial_stress"]
+        "initial_stress", "loads"]
         !! keys of the top level
     integer, parameter :: case_path_width = 80
         !! longest key path case_key_paths can list ("materials[type=...].softening.strain")
@@ -109,6 +110,8 @@ contains
         call add_key_paths(list, "time", time_keys)
         call add_key_paths(list, "damping", damping_keys)
         call add_key_paths(list, "initial_stress", initial_stress_keys)
+        call add_key_paths(list, "loads[]", load_keys)
+        call add_key_paths(list, "loads[].time_function", time_function_keys)
         call add_key_paths(list, "contact", contact_keys)
         call add_key_paths(list, "output", output_keys)
         call add_key_paths(list, "progress", progress_keys)
@@ -193,6 +196,8 @@ contains
         if (allocated(error)) return
         call read_initial_stress(root, case%dim, case%gravity, case%materials, case%load_state, &
             case%initial_stress, error)
+        if (allocated(error)) return
+        call read_loads(root, case%dim, case%domain, case%materials, case%loads, error)
         if (allocated(error)) return
         call read_contact(root, case%contact, error)
         if (allocated(error)) return

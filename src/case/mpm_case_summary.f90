@@ -8,6 +8,7 @@ submodule (mpm_case) mpm_case_summary
     use mpm_case_stability, only: start_time_step
     use mpm_case_output_fields, only: output_fields, nfields
     use mpm_case_guard, only: snapshot_in_memory
+    use mpm_case_loads, only: load_line
     implicit none
 
 contains
@@ -121,6 +122,11 @@ contains
                 if (m < size(case%materials)) line = line//","
             end do
             text = text//line//nl
+        end if
+        if (allocated(case%loads)) then
+            do m = 1, size(case%loads)
+                text = text//"load        "//load_line(case%loads(m), case%dim, case%materials)//nl
+            end do
         end if
         text = text//"contact     "//text_or(case%contact%type, "none")//nl
         line = "output      "//text_or(case%output%directory, "?")

@@ -24,7 +24,7 @@ module mpm_particles
         put_field, put_field_integers, hold_field, release_field, created_particle_bytes, &
         move_particles
     public :: per_particle, per_axis, per_stress, per_tensor, per_state
-    public :: held_always, held_written, held_apic, held_driver, held_images
+    public :: held_always, held_written, held_apic, held_driver, held_images, held_loads
 
     ! Values a field keeps per particle
     integer, parameter :: per_particle = 1
@@ -50,6 +50,9 @@ module mpm_particles
         !! allocated only by drivers that need it (verification problems)
     integer, parameter :: held_images = 5
         !! when the particles are spread over images
+    integer, parameter :: held_loads = 6
+        !! when the case has traction or point loads (mpm_loads); not in the byte counts of
+        !! created_particle_bytes
 
     !> What the field table says of one per-particle array.
     type :: particle_field_type
@@ -63,7 +66,7 @@ module mpm_particles
             !! units in 2D when they differ (per metre of thickness), else ""
         integer :: held = held_always
             !! when the array is allocated: held_always, held_written, held_apic, held_driver
-            !! or held_images
+            !! held_images or held_loads
         logical :: whole = .false.
             !! integer values (material index, id), else real(wp)
         logical :: saved = .true.
@@ -185,6 +188,13 @@ module mpm_particles
         real(wp), allocatable :: affine(:, :, :)
             !! APIC affine velocity C_p = sum_i v_i grad(N_i)^T (dim, dim, n) [1/s], allocated
             !! only with solver.transfer = "apic"
+        integer, allocatable :: load(:)
+            !! the traction or point load the particle carries (index into case%loads, 0 for
+            !! none) (n); allocated only when the case has such loads (mpm_loads)
+        real(wp), allocatable :: load_share(:)
+            !! the particle's share of that load (n): its force is load_share times the
+            !! load's vector at its time factor (traction: the loaded area it carries [m2; m in
+            !! 2D]; point load: 1)
         integer, allocatable :: id(:)
             !! index of each particle in the whole run (n), allocated only when the particles
             !! are spread over images (mpm_parallel); otherwise the index is the id

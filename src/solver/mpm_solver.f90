@@ -44,6 +44,7 @@ module mpm_solver
     use mpm_simulation, only: simulation_type, start_type, agree, has_text, nphases, &
         phase_names, phase_stencils, phase_p2g, phase_nodal, phase_g2p, phase_stress, &
         phase_other, phase_output
+    use mpm_loads, only: assign_loads, apply_loads
     use mpm_solver_slabs, only: slab_grid, terrain_contact, rebalance, decompose_bodies, &
         decompose_loaded, migrate_particles
     implicit none
@@ -159,6 +160,12 @@ contains
             if (any(case%output%fields .and. output_fields%source == described%name)) cycle
             call release_field(sim%particles, k)
         end do
+        ! the particles that carry the tractions and point loads (a checkpoint keeps its own)
+        if (.not. restart) then
+            call assign_loads(case, sim%particles, error)
+            call agree(error)
+            if (allocated(error)) return
+        end if
         ! the same threshold on every image: the shared nodes get the same update
         lightest = huge(1.0_wp)
         if (sim%particles%n > 0) lightest = minval(sim%particles%mass)
@@ -386,6 +393,8 @@ contains
         type(energies_type) :: next
 
         scheme = sim%case%solver%scheme
+        ! the loads at the step's start: the particles' extra body force
+        call apply_loads(sim%case, sim%particles, sim%time)
         ! one pass: the last particle pass scatters the next step's P2G (a prescribed body
         ! force may change between the steps: its P2G stays in its own pass)
         one_pass = sim%one_pass .and. .not. allocated(sim%particles%body_force)

@@ -1,11 +1,11 @@
 !> The particle passes of one explicit step: the threaded loops over particles that call the
 !> kernels (src/solver/kernels/).
 !>
-!> Particle-to-grid (P2G) scatters mass, momentum and forces to the nodes (mpm_kernel_scatter);
-!> (mpm_transfer_p2g, whose P2G this module passes on); grid-to-particle (G2P) gathers accelerations and velocities back (mpm_kernel_gather); the
-!> stress update uses the nodal velocities chosen by the scheme (its kernel for a block of
-!> particles: mpm_kernel_stress). The
-!> nodal update is mpm_kernel_nodal. Each pass is one procedure; the step (mpm_solver::advance)
+!> Particle-to-grid (P2G) scatters mass, momentum and forces to the nodes (mpm_kernel_scatter;
+!> the pass is in mpm_transfer_p2g, passed on by this module); grid-to-particle (G2P) gathers
+!> accelerations and velocities back (mpm_kernel_gather); the stress update uses the nodal
+!> velocities chosen by the scheme (its kernel for a block of particles: mpm_kernel_stress).
+!> The nodal update is mpm_kernel_nodal. Each pass is one procedure; the step (mpm_solver::advance)
 !> orders them by the scheme (USF/USL/MUSL) and completes the nodes shared with other images
 !> after each scatter (mpm_halo): the passes see no coarrays. USL without F-bar updates the
 !> stresses inside G2P (the same nodal velocities, one gather instead of two). Every pass

@@ -388,6 +388,54 @@ contains
             //state_file//'", "gravity": [0, -9.81], "time": {"tend": 1}, "initial_stress": ' &
             //'{"type": "k0"}}', [character(len=200) :: 'initial_stress.type = "k0" cannot be ' &
             //"used with load_state"], "k0 with load_state")
+        ! loads
+        call expect_error(suite, case_text(extra='"loads": [{"type": "traction", "min": [0, ' &
+            //'0.1], "max": [0.5, 0.2], "surface": "+y", "pressure": 1}]'), &
+            [character(len=200) :: "loads[1]: the box min = (0, 0.1) m, max = (0.5, 0.2) m " &
+            //"is not inside the domain from (0, 0) to (0.4, 0.2) m"], "traction box outside")
+        call expect_error(suite, case_text(extra='"loads": [{"type": "point", "position": ' &
+            //'[0.1, 0.3], "force": [0, 1]}]'), [character(len=200) :: "loads[1].position = " &
+            //"(0.1, 0.3) m is outside the domain"], "point load outside")
+        call expect_error(suite, case_text(extra='"loads": [{"type": "traction", "min": [0, ' &
+            //'0.1], "max": [0.2, 0.2], "surface": "top", "pressure": 1}]'), &
+            [character(len=200) :: "loads[1].surface", '"+y"'], "unknown surface")
+        call expect_error(suite, case_text(extra='"loads": [{"type": "traction", "min": [0, ' &
+            //'0.1], "max": [0.2, 0.2], "surface": "+y"}]'), [character(len=200) :: &
+            "loads[1]: a traction needs 'pressure'"], "traction without a value")
+        call expect_error(suite, case_text(extra='"loads": [{"type": "traction", "min": [0, ' &
+            //'0.1], "max": [0.2, 0.2], "surface": "+y", "pressure": 1, "force": [0, 1]}]'), &
+            [character(len=200) :: 'loads[1].force only applies to a load of type "point"'], &
+            "key of another type")
+        call expect_error(suite, case_text(extra='"loads": [{"type": "body_force", ' &
+            //'"material": "clay", "acceleration": [1, 0]}]'), [character(len=200) :: &
+            'loads[1].material = "clay" is not a material of this case'], "unknown material")
+        call expect_error(suite, case_text(extra='"loads": [{"type": "body_force", ' &
+            //'"material": "soil", "acceleration": [1, 0], "time_function": {"type": "ramp", ' &
+            //'"duration": 0}}]'), [character(len=200) :: &
+            "loads[1].time_function.duration = 0 is out of range: must be > 0"], "ramp of 0 s")
+        call expect_error(suite, case_text(extra='"loads": [{"type": "body_force", ' &
+            //'"material": "soil", "acceleration": [1, 0], "time_function": {"type": ' &
+            //'"constant", "file": "f.csv"}}]'), [character(len=200) :: &
+            'loads[1].time_function.file only applies to a time function of type "table"'], &
+            "file of a constant")
+        call write_text("test_case_errors_table.csv", "time,factor"//new_line("a")//"0, 0" &
+            //new_line("a")//"1, 1"//new_line("a")//"1, 2"//new_line("a"))
+        call expect_error(suite, case_text(extra='"loads": [{"type": "body_force", ' &
+            //'"material": "soil", "acceleration": [1, 0], "time_function": {"type": "table", ' &
+            //'"file": "test_case_errors_table.csv"}}]'), [character(len=200) :: &
+            'loads[1].time_function.file = "test_case_errors_table.csv": the times must ' &
+            //"increase; line 4 has time 1 s after 1 s"], "table not increasing")
+        call write_text("test_case_errors_table.csv", "time,factor"//new_line("a")//"0, x" &
+            //new_line("a"))
+        call expect_error(suite, case_text(extra='"loads": [{"type": "body_force", ' &
+            //'"material": "soil", "acceleration": [1, 0], "time_function": {"type": "table", ' &
+            //'"file": "test_case_errors_table.csv"}}]'), [character(len=200) :: &
+            "line 2 is not two numbers 'time, factor'"], "table with text")
+        call delete_file("test_case_errors_table.csv")
+        call expect_error(suite, case_text(extra='"loads": [{"type": "body_force", ' &
+            //'"material": "soil", "acceleration": [1, 0], "time_function": {"type": "table", ' &
+            //'"file": "no_such_table.csv"}}]'), [character(len=200) :: &
+            'loads[1].time_function.file = "no_such_table.csv": no such file'], "table missing")
     end subroutine test_section_errors
 
     subroutine test_document_errors()

@@ -94,6 +94,10 @@ contains
         call check(suite, .not. allocated(error), "hold_field affine")
         call hold_field(particles, field_index("body_force"), error)
         call check(suite, .not. allocated(error), "hold_field body_force")
+        call hold_field(particles, field_index("load"), error)
+        call check(suite, .not. allocated(error), "hold_field load")
+        call hold_field(particles, field_index("load_share"), error)
+        call check(suite, .not. allocated(error), "hold_field load_share")
         do k = 1, particle_field_count()
             if (.not. field_held(particles, k)) cycle
             field = particle_field(k)
