@@ -27,6 +27,7 @@ module mpm_case
     use mpm_case_checkpoint, only: checkpoint_section_type
     use mpm_case_guard, only: guard_section_type
     use mpm_case_loads, only: load_spec_type, time_function_type
+    use mpm_case_motion, only: motion_spec_type
     implicit none
     private
     public :: case_type, read_case_file, read_case_string, case_summary, case_key_paths
@@ -35,7 +36,7 @@ module mpm_case
     public :: solver_section_type, time_section_type, damping_section_type
     public :: contact_section_type, output_section_type, progress_section_type
     public :: checkpoint_section_type, guard_section_type, initial_stress_section_type
-    public :: initial_none, initial_k0, load_spec_type, time_function_type
+    public :: initial_none, initial_k0, load_spec_type, time_function_type, motion_spec_type
     public :: scheme_usf, scheme_usl, scheme_musl, scheme_names
     public :: damping_none, damping_local, damping_kinetic, damping_names
     public :: dist_regular, dist_random, distribution_names
@@ -69,6 +70,8 @@ module mpm_case
             !! `initial_stress`
         type(load_spec_type), allocatable :: loads(:)
             !! `loads`, in file order (none when absent)
+        type(motion_spec_type), allocatable :: motions(:)
+            !! `prescribed_motion`, in file order (none when absent)
         type(contact_section_type) :: contact
             !! `contact`: the rigid terrain surface
         type(output_section_type) :: output

@@ -26,7 +26,7 @@ module mpm_case_loads
     implicit none
     private
     public :: load_spec_type, time_function_type, read_loads, load_keys, time_function_keys, &
-        load_line
+        load_line, read_time_function, time_function_text, read_box
     public :: load_traction, load_point, load_body_force, load_type_names
     public :: time_constant, time_ramp, time_table, time_function_names, surface_names
 
@@ -70,6 +70,8 @@ module mpm_case_loads
     contains
         !> The factor at a time.
         procedure :: factor => time_factor
+        !> The integral of the factor from 0 to a time.
+        procedure :: integral => time_integral
     end type time_function_type
 
     !> One load of `loads`.
@@ -130,6 +132,42 @@ contains
             time_factor = 1.0_wp
         end select
     end function time_factor
+
+    !> The integral of a time function's factor from 0 to t [s] (the displacement of a
+    !> prescribed velocity per unit of it): exact for the piecewise-linear factors.
+    pure real(wp) function time_integral(tf, t)
+        class(time_function_type), intent(in) :: tf
+            !! the time function
+        real(wp), intent(in) :: t
+            !! time [s], >= 0
+
+        integer :: k
+        real(wp) :: t0, t1
+
+        select case (tf%type)
+        case (time_ramp)
+            if (t <= tf%start) then
+                time_integral = 0.0_wp
+            else if (t <= tf%start + tf%duration) then
+                time_integral = 0.5_wp*(t - tf%start)**2/tf%duration
+            else
+                time_integral = 0.5_wp*tf%duration + (t - tf%start - tf%duration)
+            end if
+        case (time_table)
+            ! before the first row and after the last the factor is constant
+            time_integral = tf%factors(1)*max(0.0_wp, min(t, tf%times(1)))
+            do k = 1, size(tf%times) - 1
+                t0 = max(0.0_wp, tf%times(k))
+                t1 = min(t, tf%times(k + 1))
+                if (t1 <= t0) cycle
+                time_integral = time_integral + 0.5_wp*(tf%factor(t0) + tf%factor(t1))*(t1 - t0)
+            end do
+            if (t > tf%times(size(tf%times))) time_integral = time_integral + &
+                tf%factors(size(tf%factors))*(t - max(0.0_wp, tf%times(size(tf%times))))
+        case default
+            time_integral = t
+        end select
+    end function time_integral
 
     !> `loads`: an optional array of loads, each checked against the domain and the
     !> materials.
@@ -236,26 +274,10 @@ contains
             !! first error found
 
         integer :: surface, k
-        real(wp) :: pressure, upper(3)
+        real(wp) :: pressure
 
-        call item%get_vector("min", dim, load%xmin, error, required=.true., unit="m")
+        call read_box(item, dim, domain, load%xmin, load%xmax, error)
         if (allocated(error)) return
-        call item%get_vector("max", dim, load%xmax, error, required=.true., unit="m")
-        if (allocated(error)) return
-        if (any(load%xmax(1:dim) <= load%xmin(1:dim))) then
-            call item%fail(error, item%path//": the box min = "//fmt_vector(load%xmin(1:dim)) &
-                //" m, max = "//fmt_vector(load%xmax(1:dim))//" m is empty; max must exceed " &
-                //"min on every axis")
-            return
-        end if
-        upper = domain%origin + real(domain%ncells, wp)*domain%dx
-        if (any(load%xmin(1:dim) < domain%origin(1:dim)) .or. &
-            any(load%xmax(1:dim) > upper(1:dim))) then
-            call item%fail(error, item%path//": the box min = "//fmt_vector(load%xmin(1:dim)) &
-                //" m, max = "//fmt_vector(load%xmax(1:dim))//" m is not inside the domain " &
-                //domain_text(domain, dim))
-            return
-        end if
         surface = 0
         call item%get_choice("surface", surface_names(1:2*dim), [(k_code(surface_names(k)), &
             k=1, 2*dim)], surface, error, required=.true.)
@@ -282,6 +304,39 @@ contains
             if (name(1:1) == "-") k_code = -k_code
         end function k_code
     end subroutine read_traction
+
+    !> A box `min`, `max` of an object: not empty, inside the domain.
+    subroutine read_box(item, dim, domain, xmin, xmax, error)
+        type(cursor_type), intent(in) :: item
+            !! the object
+        integer, intent(in) :: dim
+            !! number of space dimensions
+        type(domain_section_type), intent(in) :: domain
+            !! the grid
+        real(wp), intent(inout) :: xmin(3), xmax(3)
+            !! the corners [m]
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        real(wp) :: upper(3)
+
+        call item%get_vector("min", dim, xmin, error, required=.true., unit="m")
+        if (allocated(error)) return
+        call item%get_vector("max", dim, xmax, error, required=.true., unit="m")
+        if (allocated(error)) return
+        if (any(xmax(1:dim) <= xmin(1:dim))) then
+            call item%fail(error, item%path//": the box min = "//fmt_vector(xmin(1:dim)) &
+                //" m, max = "//fmt_vector(xmax(1:dim))//" m is empty; max must exceed " &
+                //"min on every axis")
+            return
+        end if
+        upper = domain%origin + real(domain%ncells, wp)*domain%dx
+        if (any(xmin(1:dim) < domain%origin(1:dim)) .or. any(xmax(1:dim) > upper(1:dim))) then
+            call item%fail(error, item%path//": the box min = "//fmt_vector(xmin(1:dim)) &
+                //" m, max = "//fmt_vector(xmax(1:dim))//" m is not inside the domain " &
+                //domain_text(domain, dim))
+        end if
+    end subroutine read_box
 
     !> A body force: its material and acceleration.
     subroutine read_body_force(item, dim, materials, load, error)
@@ -459,18 +514,24 @@ contains
             line = line//" "//fmt_vector(load%vector(1:dim))//' m/s2 on material "' &
                 //materials(load%material)%name//'"'
         end select
-        select case (load%time%type)
-        case (time_ramp)
-            line = line//", ramp from "//fmt_real(load%time%start)//" s over " &
-                //fmt_real(load%time%duration)//" s"
-        case (time_table)
-            line = line//", table "//load%time%file//" ("//int_text(size(load%time%times)) &
-                //" rows)"
-        case default
-            line = line//", constant"
-        end select
-        line = trim(line)
+        line = trim(line)//", "//time_function_text(load%time)
     end function load_line
+
+    !> A time function in words, for --check: "constant", "ramp from 0 s over 1 s", ...
+    pure function time_function_text(tf) result(text)
+        type(time_function_type), intent(in) :: tf
+            !! the time function
+        character(len=:), allocatable :: text
+
+        select case (tf%type)
+        case (time_ramp)
+            text = "ramp from "//fmt_real(tf%start)//" s over "//fmt_real(tf%duration)//" s"
+        case (time_table)
+            text = "table "//tf%file//" ("//int_text(size(tf%times))//" rows)"
+        case default
+            text = "constant"
+        end select
+    end function time_function_text
 
     !> Whether a point lies in the domain (its faces included).
     pure logical function inside(domain, dim, x)

@@ -30,12 +30,13 @@ submodule (mpm_case) mpm_case_reader
     use mpm_case_checkpoint, only: read_checkpoint, checkpoint_keys
     use mpm_case_guard, only: read_guard, guard_keys
     use mpm_case_loads, only: read_loads, load_keys, time_function_keys
+    use mpm_case_motion, only: read_motions, motion_keys
     implicit none
 
-    character(len=*), parameter :: top_keys(*) = [character(len=14) :: "name", "dimension", &
+    character(len=*), parameter :: top_keys(*) = [character(len=17) :: "name", "dimension", &
         "domain", "particles", "materials", "bodies", "gravity", "solver", "time", "damping", &
         "contact", "output", "progress", "save_state", "load_state", "checkpoint", "guard", &
-        "initial_stress", "loads"]
+        "initial_stress", "loads", "prescribed_motion"]
         !! keys of the top level
     integer, parameter :: case_path_width = 80
         !! longest key path case_key_paths can list ("materials[type=...].softening.strain")
@@ -112,6 +113,8 @@ contains
         call add_key_paths(list, "initial_stress", initial_stress_keys)
         call add_key_paths(list, "loads[]", load_keys)
         call add_key_paths(list, "loads[].time_function", time_function_keys)
+        call add_key_paths(list, "prescribed_motion[]", motion_keys)
+        call add_key_paths(list, "prescribed_motion[].time_function", time_function_keys)
         call add_key_paths(list, "contact", contact_keys)
         call add_key_paths(list, "output", output_keys)
         call add_key_paths(list, "progress", progress_keys)
@@ -198,6 +201,8 @@ contains
             case%initial_stress, error)
         if (allocated(error)) return
         call read_loads(root, case%dim, case%domain, case%materials, case%loads, error)
+        if (allocated(error)) return
+        call read_motions(root, case%dim, case%domain, case%motions, error)
         if (allocated(error)) return
         call read_contact(root, case%contact, error)
         if (allocated(error)) return

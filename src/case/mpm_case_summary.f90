@@ -9,6 +9,7 @@ submodule (mpm_case) mpm_case_summary
     use mpm_case_output_fields, only: output_fields, nfields
     use mpm_case_guard, only: snapshot_in_memory
     use mpm_case_loads, only: load_line
+    use mpm_case_motion, only: motion_line
     implicit none
 
 contains
@@ -126,6 +127,11 @@ contains
         if (allocated(case%loads)) then
             do m = 1, size(case%loads)
                 text = text//"load        "//load_line(case%loads(m), case%dim, case%materials)//nl
+            end do
+        end if
+        if (allocated(case%motions)) then
+            do m = 1, size(case%motions)
+                text = text//"motion      "//motion_line(case%motions(m), case%dim)//nl
             end do
         end if
         text = text//"contact     "//text_or(case%contact%type, "none")//nl

@@ -64,6 +64,22 @@ module mpm_grid
             !! face (side, axis) of each pair (2, nprescribed)
         real(wp), allocatable :: prescribed_velocity(:, :)
             !! velocity the face gives the node (dim, nprescribed) [m/s]
+        integer :: nregion_nodes = 0
+            !! number of nodes moved by the regions of prescribed_motion in this step
+            !! (mpm_motion marks them at the start of each step and releases them at its end)
+        integer, allocatable :: region_node(:)
+            !! node of each (nregion_nodes)
+        integer, allocatable :: region_of(:)
+            !! the region that moves it (nregion_nodes)
+        logical, allocatable :: region_saved(:, :)
+            !! its constrained components before the region held them (dim, nregion_nodes)
+        real(wp), allocatable :: region_velocity(:, :)
+            !! velocity of each region in this step (dim, regions) [m/s]
+        logical, allocatable :: region_held(:, :)
+            !! the components each region holds (dim, regions)
+        real(wp), allocatable :: region_impulse(:, :)
+            !! impulse each region gave the material in the last nodal update, over this
+            !! image's nodes (node_owned) (dim, regions) [N s]
         integer :: nacting = 0
             !! number of (node, acting face) pairs: nodes of faces whose condition acts on
             !! them after each nodal update (an absorbing face)

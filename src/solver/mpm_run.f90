@@ -11,6 +11,7 @@ module mpm_run
     use mpm_particles, only: particles_type, particle_bytes, pack_particles, rebuild_particles, &
         record_length
     use mpm_case, only: case_type, initial_k0
+    use mpm_motion, only: region_count, region_displacement
     use mpm_case_guard, only: snapshot_in_file
     use mpm_boundary, only: face_nodes_type
     use mpm_setup, only: start_simulation
@@ -804,16 +805,18 @@ contains
         type(text_file_type), intent(inout) :: unit
         type(simulation_type), intent(in) :: sim
 
-        character(len=512) :: line
-
+        character(len=:), allocatable :: line
+        character(len=512) :: energies
         character(len=24) :: value
-        integer :: side, axis, d
+        integer :: side, axis, d, r
+        real(wp) :: shift(3), reaction
 
         associate (e => sim%energy)
-            write (line, "(es23.15e3,',',i0,12(',',es23.15e3))") sim%time, sim%step, e%kinetic, &
-                e%elastic, e%potential, e%plastic, e%viscous, e%damping, e%friction, e%loads, &
-                e%boundary, e%transfer, energy_total(e), energy_residual(e)
+            write (energies, "(es23.15e3,',',i0,12(',',es23.15e3))") sim%time, sim%step, &
+                e%kinetic, e%elastic, e%potential, e%plastic, e%viscous, e%damping, e%friction, &
+                e%loads, e%boundary, e%transfer, energy_total(e), energy_residual(e)
         end associate
+        line = trim(energies)
         if (len(reaction_header(sim%case)) == 0) then
             call put_line(unit, trim(line))
             return
@@ -828,18 +831,34 @@ contains
                 end do
             end do
         end do
+        ! the reaction and displacement of each region of prescribed_motion
+        do r = 1, region_count(sim%case)
+            shift = region_displacement(sim%case, r, sim%time)
+            do d = 1, sim%case%dim
+                reaction = 0.0_wp
+                if (allocated(sim%region_reaction)) reaction = sim%region_reaction(d, r)
+                write (value, "(',',es23.15e3)") reaction
+                line = trim(line)//value
+            end do
+            do d = 1, sim%case%dim
+                write (value, "(',',es23.15e3)") shift(d)
+                line = trim(line)//value
+            end do
+        end do
         call put_line(unit, trim(line))
     end subroutine write_history
 
-    !> The columns of the reactions of the velocity faces in history.csv:
-    !> ",reaction_ymax_x,reaction_ymax_y" (empty without velocity faces).
+    !> The columns of the reactions of the velocity faces in history.csv,
+    !> ",reaction_ymax_x,reaction_ymax_y", then the reaction and displacement of each region
+    !> of prescribed_motion, ",reaction_footing_x,...,displacement_footing_y" (empty without
+    !> either).
     function reaction_header(case) result(text)
         type(case_type), intent(in) :: case
             !! resolved case
         character(len=:), allocatable :: text
 
         character(len=*), parameter :: axes = "xyz"
-        integer :: side, axis, d
+        integer :: side, axis, d, r
 
         text = ""
         do axis = 1, case%dim
@@ -849,6 +868,14 @@ contains
                     text = text//",reaction_"//axes(axis:axis)//trim(merge("min", "max", &
                         side == 1))//"_"//axes(d:d)
                 end do
+            end do
+        end do
+        do r = 1, region_count(case)
+            do d = 1, case%dim
+                text = text//",reaction_"//case%motions(r)%name//"_"//axes(d:d)
+            end do
+            do d = 1, case%dim
+                text = text//",displacement_"//case%motions(r)%name//"_"//axes(d:d)
             end do
         end do
     end function reaction_header

@@ -48,6 +48,9 @@ module mpm_simulation
             !! force each face (side, axis) applied on the material over the last step, over
             !! the whole grid: the impulse of a velocity face / dt, zero for the others [N; N/m
             !! in 2D]
+        real(wp), allocatable :: region_reaction(:, :)
+            !! force each region of prescribed_motion applied on the material over the last
+            !! step, over the whole grid (dim, regions) [N; N/m in 2D]
         real(wp), allocatable :: time_step_limit(:)
             !! other stable-step limit of each material (viscosity), huge when none [s]
         type(stencils_type) :: stencils

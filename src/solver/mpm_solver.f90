@@ -45,6 +45,7 @@ module mpm_solver
         phase_names, phase_stencils, phase_p2g, phase_nodal, phase_g2p, phase_stress, &
         phase_other, phase_output
     use mpm_loads, only: assign_loads, apply_loads
+    use mpm_motion, only: hold_regions, release_regions
     use mpm_solver_slabs, only: slab_grid, terrain_contact, rebalance, decompose_bodies, &
         decompose_loaded, migrate_particles
     implicit none
@@ -385,8 +386,9 @@ contains
             !! energy sums of a step (the grid's kinetic energies and the blend's loss last);
             !! the faces' impulses follow them
         real(wp) :: work(nstress_sums), nodal_work(nnodal_sums), clock, kinetic, stopped, &
-            grid_kinetic(2), blend_loss, sums(nsums + size(sim%grid%face_impulse))
-        integer :: scheme, k
+            grid_kinetic(2), blend_loss
+        real(wp), allocatable :: sums(:)
+        integer :: scheme, k, nregions
         integer, allocatable :: passes(:)
         logical :: grid_energy, one_pass, ready
         type(motion_type) :: motion
@@ -395,6 +397,9 @@ contains
         scheme = sim%case%solver%scheme
         ! the loads at the step's start: the particles' extra body force
         call apply_loads(sim%case, sim%particles, sim%time)
+        ! the nodes of the regions of prescribed_motion, held for the step
+        call hold_regions(sim%case, sim%grid, sim%time, error)
+        if (allocated(error)) return
         ! one pass: the last particle pass scatters the next step's P2G (a prescribed body
         ! force may change between the steps: its P2G stays in its own pass)
         one_pass = sim%one_pass .and. .not. allocated(sim%particles%body_force)
@@ -548,12 +553,22 @@ contains
                 end select
             end do
         end associate
-        ! sums over the images, in one reduction
-        sums = [kinetic, motion%potential, motion%load_work, work, nodal_work, grid_kinetic, &
-            blend_loss, reshape(sim%grid%face_impulse, [size(sim%grid%face_impulse)])]
+        call release_regions(sim%grid)
+        ! sums over the images, in one reduction (the faces' and regions' impulses last)
+        nregions = 0
+        if (allocated(sim%grid%region_impulse)) nregions = size(sim%grid%region_impulse)
+        allocate (sums(nsums + size(sim%grid%face_impulse) + nregions))
+        sums(:nsums + size(sim%grid%face_impulse)) = [kinetic, motion%potential, &
+            motion%load_work, work, nodal_work, grid_kinetic, blend_loss, &
+            reshape(sim%grid%face_impulse, [size(sim%grid%face_impulse)])]
+        if (nregions > 0) sums(nsums + size(sim%grid%face_impulse) + 1:) = &
+            reshape(sim%grid%region_impulse, [nregions])
         call sum_over_images(sums)
         next = step_energies(sim%energy, sums(1:nsums), grid_velocities=grid_energy)
-        sim%face_reaction = reshape(sums(nsums + 1:), shape(sim%face_reaction))/dt
+        sim%face_reaction = reshape(sums(nsums + 1:nsums + size(sim%grid%face_impulse)), &
+            shape(sim%face_reaction))/dt
+        if (nregions > 0) sim%region_reaction = reshape(sums(nsums &
+            + size(sim%grid%face_impulse) + 1:), shape(sim%grid%region_impulse))/dt
         ! the blow-up guard speaks first, so an unstable run is reported as such rather than
         ! as the particles it throws out of the grid
         call check_blow_up(sim, motion, next, error)

@@ -128,7 +128,7 @@ contains
         real(wp), intent(out) :: work
             !! work of the velocity faces on the material over the step [J]
 
-        integer :: n, id, dim
+        integer :: n, id, dim, r
         real(wp) :: impulse(3)
 
         dim = grid%dim
@@ -145,10 +145,23 @@ contains
             end associate
             work = work + dot_product(impulse(1:dim), grid%prescribed_velocity(:, n))
         end do
+        ! the regions of prescribed_motion: the same, on the components they hold
+        if (allocated(grid%region_impulse)) grid%region_impulse = 0.0_wp
+        do n = 1, grid%nregion_nodes
+            id = grid%region_node(n)
+            if (grid%mass(id) <= grid%small_mass .or. .not. node_owned(grid, id)) cycle
+            r = grid%region_of(n)
+            impulse(1:dim) = merge(-dt*(grid%fint(:, id) + grid%fext(:, id) &
+                + grid%mass(id)*gravity(1:dim)), 0.0_wp, grid%region_held(:, r))
+            grid%region_impulse(:, r) = grid%region_impulse(:, r) + impulse(1:dim)
+            work = work + dot_product(impulse(1:dim), grid%region_velocity(:, r))
+        end do
     end subroutine prescribed_impulses
 
     !> The nodes of the velocity faces move at the face's velocity (their other components
-    !> were held at zero by the mask, and their acceleration is zero: the velocity is constant).
+    !> were held at zero by the mask, and their acceleration is zero: the velocity is constant
+    !> over the step); those of the regions of prescribed_motion at the region's velocity,
+    !> along the components it holds.
     subroutine set_prescribed(grid)
         type(grid_type), intent(inout) :: grid
             !! grid after the masked update
@@ -160,6 +173,15 @@ contains
             if (grid%mass(id) <= grid%small_mass) cycle
             grid%velocity(:, id) = grid%prescribed_velocity(:, n)
             grid%momentum(:, id) = grid%mass(id)*grid%prescribed_velocity(:, n)
+        end do
+        do n = 1, grid%nregion_nodes
+            id = grid%region_node(n)
+            if (grid%mass(id) <= grid%small_mass) cycle
+            associate (held => grid%region_held(:, grid%region_of(n)), &
+                       v => grid%region_velocity(:, grid%region_of(n)))
+                where (held) grid%velocity(:, id) = v
+                where (held) grid%momentum(:, id) = grid%mass(id)*v
+            end associate
         end do
     end subroutine set_prescribed
 
