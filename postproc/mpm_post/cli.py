@@ -281,6 +281,33 @@ def cmd_plot_cost(args, out):
     return 0
 
 
+def cmd_plot_load_displacement(args, out):
+    from .plots import load_displacement, plot_load_displacement
+
+    try:
+        history = load_history(args.run)
+        displacement, load, region, axis = load_displacement(history, args.region, args.axis,
+                                                             args.width)
+    except (OSError, ValueError) as exc:
+        print(f"mpm_post: error: {exc}", file=sys.stderr)
+        return 1
+    if load.size == 0:
+        print(f"mpm_post: error: {args.run}: the history has no line yet", file=sys.stderr)
+        return 1
+    unit = "Pa (N/m2 in 3D: per area)" if args.width else "N (N/m in 2D)"
+    ylabel = "pressure [Pa]" if args.width else "load [N; N/m in 2D]"
+    reference = None if args.reference is None else (args.reference, "reference")
+    path = plot_load_displacement(args.out, displacement, load,
+                                  title=f"region {region}, along {axis}", reference=reference,
+                                  ylabel=ylabel)
+    peak = int(np.argmax(load))
+    print(f"wrote {path}", file=out)
+    print(f"region {region} along {axis}: largest load {load[peak]:.6g} {unit} at "
+          f"displacement {displacement[peak]:.6g} m; last {load[-1]:.6g} at "
+          f"{displacement[-1]:.6g} m", file=out)
+    return 0
+
+
 def _positive(text):
     """argparse type: a finite number > 0."""
     try:
@@ -391,6 +418,21 @@ def build_parser():
     profile_figure.set_defaults(func=cmd_plot_profile)
 
     _energy_options(plots.add_parser("energy", help="energy balance from history.csv"))
+
+    curve = plots.add_parser(
+        "load-displacement", help="load against displacement of a prescribed_motion region")
+    curve.add_argument("run", help="run folder (or its history.csv)")
+    curve.add_argument("--region", default=None,
+                       help="name of the region (default: the only one of the run)")
+    curve.add_argument("--axis", choices=["x", "y", "z"], default=None,
+                       help="component (default: the vertical, the last axis)")
+    curve.add_argument("--width", type=_positive, default=None,
+                       help="width [m] (2D) or area [m2] (3D) to divide the load by: a pressure")
+    curve.add_argument("--reference", type=float, default=None,
+                       help="a reference load (e.g. a bearing capacity), drawn as a line")
+    curve.add_argument("--out", default="figs/load_displacement.png",
+                       help="image file to write (default: figs/load_displacement.png)")
+    curve.set_defaults(func=cmd_plot_load_displacement)
 
     for name, func, table, default, helptext in [
             ("convergence", cmd_plot_convergence, "h,error[,label]", "figs/convergence.png",

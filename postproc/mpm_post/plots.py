@@ -6,7 +6,10 @@
 - ``plot_convergence``: error against cell size (log-log) per label, with the fitted order
   (``mpm_post.study.fit_order``) and reference slopes;
 - ``plot_error_vs_time``: error against run time (log-log) per label, with the Pareto front
-  (``mpm_post.study.pareto_front``) marked.
+  (``mpm_post.study.pareto_front``) marked;
+- ``plot_load_displacement``: the load-displacement curve of a region of
+  ``prescribed_motion`` (a footing, a plate) from the reaction and displacement columns of
+  history.csv (``load_displacement`` reads them).
 
 ``load_convergence`` and ``load_costs`` read the CSV files of the last two. Every function uses
 matplotlib's Agg canvas directly (no display needed, a caller's backend is left alone), creates
@@ -224,3 +227,59 @@ def plot_error_vs_time(path, labels, errors, wall_times, title=None, ylabel="err
     axes.grid(True, which="both", alpha=0.3)
     axes.legend(fontsize=8)
     return _save(figure, path), front
+
+
+# ----------------------------------------------------------------- load-displacement curves
+def region_names(history):
+    """The regions of prescribed_motion of a history: the <name> of its displacement_<name>_x
+    columns, in file order."""
+    return [key[len("displacement_"):-2] for key in history
+            if key.startswith("displacement_") and key.endswith("_x")]
+
+
+def load_displacement(history, region=None, axis=None, width=None):
+    """(displacement, load, region, axis) of a region of prescribed_motion in a history.
+
+    ``region``: its name (default: the only one); ``axis``: "x", "y" or "z" (default: the
+    last axis of the run, the vertical). The load is minus the reaction (the force the
+    material applies on the region, positive when the region pushes into it) and the
+    displacement minus the region's (positive when it moves down or backwards), per
+    ``width`` (a pressure) when given. Errors name what the history holds.
+    """
+    names = region_names(history)
+    if not names:
+        raise ValueError("the history has no prescribed_motion region (no displacement_<name>_x "
+                         "column)")
+    if region is None:
+        if len(names) > 1:
+            raise ValueError(f"the history has several regions ({', '.join(names)}); choose one "
+                             "with --region")
+        region = names[0]
+    if region not in names:
+        raise ValueError(f"no region '{region}' in the history; its regions: {', '.join(names)}")
+    if axis is None:
+        axis = "z" if f"displacement_{region}_z" in history else "y"
+    key = f"reaction_{region}_{axis}"
+    if key not in history:
+        raise ValueError(f"no column {key} in the history")
+    load = -np.asarray(history[key], float)
+    if width is not None:
+        load = load / width
+    return -np.asarray(history[f"displacement_{region}_{axis}"], float), load, region, axis
+
+
+def plot_load_displacement(path, displacement, load, title=None, reference=None,
+                           ylabel="load [N/m]"):
+    """The load-displacement curve; ``reference`` (value, label) draws a horizontal line."""
+    figure = _figure()
+    axes = figure.add_subplot()
+    axes.plot(np.asarray(displacement) * 1e3, load, color="black", lw=1.2, label="mpm-geo")
+    if reference is not None:
+        axes.axhline(reference[0], color="tab:red", ls="--", lw=1.0, label=reference[1])
+        axes.legend(fontsize=8)
+    axes.set_xlabel("displacement [mm]")
+    axes.set_ylabel(ylabel)
+    axes.grid(alpha=0.3)
+    if title:
+        axes.set_title(title, fontsize=10)
+    return _save(figure, path)

@@ -1,5 +1,6 @@
 """mpm_post.plots, fit_order and pareto_front, and `python -m mpm_post plot ...`."""
 
+import io
 import math
 
 import numpy as np
@@ -268,3 +269,62 @@ def test_cli_profile_runout_and_heights(tmp_path, capsys):
         assert code == 2 and out == "" and "no output at time 2 s" in err
         assert "it is after the last output (the outputs run from 0 to 1 s" in err
     assert not late.exists()
+
+
+def footing_history(tmp_path, names=("footing",)):
+    """A history.csv with the reaction and displacement columns of prescribed_motion regions:
+    the region moves down 1 mm per line and the material pushes back 100 N/m per mm."""
+    header = "time,step,kinetic_energy,total,residual"
+    for name in names:
+        header += f",reaction_{name}_x,reaction_{name}_y"
+    for name in names:
+        header += f",displacement_{name}_x,displacement_{name}_y"
+    rows = [header]
+    for k in range(4):
+        values = [0.1 * k, k, 0.0, 0.0, 0.0]
+        values += [0.0, -100.0 * k] * len(names)
+        values += [0.0, -0.001 * k] * len(names)
+        rows.append(",".join(str(v) for v in values))
+    path = tmp_path / "history.csv"
+    path.write_text("\n".join(rows) + "\n")
+    return path
+
+
+def test_load_displacement_of_a_region(tmp_path):
+    from mpm_post import load_history
+    from mpm_post.plots import load_displacement, plot_load_displacement, region_names
+
+    history = load_history(footing_history(tmp_path))
+    assert region_names(history) == ["footing"]
+    displacement, load, region, axis = load_displacement(history)
+    assert (region, axis) == ("footing", "y")
+    assert np.allclose(displacement, [0.0, 0.001, 0.002, 0.003])
+    assert np.allclose(load, [0.0, 100.0, 200.0, 300.0])
+    _, pressure, _, _ = load_displacement(history, width=0.5)
+    assert np.allclose(pressure, 2.0 * load)
+    path = plot_load_displacement(tmp_path / "ld.png", displacement, load,
+                                  reference=(250.0, "limit"))
+    assert imread(path).shape[0] > 100
+
+
+def test_load_displacement_refuses_what_the_history_lacks(tmp_path):
+    from mpm_post import load_history
+    from mpm_post.plots import load_displacement
+
+    history = load_history(footing_history(tmp_path, names=("a", "b")))
+    with pytest.raises(ValueError, match="several regions"):
+        load_displacement(history)
+    with pytest.raises(ValueError, match="no region 'c'"):
+        load_displacement(history, region="c")
+    history.pop("displacement_a_x")
+    history.pop("displacement_b_x")
+    with pytest.raises(ValueError, match="no prescribed_motion region"):
+        load_displacement(history)
+
+
+def test_load_displacement_command(tmp_path):
+    out = io.StringIO()
+    assert main(["plot", "load-displacement", str(footing_history(tmp_path)), "--out",
+                 str(tmp_path / "f.png")], out=out) == 0
+    assert "largest load 300 N (N/m in 2D) at displacement 0.003 m" in out.getvalue()
+    assert (tmp_path / "f.png").is_file()

@@ -11,7 +11,7 @@
 module mpm_case_motion
     use mpm_kinds, only: wp
     use mpm_error, only: error_type
-    use mpm_strings, only: int_text, fmt_vector
+    use mpm_strings, only: int_text, fmt_vector, fmt_real
     use mpm_case_cursor, only: cursor_type
     use mpm_case_domain, only: domain_section_type
     use mpm_case_loads, only: time_function_type, read_time_function, time_function_text, &
@@ -57,7 +57,7 @@ contains
             !! first error found
 
         type(cursor_type) :: list, item
-        integer :: i, j
+        integer :: i, j, lo(dim), hi(dim)
 
         if (.not. root%has("prescribed_motion")) then
             allocate (motions(0))
@@ -89,6 +89,16 @@ contains
             end do
             call read_box(item, dim, domain, motions(i)%xmin, motions(i)%xmax, error)
             if (allocated(error)) return
+            lo = ceiling((motions(i)%xmin(1:dim) - domain%origin(1:dim))/domain%dx - 1.0e-9_wp)
+            hi = floor((motions(i)%xmax(1:dim) - domain%origin(1:dim))/domain%dx + 1.0e-9_wp)
+            if (any(hi < lo)) then
+                call item%fail(error, item%path//": its box min = " &
+                    //fmt_vector(motions(i)%xmin(1:dim))//" m, max = " &
+                    //fmt_vector(motions(i)%xmax(1:dim))//" m holds no node of the grid " &
+                    //"(spacing "//fmt_real(domain%dx)//" m from the origin); a region moves " &
+                    //"the nodes inside its box")
+                return
+            end if
             call item%get_vector("velocity", dim, motions(i)%velocity, error, required=.true., &
                 unit="m/s")
             if (allocated(error)) return
@@ -96,6 +106,14 @@ contains
             if (allocated(error)) return
             call read_time_function(item, motions(i)%time, error)
             if (allocated(error)) return
+            if (motions(i)%time%factor(0.0_wp) /= 0.0_wp .and. &
+                any(motions(i)%held(1:dim) .and. motions(i)%velocity(1:dim) /= 0.0_wp)) then
+                call item%fail(error, item%path//" starts at its full velocity at t = 0: a " &
+                    //"sudden start is an impact, whose energy the balance does not book (the " &
+                    //"guard stops the run); start it from rest with a time_function whose " &
+                    //'factor is 0 at t = 0, e.g. {"type": "ramp", "duration": 0.1}')
+                return
+            end if
             do j = 1, i - 1
                 if (all(motions(j)%xmin(1:dim) <= motions(i)%xmax(1:dim) .and. &
                     motions(i)%xmin(1:dim) <= motions(j)%xmax(1:dim))) then

@@ -8,14 +8,15 @@
 !> (mpm_kernel_nodal::set_prescribed), as for a velocity face. At the end of the step the
 !> nodes get back the constraints of their faces.
 module mpm_motion
+    use, intrinsic :: iso_fortran_env, only: output_unit
     use mpm_kinds, only: wp
-    use mpm_strings, only: int_text, fmt_vector
+    use mpm_strings, only: int_text, fmt_vector, fmt_real
     use mpm_error, only: error_type, fatal_error, exit_input
     use mpm_case, only: case_type
     use mpm_grid, only: grid_type
     implicit none
     private
-    public :: hold_regions, release_regions, region_displacement, region_count
+    public :: hold_regions, release_regions, region_displacement, region_count, half_cell_notes
 
     character(len=*), parameter :: axis_names = "xyz"
 
@@ -148,12 +149,42 @@ contains
                 if (node(b) == grid%nn(b) - 1) faces = faces//" "//axis_names(b:b)//"max"
             end do
             call fatal_error(error, case%file//": prescribed_motion["//int_text(r)//'] "' &
-                //case%motions(r)%name//'" moves the node at '//fmt_vector(x(1:dim)) &
+                //case%motions(r)%name//'" moves the node at '//fmt_vector(x(1:dim), 6) &
                 //" m along "//axis_names(a:a)//", which domain.boundaries holds there (face" &
                 //faces//"); give the region only the components the face leaves free " &
                 //"(components), or keep its box off that face", exit_input)
         end subroutine contradiction
     end subroutine hold_regions
+
+    !> Say once per region when it has moved half a cell: its box then holds the next row of
+    !> nodes, and its reaction is no longer that of a rigid footing (docs/input.md).
+    subroutine half_cell_notes(case, t, noted)
+        type(case_type), intent(in) :: case
+            !! the case
+        real(wp), intent(in) :: t
+            !! simulated time [s]
+        logical, allocatable, intent(inout) :: noted(:)
+            !! the regions already noted (allocated on the first call)
+
+        integer :: r
+        real(wp) :: moved
+
+        if (.not. allocated(noted)) then
+            allocate (noted(region_count(case)))
+            noted = .false.
+        end if
+        do r = 1, size(noted)
+            if (noted(r)) cycle
+            moved = maxval(abs(region_displacement(case, r, t)))
+            if (moved <= 0.5_wp*case%domain%dx) cycle
+            noted(r) = .true.
+            write (output_unit, "(a)") "mpm_geo: prescribed_motion["//int_text(r)//'] "' &
+                //case%motions(r)%name//'" has moved '//fmt_real(moved, 4)//" m at t = " &
+                //fmt_real(t, 6)//" s, more than half a cell (dx = "//fmt_real(case%domain%dx) &
+                //" m): its box now holds the next row of nodes, and its reaction from here " &
+                //"on is not that of a rigid body (docs/input.md, prescribed_motion)"
+        end do
+    end subroutine half_cell_notes
 
     !> Give the region nodes back the constraints of their faces (end of the step).
     subroutine release_regions(grid)

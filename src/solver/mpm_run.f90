@@ -11,13 +11,13 @@ module mpm_run
     use mpm_particles, only: particles_type, particle_bytes, pack_particles, rebuild_particles, &
         record_length
     use mpm_case, only: case_type, initial_k0
-    use mpm_motion, only: region_count, region_displacement
+    use mpm_history, only: open_history, write_history
+    use mpm_motion, only: half_cell_notes
     use mpm_case_guard, only: snapshot_in_file
-    use mpm_boundary, only: face_nodes_type
     use mpm_setup, only: start_simulation
     use mpm_solver, only: simulation_type, advance, stable_time_step, &
         compute_energies, has_text, nphases, phase_names, phase_other, phase_output, agree, &
-        contact_loads, resume_simulation, energy_record, energy_total, energy_residual
+        contact_loads, resume_simulation, energy_record
     use mpm_parallel, only: image_id, image_count, counts_of_images, gather_on_first, &
         max_over_images
     use mpm_decomposition, only: image_grids
@@ -142,6 +142,7 @@ contains
         integer, parameter :: equilibrium_steps = 100
             !! steps over which a geostatic start is checked for rest
         logical :: check_rest
+        logical, allocatable :: noted(:)
         real(wp) :: start_kinetic
 
         resumed = present(restart) .and. present(run)
@@ -319,6 +320,7 @@ contains
                     if (allocated(error)) exit
                 end if
             end if
+            if (.not. quiet .and. lead) call half_cell_notes(case, sim%time, noted)
             if (check_rest) then
                 start_kinetic = max(start_kinetic, sim%energy%kinetic)
                 if (sim%step - first_step >= equilibrium_steps .or. &
@@ -729,25 +731,6 @@ contains
         call rename_file(path//".tmp", path, error)
     end subroutine resume_output_dir
 
-    !> Open the energy history: a new file with its header, or (restart) the file of the run.
-    !> (Written through the C library: gfortran does not report a write to a full disk.)
-    subroutine open_history(case, resumed, unit, error)
-        type(case_type), intent(in) :: case
-        logical, intent(in) :: resumed
-        type(text_file_type), intent(inout) :: unit
-        type(error_type), allocatable, intent(out) :: error
-
-        if (resumed .and. file_exists(case%output%directory//"/history.csv")) then
-            call open_text_file(case%output%directory//"/history.csv", unit, error, append=.true.)
-        else
-            call open_text_file(case%output%directory//"/history.csv", unit, error)
-            if (.not. allocated(error)) call put_line(unit, "time,step,kinetic_energy,"// &
-                "elastic_energy,potential_energy,plastic_work,viscous_work,damping_work,"// &
-                "friction_work,load_work,boundary_work,transfer_loss,total,residual"// &
-                reaction_header(case))
-        end if
-    end subroutine open_history
-
     !> How the run was started, for the commands messages suggest: "" on one image,
     !> "cafrun -np N " on several (a restart needs as many images).
     function launcher() result(text)
@@ -799,99 +782,6 @@ contains
         if (.not. allocated(error)) call remove_file(guard_copy_path(case), error)
         if (.not. allocated(error)) call remove_file(guard_copy_path(case)//".tmp", error)
     end subroutine prepare_output_dir
-
-    !> One line of the energy history (a failed write is reported by the next flush).
-    subroutine write_history(unit, sim)
-        type(text_file_type), intent(inout) :: unit
-        type(simulation_type), intent(in) :: sim
-
-        character(len=:), allocatable :: line
-        character(len=512) :: energies
-        character(len=24) :: value
-        integer :: side, axis, d, r
-        real(wp) :: shift(3), reaction
-
-        associate (e => sim%energy)
-            write (energies, "(es23.15e3,',',i0,12(',',es23.15e3))") sim%time, sim%step, &
-                e%kinetic, e%elastic, e%potential, e%plastic, e%viscous, e%damping, e%friction, &
-                e%loads, e%boundary, e%transfer, energy_total(e), energy_residual(e)
-        end associate
-        line = trim(energies)
-        if (len(reaction_header(sim%case)) == 0) then
-            call put_line(unit, trim(line))
-            return
-        end if
-        ! the reaction of each velocity face, after the energies
-        do axis = 1, sim%case%dim
-            do side = 1, 2
-                if (.not. is_velocity_face(sim%case, side, axis)) cycle
-                do d = 1, sim%case%dim
-                    write (value, "(',',es23.15e3)") sim%face_reaction(d, side, axis)
-                    line = trim(line)//value
-                end do
-            end do
-        end do
-        ! the reaction and displacement of each region of prescribed_motion
-        do r = 1, region_count(sim%case)
-            shift = region_displacement(sim%case, r, sim%time)
-            do d = 1, sim%case%dim
-                reaction = 0.0_wp
-                if (allocated(sim%region_reaction)) reaction = sim%region_reaction(d, r)
-                write (value, "(',',es23.15e3)") reaction
-                line = trim(line)//value
-            end do
-            do d = 1, sim%case%dim
-                write (value, "(',',es23.15e3)") shift(d)
-                line = trim(line)//value
-            end do
-        end do
-        call put_line(unit, trim(line))
-    end subroutine write_history
-
-    !> The columns of the reactions of the velocity faces in history.csv,
-    !> ",reaction_ymax_x,reaction_ymax_y", then the reaction and displacement of each region
-    !> of prescribed_motion, ",reaction_footing_x,...,displacement_footing_y" (empty without
-    !> either).
-    function reaction_header(case) result(text)
-        type(case_type), intent(in) :: case
-            !! resolved case
-        character(len=:), allocatable :: text
-
-        character(len=*), parameter :: axes = "xyz"
-        integer :: side, axis, d, r
-
-        text = ""
-        do axis = 1, case%dim
-            do side = 1, 2
-                if (.not. is_velocity_face(case, side, axis)) cycle
-                do d = 1, case%dim
-                    text = text//",reaction_"//axes(axis:axis)//trim(merge("min", "max", &
-                        side == 1))//"_"//axes(d:d)
-                end do
-            end do
-        end do
-        do r = 1, region_count(case)
-            do d = 1, case%dim
-                text = text//",reaction_"//case%motions(r)%name//"_"//axes(d:d)
-            end do
-            do d = 1, case%dim
-                text = text//",displacement_"//case%motions(r)%name//"_"//axes(d:d)
-            end do
-        end do
-    end function reaction_header
-
-    !> Whether a face prescribes the velocity of its nodes (its reaction is a history column).
-    logical function is_velocity_face(case, side, axis)
-        type(case_type), intent(in) :: case
-            !! resolved case
-        integer, intent(in) :: side, axis
-            !! the face: 1 min, 2 max; its axis
-
-        type(face_nodes_type) :: nodes
-
-        nodes = case%domain%nodes(side, axis, case%dim)
-        is_velocity_face = nodes%prescribed
-    end function is_velocity_face
 
     !> Whether a geostatic start (initial_stress.type = "k0") is at rest: the largest kinetic
     !> energy of its first steps against the energy it starts with (its elastic energy).

@@ -190,6 +190,28 @@ sed 's#{"type": "k0"}#{"type": "k0", "k0": 0.2}#' "$tmp/k0.json" > "$tmp/k0_low.
 expect 0 "K0 start beyond the strength" -- "$exe" "$tmp/k0_low.json" --output "$tmp/k0_low"
 contains "the ground is not in equilibrium at the start" "K0 beyond the strength: reported"
 
+# a region of prescribed_motion: its reaction and displacement are history.csv columns, and
+# the run says when it has moved more than half a cell (its box takes the next row of nodes)
+cat > "$tmp/plate.json" <<'JSON'
+{
+  "name": "plate",
+  "domain": {"nx": 4, "ny": 10, "dx": 0.25,
+             "boundaries": {"xmin": "sliding", "xmax": "sliding", "ymin": "fixed"}},
+  "materials": [{"name": "m", "type": "linear_elastic", "E": 1e7, "nu": 0.3, "rho": 2000}],
+  "bodies": [{"material": "m", "min": [0, 0], "max": [1, 2]}],
+  "prescribed_motion": [{"name": "plate", "min": [0, 1.9], "max": [1, 2.1],
+                         "velocity": [0, -0.5], "components": ["y"],
+                         "time_function": {"type": "ramp", "duration": 0.05}}],
+  "damping": {"type": "local", "value": 0.1},
+  "time": {"tend": 0.3, "cfl": 0.5},
+  "output": {"interval": 0.1}
+}
+JSON
+expect 0 "prescribed motion" -- "$exe" "$tmp/plate.json" --output "$tmp/plate"
+contains 'prescribed_motion[1] "plate" has moved 0.12' "prescribed motion: half a cell noted"
+head -1 "$tmp/plate/history.csv" | grep -q ",residual,reaction_plate_x,reaction_plate_y,displacement_plate_x,displacement_plate_y$" \
+    && ok || bad "prescribed motion: history.csv columns of the region"
+
 # ParaView's readers on the outputs: tests/cli/test_paraview.sh
 
 echo "$passed passed, $failed failed"

@@ -445,20 +445,27 @@ contains
             //'"max": [0.2, 0.2]}]'), [character(len=200) :: &
             "missing required key 'prescribed_motion[1].velocity'"], "region without velocity")
         call expect_error(suite, case_text(extra='"prescribed_motion": [{"min": [0, 0.1], ' &
-            //'"max": [0.2, 0.2], "velocity": [0, -1], "components": ["z"]}]'), &
+            //'"max": [0.2, 0.2], "velocity": [0, 0], "components": ["z"]}]'), &
             [character(len=200) :: 'prescribed_motion[1].components[1] = a string ("z") is ' &
             //'not an axis; allowed: "x", "y"'], "component z in 2D")
         call expect_error(suite, case_text(extra='"prescribed_motion": [{"min": [0, 0.1], ' &
-            //'"max": [0.2, 0.2], "velocity": [0, -1], "components": []}]'), &
+            //'"max": [0.2, 0.2], "velocity": [0, 0], "components": []}]'), &
             [character(len=200) :: "prescribed_motion[1].components is empty"], &
             "no component")
         call expect_error(suite, case_text(extra='"prescribed_motion": [{"min": [0, 0.1], ' &
-            //'"max": [0.2, 0.2], "velocity": [0, -1]}, {"min": [0.1, 0.1], "max": [0.3, 0.2], ' &
-            //'"velocity": [0, 1]}]'), [character(len=200) :: "prescribed_motion[2]: its box " &
+            //'"max": [0.2, 0.2], "velocity": [0, -1]}]'), [character(len=200) :: &
+            "prescribed_motion[1] starts at its full velocity at t = 0"], "sudden start")
+        call expect_error(suite, case_text(extra='"prescribed_motion": [{"min": [0.01, 0.01], ' &
+            //'"max": [0.09, 0.2], "velocity": [0, 0]}]'), [character(len=200) :: &
+            "prescribed_motion[1]: its box min = (0.01, 0.01) m, max = (0.09, 0.2) m holds no " &
+            //"node of the grid"], "region without a node")
+        call expect_error(suite, case_text(extra='"prescribed_motion": [{"min": [0, 0.1], ' &
+            //'"max": [0.2, 0.2], "velocity": [0, 0]}, {"min": [0.1, 0.1], "max": [0.3, 0.2], ' &
+            //'"velocity": [0, 0]}]'), [character(len=200) :: "prescribed_motion[2]: its box " &
             //"min = (0.1, 0.1) m, max = (0.3, 0.2) m overlaps that of prescribed_motion[1]"], &
             "overlapping regions")
         call expect_error(suite, case_text(extra='"prescribed_motion": [{"name": "a b", ' &
-            //'"min": [0, 0.1], "max": [0.2, 0.2], "velocity": [0, -1]}]'), &
+            //'"min": [0, 0.1], "max": [0.2, 0.2], "velocity": [0, 0]}]'), &
             [character(len=200) :: 'prescribed_motion[1].name = "a b" names columns of ' &
             //"history.csv"], "region name with a space")
     end subroutine test_section_errors
