@@ -111,6 +111,7 @@ def main(argv=None):
         "title": "Bearing capacity of a smooth rigid strip footing on weightless Tresca soil "
                  "(prescribed_motion, Prandtl)",
         "resolution": "full",
+        "heading": "B / dx = 20 (50 mm cells)",
         "case_files": [relative(CASE)],
         "headline": f"The limit pressure is {pressure[peak] / 1e3:.2f} kPa, "
                     f"{pressure[peak] / q_u - 1.0:+.1%} of Prandtl's (2 + pi) Su = "

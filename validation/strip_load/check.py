@@ -226,6 +226,7 @@ def main(argv=None):
         "title": "A uniform strip load on an elastic ground against Flamant's stresses "
                  "(traction of `loads`, half model)",
         "resolution": "full",
+        "heading": "a / dx = 4, 8, 16 (250, 125, 62.5 mm cells)",
         "case_files": [relative(HERE / f"{n}.json") for n in LADDER + [BOX8]],
         "headline": f"Under the strip, s_z agrees with Flamant's to {finest['sz_l1']:.2%} of q "
                     f"(L1 over |x| <= 2a, a/2 <= z <= 4a, a / dx = 16), converging at order "
