@@ -2,7 +2,8 @@
 # Runs on 2 images against the serial build (CTest in the coarray build, make test-coarray):
 #  - each case of tests/parallel/cases/ (2D and 3D, particles crossing the cut, an image that
 #    starts empty, cuts that move with the particles, blocks sliding on an STL terrain across
-#    the cut, XPIC and absorbing faces whose nodes lie on both sides of the cut): particle
+#    the cut, XPIC and absorbing faces whose nodes lie on both sides of the cut, a traction,
+#    a point load and a body force, and a footing of prescribed_motion, across the cut): particle
 #    count, ids and masses exactly, positions, velocities and stresses to round-off, the
 #    energy history column by column (compare_runs.py);
 #  - a state saved on 2 images continues serially, and a serial state on 2 images, as the
