@@ -67,6 +67,8 @@ module mpm_case_cursor
         procedure :: get_section => cursor_get_section
         !> A required, non-empty array of objects.
         procedure :: get_list => cursor_get_list
+        !> Item i of an array of objects, its keys checked and its name read.
+        procedure :: named_item => cursor_named_item
         !> A real number, optionally bounded.
         procedure :: get_real => cursor_get_real
         !> A whole number in a range.
@@ -392,6 +394,31 @@ contains
             call cur%fail(error, list%path//" is an empty array: give at least one "//what)
         end if
     end subroutine cursor_get_list
+
+    !> Item i of an array of objects that may be named (loads, prescribed_motion): checked
+    !> against its keys, its `name` read, "<prefix><i>" when absent.
+    subroutine cursor_named_item(list, i, keys, prefix, item, name, error)
+        class(cursor_type), intent(in) :: list
+            !! the array
+        integer, intent(in) :: i
+            !! item number (from 1)
+        character(len=*), intent(in) :: keys(:)
+            !! keys an item may hold
+        character(len=*), intent(in) :: prefix
+            !! the default name is prefix followed by i
+        type(cursor_type), intent(out) :: item
+            !! the item
+        character(len=:), allocatable, intent(out) :: name
+            !! its name
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        item = list%item(i)
+        call item%check_object(keys, error)
+        if (allocated(error)) return
+        name = prefix//int_text(i)
+        call item%get_string("name", name, error)
+    end subroutine cursor_named_item
 
     !> Read a real number, optionally bounded. The value is left as it is when the key is absent.
     subroutine cursor_get_real(cur, key, value, error, required, above, at_least, below, &

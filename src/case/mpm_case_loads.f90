@@ -196,11 +196,7 @@ contains
         if (allocated(error)) return
         allocate (loads(list%size()))
         do i = 1, size(loads)
-            item = list%item(i)
-            call item%check_object(load_keys, error)
-            if (allocated(error)) return
-            loads(i)%name = "load"//int_text(i)
-            call item%get_string("name", loads(i)%name, error)
+            call list%named_item(i, load_keys, "load", item, loads(i)%name, error)
             if (allocated(error)) return
             call item%get_choice("type", load_type_names, [load_traction, load_point, &
                 load_body_force], loads(i)%type, error, required=.true.)

@@ -67,11 +67,7 @@ contains
         if (allocated(error)) return
         allocate (motions(list%size()))
         do i = 1, size(motions)
-            item = list%item(i)
-            call item%check_object(motion_keys, error)
-            if (allocated(error)) return
-            motions(i)%name = "motion"//int_text(i)
-            call item%get_string("name", motions(i)%name, error)
+            call list%named_item(i, motion_keys, "motion", item, motions(i)%name, error)
             if (allocated(error)) return
             if (verify(motions(i)%name, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ" &
                 //"0123456789_-") > 0) then
