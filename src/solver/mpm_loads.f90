@@ -48,6 +48,7 @@ contains
 
         integer :: l, stat
         character(len=256) :: msg
+        type(error_type), allocatable :: this
 
         if (allocated(particles%load)) deallocate (particles%load)
         if (allocated(particles%load_share)) deallocate (particles%load_share)
@@ -60,17 +61,19 @@ contains
         end if
         particles%load = 0
         particles%load_share = 0.0_wp
+        ! every image goes through every load (their sums over the images), keeping its first
+        ! error: one image's refusal must not leave the others waiting
         do l = 1, size(case%loads)
             select case (case%loads(l)%type)
             case (load_traction)
-                call assign_traction(case, l, particles, error)
+                call assign_traction(case, l, particles, this)
             case (load_point)
-                call assign_point(case, l, particles, error)
+                call assign_point(case, l, particles, this)
             case default
                 ! a body force acts on its material's particles (apply_loads)
                 continue
             end select
-            if (allocated(error)) return
+            if (allocated(this) .and. .not. allocated(error)) call move_alloc(this, error)
         end do
     end subroutine assign_loads
 
@@ -101,12 +104,12 @@ contains
                 in(p) = all(particles%x(:, p) >= load%xmin(1:dim) .and. &
                     particles%x(:, p) <= load%xmax(1:dim))
                 if (.not. in(p)) cycle
-                if (particles%load(p) /= 0) then
+                ! (no return before the sums over the images: the others wait in them)
+                if (particles%load(p) /= 0 .and. .not. allocated(error)) then
                     call fatal_error(error, refusal(case, l, "its box takes a particle at " &
                         //fmt_vector(particles%x(:, p))//" m that loads["// &
                         int_text(particles%load(p))//"] already loads; a particle carries " &
                         //"one traction or point load"), exit_input)
-                    return
                 end if
                 count = count + 1
                 volume = volume + particles%volume(p)
@@ -119,6 +122,7 @@ contains
                 call min_over_images(lo(d))
                 call max_over_images(hi(d))
             end do
+            if (allocated(error)) return
             if (count == 0) then
                 call fatal_error(error, refusal(case, l, "its box min = " &
                     //fmt_vector(load%xmin(1:dim))//" m, max = "//fmt_vector(load%xmax(1:dim)) &

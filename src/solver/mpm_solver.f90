@@ -45,7 +45,7 @@ module mpm_solver
         phase_names, phase_stencils, phase_p2g, phase_nodal, phase_g2p, phase_stress, &
         phase_other, phase_output
     use mpm_loads, only: assign_loads, apply_loads
-    use mpm_motion, only: hold_regions, release_regions
+    use mpm_motion, only: hold_regions, release_regions, region_count
     use mpm_solver_slabs, only: slab_grid, terrain_contact, rebalance, decompose_bodies, &
         decompose_loaded, migrate_particles
     implicit none
@@ -399,6 +399,8 @@ contains
         call apply_loads(sim%case, sim%particles, sim%time)
         ! the nodes of the regions of prescribed_motion, held for the step
         call hold_regions(sim%case, sim%grid, sim%time, error)
+        ! a contradiction is found on the image of its node: every image stops (collective)
+        if (region_count(sim%case) > 0) call agree(error)
         if (allocated(error)) return
         ! one pass: the last particle pass scatters the next step's P2G (a prescribed body
         ! force may change between the steps: its P2G stays in its own pass)
