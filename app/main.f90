@@ -11,6 +11,7 @@ program mpm_geo_main
     use mpm_version, only: mpm_version_string
     use mpm_case, only: case_type, read_case_file, read_case_string, case_summary
     use mpm_run, only: run_options_type, run_summary_type, run_case, checkpoint_path
+    use mpm_strength_reduction, only: strength_reduction_result_type, run_strength_reduction
     use mpm_solver, only: simulation_type
     use mpm_state, only: run_record_type, read_run_record, load_state
     use mpm_particles, only: particles_type
@@ -50,6 +51,7 @@ program mpm_geo_main
     type(command_type) :: cmd
     type(run_record_type) :: run
     type(particles_type) :: particles
+    type(strength_reduction_result_type) :: reduction
     class(shape_type), allocatable :: shape
     real(wp) :: state_time
     integer :: state_step
@@ -96,7 +98,15 @@ program mpm_geo_main
     end if
 
     before_run = .false.
-    if (cmd%restart) then
+    if (case%strength_reduction%enabled) then
+        if (cmd%restart) then
+            call fatal_error(error, case%file//": --restart continues one run; a strength "// &
+                "reduction (strength_reduction) runs many: run the case again into a new "// &
+                "folder", exit_input)
+        else
+            call run_strength_reduction(case, options, reduction, error)
+        end if
+    else if (cmd%restart) then
         call run_case(case, options, sim, summary, error, cmd%restart_path, run)
     else
         call run_case(case, options, sim, summary, error)

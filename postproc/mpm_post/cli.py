@@ -308,6 +308,31 @@ def cmd_plot_load_displacement(args, out):
     return 0
 
 
+def cmd_plot_strength_reduction(args, out):
+    from .plots import load_strength_reduction, factor_of_safety, plot_strength_reduction
+
+    try:
+        trials = load_strength_reduction(args.run)
+    except (OSError, ValueError, KeyError) as exc:
+        print(f"mpm_post: error: {exc}", file=sys.stderr)
+        return 1
+    reference = None if args.reference is None else (args.reference, "reference")
+    path = plot_strength_reduction(args.out, trials, limit=args.limit, reference=reference,
+                                   title="strength reduction")
+    holds, fails = factor_of_safety(trials)
+    print(f"wrote {path}", file=out)
+    if holds is None:
+        print(f"fails at every factor tried (from {fails:.6g}): the factor of safety is below",
+              file=out)
+    elif fails is None:
+        print(f"holds at every factor tried (up to {holds:.6g}): the factor of safety is above",
+              file=out)
+    else:
+        print(f"factor of safety {0.5 * (holds + fails):.4g} (holds at {holds:.6g}, fails at "
+              f"{fails:.6g}; {len(trials['factor'])} trials)", file=out)
+    return 0
+
+
 def _positive(text):
     """argparse type: a finite number > 0."""
     try:
@@ -433,6 +458,17 @@ def build_parser():
     curve.add_argument("--out", default="figs/load_displacement.png",
                        help="image file to write (default: figs/load_displacement.png)")
     curve.set_defaults(func=cmd_plot_load_displacement)
+
+    reduction = plots.add_parser(
+        "strength-reduction", help="displacement against the factor of a strength reduction")
+    reduction.add_argument("run", help="folder of the analysis (or its strength_reduction.csv)")
+    reduction.add_argument("--limit", type=_positive, default=None,
+                           help="the displacement limit of the case [m], drawn as a line")
+    reduction.add_argument("--reference", type=_positive, default=None,
+                           help="a reference factor of safety, drawn as a line")
+    reduction.add_argument("--out", default="figs/strength_reduction.png",
+                           help="image file to write (default: figs/strength_reduction.png)")
+    reduction.set_defaults(func=cmd_plot_strength_reduction)
 
     for name, func, table, default, helptext in [
             ("convergence", cmd_plot_convergence, "h,error[,label]", "figs/convergence.png",

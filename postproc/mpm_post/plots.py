@@ -283,3 +283,59 @@ def plot_load_displacement(path, displacement, load, title=None, reference=None,
     if title:
         axes.set_title(title, fontsize=10)
     return _save(figure, path)
+
+
+# ------------------------------------------------------------- factor of safety (strength reduction)
+def load_strength_reduction(run):
+    """The trials of a strength-reduction run: a dict of arrays ``factor``, ``displacement``,
+    ``kinetic_ratio``, ``fails`` (bool) and the list ``folder``, sorted by factor, from
+    <run>/strength_reduction.csv (or that file itself)."""
+    path = Path(run)
+    if path.is_dir():
+        path = path / "strength_reduction.csv"
+    with open(path, newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    if not rows:
+        raise ValueError(f"{path}: no trial")
+    missing = {"factor", "displacement", "kinetic_ratio", "fails", "folder"} - set(rows[0])
+    if missing:
+        raise ValueError(f"{path}: not a strength_reduction.csv (no column "
+                         f"{', '.join(sorted(missing))})")
+    rows.sort(key=lambda row: float(row["factor"]))
+    return {"factor": np.array([float(r["factor"]) for r in rows]),
+            "displacement": np.array([float(r["displacement"]) for r in rows]),
+            "kinetic_ratio": np.array([float(r["kinetic_ratio"]) for r in rows]),
+            "fails": np.array([r["fails"] == "1" for r in rows]),
+            "folder": [r["folder"] for r in rows]}
+
+
+def factor_of_safety(trials):
+    """(holds, fails): the largest factor that held and the smallest that failed (None when
+    there is none)."""
+    held = trials["factor"][~trials["fails"]]
+    failed = trials["factor"][trials["fails"]]
+    return (float(held.max()) if held.size else None,
+            float(failed.min()) if failed.size else None)
+
+
+def plot_strength_reduction(path, trials, limit=None, reference=None, title=None):
+    """Largest displacement of each trial against its factor (log scale), held trials as
+    filled and failed ones as open circles; ``limit`` draws the displacement limit,
+    ``reference`` (value, label) a vertical line at a reference factor of safety."""
+    figure = _figure()
+    axes = figure.add_subplot()
+    f, u, fails = trials["factor"], trials["displacement"], trials["fails"]
+    axes.semilogy(f, u, color="0.6", lw=0.8)
+    axes.semilogy(f[~fails], u[~fails], "o", color="black", label="holds")
+    axes.semilogy(f[fails], u[fails], "o", mfc="none", mec="tab:red", label="fails")
+    if limit is not None:
+        axes.axhline(limit, color="tab:red", ls=":", lw=1.0, label="displacement limit")
+    if reference is not None:
+        axes.axvline(reference[0], color="tab:blue", ls="--", lw=1.0, label=reference[1])
+    axes.set_xlabel("strength reduction factor F")
+    axes.set_ylabel("largest displacement at tend [m]")
+    axes.grid(True, which="both", alpha=0.3)
+    axes.legend(fontsize=8)
+    if title:
+        axes.set_title(title, fontsize=10)
+    return _save(figure, path)

@@ -328,3 +328,52 @@ def test_load_displacement_command(tmp_path):
                  str(tmp_path / "f.png")], out=out) == 0
     assert "largest load 300 N (N/m in 2D) at displacement 0.003 m" in out.getvalue()
     assert (tmp_path / "f.png").is_file()
+
+
+# --- strength reduction ---------------------------------------------------------------------
+
+def strength_reduction_table(tmp_path, rows):
+    path = tmp_path / "strength_reduction.csv"
+    lines = ["trial,factor,displacement,kinetic_ratio,fails,folder"]
+    lines += [f"{k + 1},{f},{u},1e-7,{int(fails)},{tmp_path}/trial_{k + 1}"
+              for k, (f, u, fails) in enumerate(rows)]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_strength_reduction_table_sorted_and_bracket(tmp_path):
+    from mpm_post.plots import factor_of_safety, load_strength_reduction
+    strength_reduction_table(tmp_path, [(1.0, 0.003, False), (2.0, 5.5, True),
+                                        (1.5, 0.18, True), (1.25, 0.006, False)])
+    trials = load_strength_reduction(tmp_path)
+    assert list(trials["factor"]) == [1.0, 1.25, 1.5, 2.0]
+    assert list(trials["fails"]) == [False, False, True, True]
+    assert factor_of_safety(trials) == (1.25, 1.5)
+
+
+def test_strength_reduction_command(tmp_path):
+    strength_reduction_table(tmp_path, [(1.0, 0.003, False), (2.0, 5.5, True),
+                                        (1.5, 0.18, True), (1.25, 0.006, False)])
+    out = io.StringIO()
+    assert main(["plot", "strength-reduction", str(tmp_path), "--limit", "0.1", "--reference",
+                 "1.4", "--out", str(tmp_path / "s.png")], out=out) == 0
+    assert "factor of safety 1.375 (holds at 1.25, fails at 1.5; 4 trials)" in out.getvalue()
+    assert_png(tmp_path / "s.png")
+
+
+def test_strength_reduction_command_outside_bracket(tmp_path):
+    strength_reduction_table(tmp_path, [(1.0, 0.003, False), (1.2, 0.005, False)])
+    out = io.StringIO()
+    assert main(["plot", "strength-reduction", str(tmp_path / "strength_reduction.csv"),
+                 "--out", str(tmp_path / "s.png")], out=out) == 0
+    assert "holds at every factor tried (up to 1.2)" in out.getvalue()
+
+
+def test_strength_reduction_command_not_a_table(tmp_path):
+    (tmp_path / "strength_reduction.csv").write_text("time,kinetic_energy\n0,1\n")
+    err = io.StringIO()
+    import contextlib
+    with contextlib.redirect_stderr(err):
+        assert main(["plot", "strength-reduction", str(tmp_path), "--out",
+                     str(tmp_path / "s.png")], out=io.StringIO()) == 1
+    assert "not a strength_reduction.csv" in err.getvalue()

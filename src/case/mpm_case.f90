@@ -28,6 +28,7 @@ module mpm_case
     use mpm_case_guard, only: guard_section_type
     use mpm_case_loads, only: load_spec_type, time_function_type
     use mpm_case_motion, only: motion_spec_type
+    use mpm_case_strength_reduction, only: strength_reduction_section_type
     implicit none
     private
     public :: case_type, read_case_file, read_case_string, case_summary, case_key_paths
@@ -72,6 +73,8 @@ module mpm_case
             !! `loads`, in file order (none when absent)
         type(motion_spec_type), allocatable :: motions(:)
             !! `prescribed_motion`, in file order (none when absent)
+        type(strength_reduction_section_type) :: strength_reduction
+            !! `strength_reduction`: a factor-of-safety analysis instead of one run
         type(contact_section_type) :: contact
             !! `contact`: the rigid terrain surface
         type(output_section_type) :: output

@@ -31,12 +31,13 @@ submodule (mpm_case) mpm_case_reader
     use mpm_case_guard, only: read_guard, guard_keys
     use mpm_case_loads, only: read_loads, load_keys, time_function_keys
     use mpm_case_motion, only: read_motions, motion_keys
+    use mpm_case_strength_reduction, only: read_strength_reduction, strength_reduction_keys
     implicit none
 
-    character(len=*), parameter :: top_keys(*) = [character(len=17) :: "name", "dimension", &
+    character(len=*), parameter :: top_keys(*) = [character(len=18) :: "name", "dimension", &
         "domain", "particles", "materials", "bodies", "gravity", "solver", "time", "damping", &
         "contact", "output", "progress", "save_state", "load_state", "checkpoint", "guard", &
-        "initial_stress", "loads", "prescribed_motion"]
+        "initial_stress", "loads", "prescribed_motion", "strength_reduction"]
         !! keys of the top level
     integer, parameter :: case_path_width = 80
         !! longest key path case_key_paths can list ("materials[type=...].softening.strain")
@@ -115,6 +116,7 @@ contains
         call add_key_paths(list, "loads[].time_function", time_function_keys)
         call add_key_paths(list, "prescribed_motion[]", motion_keys)
         call add_key_paths(list, "prescribed_motion[].time_function", time_function_keys)
+        call add_key_paths(list, "strength_reduction", strength_reduction_keys)
         call add_key_paths(list, "contact", contact_keys)
         call add_key_paths(list, "output", output_keys)
         call add_key_paths(list, "progress", progress_keys)
@@ -203,6 +205,8 @@ contains
         call read_loads(root, case%dim, case%domain, case%materials, case%loads, error)
         if (allocated(error)) return
         call read_motions(root, case%dim, case%domain, case%motions, error)
+        if (allocated(error)) return
+        call read_strength_reduction(root, case%materials, case%strength_reduction, error)
         if (allocated(error)) return
         call read_contact(root, case%contact, error)
         if (allocated(error)) return

@@ -10,6 +10,7 @@ submodule (mpm_case) mpm_case_summary
     use mpm_case_guard, only: snapshot_in_memory
     use mpm_case_loads, only: load_line
     use mpm_case_motion, only: motion_line
+    use mpm_case_strength_reduction, only: strength_reduction_line
     implicit none
 
 contains
@@ -134,6 +135,8 @@ contains
                 text = text//"motion      "//motion_line(case%motions(m), case%dim)//nl
             end do
         end if
+        if (case%strength_reduction%enabled) text = text//"srm         " &
+            //strength_reduction_line(case%strength_reduction)//nl
         text = text//"contact     "//text_or(case%contact%type, "none")//nl
         line = "output      "//text_or(case%output%directory, "?")
         if (case%output%interval > 0.0_wp) then

@@ -71,6 +71,10 @@ module mpm_material
             !! K0, the ratio of the horizontal to the vertical stress at rest of the geostatic
             !! initial stress (initial_stress.type = "k0") when the case gives none (default
             !! 1: hydrostatic, a fluid)
+        procedure :: reduce_strength => material_reduce_strength
+            !! divide the shear strength by a factor (strength reduction, factor of safety):
+            !! tan(phi) and c of a frictional material, Su of an undrained one; `reduced`
+            !! is false for a material without a strength to reduce (the default)
     end type material_type
 
     !> Holder so that materials of different types fit in one array.
@@ -227,6 +231,17 @@ contains
             !! the material
         material_at_rest_ratio = 1.0_wp
     end function material_at_rest_ratio
+
+    !> Default: no strength to reduce (an elastic solid, a fluid); the material is unchanged.
+    pure subroutine material_reduce_strength(self, factor, reduced)
+        class(material_type), intent(inout) :: self
+            !! the material
+        real(wp), intent(in) :: factor
+            !! strength reduction factor F > 0 [-]
+        logical, intent(out) :: reduced
+            !! whether the material has a strength that was reduced
+        reduced = .false.
+    end subroutine material_reduce_strength
 
     !> Default: the work of the stresses is dissipated (plastic), nothing is stored.
     pure integer function material_work_kind(self)

@@ -32,7 +32,7 @@ module mpm_material_drucker_prager
     use mpm_material, only: material_key_width, work_plastic, update_each, material_chunk, chunk_in
     use mpm_elastic_solid, only: elastic_solid_type, elastic_keys, add_elastic_trial
     use mpm_strength, only: strength_type, read_strength, strength_keys, strength_section_keys, &
-        strength_summary
+        strength_summary, reduced_strength
     use mpm_stress, only: mean_and_deviator
     implicit none
     private
@@ -78,6 +78,8 @@ module mpm_material_drucker_prager
             !! plastic: the work beyond the stored elastic energy is dissipated
         !> K0 after Jaky (1944): 1 - sin(phi), of the peak friction angle.
         procedure :: at_rest_ratio => drucker_prager_at_rest_ratio
+        procedure :: reduce_strength => drucker_prager_reduce_strength
+            !! tan(phi), c and the tensile strength divided by F (`reduced_strength`)
     end type drucker_prager_material_type
 
 contains
@@ -140,7 +142,6 @@ contains
         text = text//strength_summary(self%strength, ", cone "//trim(cone_names(self%cone)))
     end subroutine drucker_prager_summary
 
-    !> Where the work of the stresses goes: plastic dissipation beyond the stored part.
     !> K0 of a normally consolidated soil after Jaky (1944): 1 - sin(phi), phi the peak
     !> friction angle.
     pure real(wp) function drucker_prager_at_rest_ratio(self)
@@ -150,6 +151,20 @@ contains
         drucker_prager_at_rest_ratio = 1.0_wp - sin(self%strength%friction)
     end function drucker_prager_at_rest_ratio
 
+    !> Strength reduction: the strength divided by F (`mpm_strength::reduced_strength`).
+    pure subroutine drucker_prager_reduce_strength(self, factor, reduced)
+        class(drucker_prager_material_type), intent(inout) :: self
+            !! the material
+        real(wp), intent(in) :: factor
+            !! strength reduction factor F > 0 [-]
+        logical, intent(out) :: reduced
+            !! true: the material has a strength
+
+        call set_up(self, reduced_strength(self%strength, factor), self%cone)
+        reduced = .true.
+    end subroutine drucker_prager_reduce_strength
+
+    !> Where the work of the stresses goes: plastic dissipation beyond the stored part.
     pure integer function drucker_prager_work_kind(self)
         class(drucker_prager_material_type), intent(in) :: self
             !! the material

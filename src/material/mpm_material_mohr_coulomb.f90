@@ -83,7 +83,7 @@ module mpm_material_mohr_coulomb
     use mpm_material, only: material_key_width, work_plastic, update_each, material_chunk, chunk_in
     use mpm_elastic_solid, only: elastic_solid_type, elastic_keys
     use mpm_strength, only: strength_type, read_strength, strength_keys, strength_section_keys, &
-        strength_summary
+        strength_summary, reduced_strength
     use mpm_stress, only: add_jaumann_rotation, voigt_matrix
     implicit none
     private
@@ -208,6 +208,8 @@ module mpm_material_mohr_coulomb
             !! plastic: the work beyond the stored elastic energy is dissipated
         !> K0 after Jaky (1944): 1 - sin(phi), of the peak friction angle.
         procedure :: at_rest_ratio => mohr_coulomb_at_rest_ratio
+        procedure :: reduce_strength => mohr_coulomb_reduce_strength
+            !! tan(phi), c and the tensile strength divided by F (`reduced_strength`)
     end type mohr_coulomb_material_type
 
 contains
@@ -221,6 +223,19 @@ contains
 
         mohr_coulomb_at_rest_ratio = 1.0_wp - sin(self%strength%friction)
     end function mohr_coulomb_at_rest_ratio
+
+    !> Strength reduction: the strength divided by F (`mpm_strength::reduced_strength`).
+    pure subroutine mohr_coulomb_reduce_strength(self, factor, reduced)
+        class(mohr_coulomb_material_type), intent(inout) :: self
+            !! the material
+        real(wp), intent(in) :: factor
+            !! strength reduction factor F > 0 [-]
+        logical, intent(out) :: reduced
+            !! true: the material has a strength
+
+        call set_up(self, reduced_strength(self%strength, factor))
+        reduced = .true.
+    end subroutine mohr_coulomb_reduce_strength
 
     pure integer function mohr_coulomb_work_kind(self)
         class(mohr_coulomb_material_type), intent(in) :: self

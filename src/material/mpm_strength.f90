@@ -12,7 +12,7 @@ module mpm_strength
     implicit none
     private
     public :: strength_type, read_strength, strength_keys, softening_keys, strength_section_keys
-    public :: strength_summary, degree
+    public :: strength_summary, degree, reduced_strength
 
     character(len=*), parameter :: strength_keys(*) = [character(len=material_key_width) :: &
         "phi", "c", "psi", "tension_cutoff", "softening", "separation"]
@@ -269,6 +269,29 @@ contains
         mat%cohesion_residual = c_r
         mat%dilatancy_residual = psi_r*degree
     end subroutine read_softening
+
+    !> The strength divided by a factor F, as the strength reduction method does (Dawson,
+    !> Roth and Drescher 1999; Griffiths and Lane 1999): tan(phi_F) = tan(phi) / F,
+    !> c_F = c / F, the tensile strength / F, the same for the residual values; the dilatancy
+    !> angle keeps psi <= phi: psi_F = min(psi, phi_F) (the non-associated flow of the case is
+    !> kept, and an associated one stays associated). F = 1 leaves the strength unchanged.
+    pure function reduced_strength(strength, factor) result(reduced)
+        type(strength_type), intent(in) :: strength
+            !! the strength of the case
+        real(wp), intent(in) :: factor
+            !! strength reduction factor F > 0 [-]
+        type(strength_type) :: reduced
+
+        reduced = strength
+        if (factor == 1.0_wp) return
+        reduced%friction = atan(tan(strength%friction)/factor)
+        reduced%cohesion = strength%cohesion/factor
+        reduced%dilatancy = min(strength%dilatancy, reduced%friction)
+        if (strength%tension_cutoff > 0.0_wp) reduced%tension_cutoff = strength%tension_cutoff/factor
+        reduced%friction_residual = atan(tan(strength%friction_residual)/factor)
+        reduced%cohesion_residual = strength%cohesion_residual/factor
+        reduced%dilatancy_residual = min(strength%dilatancy_residual, reduced%friction_residual)
+    end function reduced_strength
 
     !> Refuse a residual strength parameter above its peak value.
     subroutine check_residual(item, key, residual, peak_key, peak, unit, error)

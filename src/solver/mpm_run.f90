@@ -90,6 +90,10 @@ module mpm_run
             !! wall time per phase of the time loop (mpm_solver phase_names) [s]
         character(len=:), allocatable :: threads
             !! the OpenMP threads the steps used (mpm_threads::governor_text)
+        real(wp) :: peak_kinetic = 0.0_wp
+            !! largest kinetic energy at the history times [J]
+        real(wp) :: final_kinetic = 0.0_wp
+            !! kinetic energy at the end [J]
     end type run_summary_type
 
 contains
@@ -275,6 +279,7 @@ contains
                 if (sim%time >= next_history - eps_t .or. written) then
                     call compute_energies(sim)
                     if (lead) call write_history(history_unit, sim)
+                    summary%peak_kinetic = max(summary%peak_kinetic, sim%energy%kinetic)
                     next_history = sim%time + case%output%history_interval
                 end if
                 sim%phase_time(phase_output) = sim%phase_time(phase_output) &
@@ -345,6 +350,7 @@ contains
         ! the parallel loops after the run (outputs, state file) and the caller's get all
         call set_threads(threads%most)
         summary%threads = governor_text(threads)
+        summary%final_kinetic = sim%energy%kinetic
         summary%steps = sim%step
         summary%time = sim%time
         summary%wall = wall_time() - t_start

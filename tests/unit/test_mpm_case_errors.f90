@@ -318,6 +318,9 @@ contains
     end subroutine test_time_errors
 
     subroutine test_section_errors()
+        character(len=*), parameter :: mc_soil = '"materials": [{"name": "soil", "type": ' &
+            //'"mohr_coulomb", '//elastic_part//', "phi": 20, "c": 1000}]'
+
         call expect_error(suite, case_text(extra='"contact": {"type": "terrain_stl", "mu": 0.4, ' &
             //'"file": "data/no_such_terrain.stl"}'), [character(len=200) :: "contact.file", &
             "data/no_such_terrain.stl' not found"], "terrain_stl: missing STL file")
@@ -388,6 +391,28 @@ contains
             //state_file//'", "gravity": [0, -9.81], "time": {"tend": 1}, "initial_stress": ' &
             //'{"type": "k0"}}', [character(len=200) :: 'initial_stress.type = "k0" cannot be ' &
             //"used with load_state"], "k0 with load_state")
+        ! strength_reduction
+        call expect_error(suite, case_text(extra='"strength_reduction": {"displacement_limit": ' &
+            //'0.1}'), [character(len=200) :: "strength_reduction: no material of the case has " &
+            //"a shear strength to reduce"], "strength reduction of an elastic case")
+        call expect_error(suite, case_text(materials=mc_soil, extra='"strength_reduction": ' &
+            //'{"factor_max": 2}'), [character(len=200) :: &
+            "missing required key 'strength_reduction.displacement_limit'"], &
+            "strength reduction without a limit")
+        call expect_error(suite, case_text(materials=mc_soil, extra='"strength_reduction": ' &
+            //'{"factor_min": 1.5, "factor_max": 1.2, "displacement_limit": 0.1}'), &
+            [character(len=200) :: "strength_reduction.factor_max = 1.2 is out of range: " &
+            //"must be > 1.5"], "strength reduction bracket reversed")
+        call expect_error(suite, case_text(materials=mc_soil, extra='"strength_reduction": ' &
+            //'{"factor_max": 1.5, "tolerance": 0.6, "displacement_limit": 0.1}'), &
+            [character(len=200) :: "strength_reduction.tolerance = 0.6 is out of range: " &
+            //"must be > 0 and < 0.5"], "strength reduction tolerance wider than the bracket")
+        call expect_error(suite, case_text(materials=mc_soil, extra='"strength_reduction": ' &
+            //'{"displacement_limit": 0.1, "rest_ratio": 1}'), [character(len=200) :: &
+            "strength_reduction.rest_ratio = 1 is out of range"], "strength reduction rest ratio")
+        call expect_error(suite, case_text(materials=mc_soil, extra='"strength_reduction": ' &
+            //'{"displacement_limit": 0.1, "factors": [1, 2]}'), [character(len=200) :: &
+            "strength_reduction", "factors"], "strength reduction unknown key")
         ! loads
         call expect_error(suite, case_text(extra='"loads": [{"type": "traction", "min": [0, ' &
             //'0.1], "max": [0.5, 0.2], "surface": "+y", "pressure": 1}]'), &
