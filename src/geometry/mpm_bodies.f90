@@ -136,6 +136,10 @@ contains
                                     call geostatic_stress(case, sites, s, h, body%material, &
                                         particles%stress(:, q))
                                 end if
+                                if (allocated(case%materials(body%material)%law)) then
+                                    call case%materials(body%material)%law%initial_state( &
+                                        x(1:dim), particles%state(:, q))
+                                end if
                             end do
                         end do
                     end do

@@ -71,6 +71,9 @@ module mpm_material
             !! K0, the ratio of the horizontal to the vertical stress at rest of the geostatic
             !! initial stress (initial_stress.type = "k0") when the case gives none (default
             !! 1: hydrostatic, a fluid)
+        procedure :: initial_state => material_initial_state
+            !! the state variables of a new particle at its initial position (default: none
+            !! set, zero): a strength that varies with depth
         procedure :: reduce_strength => material_reduce_strength
             !! divide the shear strength by a factor (strength reduction, factor of safety):
             !! tan(phi) and c of a frictional material, Su of an undrained one; `reduced`
@@ -231,6 +234,16 @@ contains
             !! the material
         material_at_rest_ratio = 1.0_wp
     end function material_at_rest_ratio
+
+    !> Default: a new particle's state stays zero.
+    pure subroutine material_initial_state(self, x, state)
+        class(material_type), intent(in) :: self
+            !! the material
+        real(wp), intent(in) :: x(:)
+            !! the particle's initial position [m]
+        real(wp), intent(inout) :: state(:)
+            !! its state variables (zero on entry)
+    end subroutine material_initial_state
 
     !> Default: no strength to reduce (an elastic solid, a fluid); the material is unchanged.
     pure subroutine material_reduce_strength(self, factor, reduced)

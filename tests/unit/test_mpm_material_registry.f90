@@ -87,6 +87,10 @@ contains
                 example = '{"E": 1e6, "nu": 0.3, "rho": 1000, "phi": 30, "c": 100}'
             case ("newtonian")
                 example = '{"rho": 1000, "viscosity": 1e-3, "bulk_modulus": 2.2e9}'
+            case ("tresca")
+                example = '{"E": 1e6, "nu": 0.49, "rho": 1000, "Su": 1e4, "Su_gradient": 1e3, ' &
+                    //'"Su_elevation": 5, "softening": {"type": "linear", "sensitivity": 2, ' &
+                    //'"strain": 0.2}}'
             case ("mu_i")
                 example = '{"K": 1e6, "G": 5e5, "rho": 1000, "mu_s": 0.38, "mu_2": 0.64, ' &
                     //'"I_0": 0.279, "grain_diameter": 5e-4, "grain_density": 2450}'

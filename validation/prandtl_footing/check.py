@@ -4,7 +4,8 @@
 A footing of width B = 1 m (the half model: x = 0 a symmetry plane, the region of
 `prescribed_motion` holding the vertical velocity of the surface nodes under 0 <= x <= B / 2,
 free sideways: smooth) is pushed at 10 mm/s (ramped up over 0.2 s) into a weightless
-undrained clay, Mohr-Coulomb with phi = 0 (Tresca), c = Su = 10 kPa, E = 100 MPa, nu = 0.3,
+undrained clay, the `tresca` material with Su = 10 kPa (and, as a second run, Mohr-Coulomb
+with phi = 0 and c = Su, prandtl_footing_mc.json), E = 100 MPa, nu = 0.3,
 4 m wide and 2.5 m deep (sliding sides, fixed base), dx = 50 mm (B / dx = 20), F-bar against
 the locking of the isochoric plastic flow. Reference: Prandtl (1920), the limit pressure of a
 smooth strip on a weightless cohesive half-space, q_u = (2 + pi) Su = 51.42 kPa (e.g. Chen
@@ -38,13 +39,14 @@ sys.path.insert(0, str(REPO / "postproc"))
 import numpy as np  # noqa: E402
 
 from mpm_post import load_history  # noqa: E402
-from mpm_post.plots import load_displacement, plot_load_displacement  # noqa: E402
+from mpm_post.plots import load_displacement  # noqa: E402
 from mpm_post.run import run_mpm_geo  # noqa: E402
 from mpm_post.validation import (  # noqa: E402
-    common_arguments, exe_missing, load_json, relative, target, verdict, write_json)
+    agg_figure, common_arguments, exe_missing, load_json, relative, target, verdict, write_json)
 
 RESULTS = HERE / "results"
 CASE = HERE / "prandtl_footing.json"
+CASE_MC = HERE / "prandtl_footing_mc.json"
 BAND = 0.05            # limit pressure against (2 + pi) Su
 RESIDUAL_BAND = 0.01   # energy residual / load work
 
@@ -52,28 +54,34 @@ RESIDUAL_BAND = 0.01   # energy residual / load work
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     common_arguments(parser, RESULTS,
-                     output_help="output folder (default: outputs/prandtl_footing, "
-                                 "overwritten); a folder given here must not exist",
+                     output_help="parent folder of the two runs (default: outputs/, each "
+                                 "overwriting outputs/<case name>); folders under a parent "
+                                 "given here must not exist",
                      no_run_help="analyse the existing output")
     args = parser.parse_args(argv)
     case = load_json(CASE)
-    output = Path(args.output) if args.output else REPO / "outputs" / case["name"]
+    parent = Path(args.output) if args.output else REPO / "outputs"
     wall = None
+    curves = []
     try:
-        if not args.no_run:
-            if exe_missing(args.exe):
-                return 2
-            wall = run_mpm_geo(args.exe, CASE, output, overwrite=args.output is None,
-                               quiet=args.quiet)
-        history = load_history(output)
-        region = case["prescribed_motion"][0]
-        half_width = region["max"][0] - region["min"][0]
-        settlement, pressure, _, _ = load_displacement(history, "footing", "y",
-                                                       width=half_width)
-    except (OSError, ValueError, KeyError) as exc:
+        for path in (CASE, CASE_MC):
+            output = parent / load_json(path)["name"]
+            if not args.no_run:
+                if exe_missing(args.exe):
+                    return 2
+                wall = (wall or 0.0) + run_mpm_geo(args.exe, path, output,
+                                                   overwrite=args.output is None,
+                                                   quiet=args.quiet)
+            history = load_history(output)
+            region = case["prescribed_motion"][0]
+            half_width = region["max"][0] - region["min"][0]
+            curves.append((history, *load_displacement(history, "footing", "y",
+                                                       width=half_width)[:2]))
+    except (OSError, ValueError, KeyError, RuntimeError) as exc:
         print(f"check.py: error: {exc}", file=sys.stderr)
         return 2
-    su = case["materials"][0]["c"]
+    (history, settlement, pressure), (_, settlement_mc, pressure_mc) = curves
+    su = case["materials"][0]["Su"]
     q_u = (2.0 + math.pi) * su
     dx = case["domain"]["dx"]
     peak = int(np.argmax(pressure))
@@ -86,6 +94,7 @@ def main(argv=None):
         "end_settlement_m": float(settlement[-1]),
         "settlement_over_dx_end": float(settlement[-1] / dx),
         "energy_residual_over_load_work": residual,
+        "limit_pressure_mohr_coulomb_Pa": float(np.max(pressure_mc)),
     }
     results = [
         target("limit pressure / (2 + pi) Su", pressure[peak] / q_u - 1.0, 0.0,
@@ -101,6 +110,10 @@ def main(argv=None):
         target("energy residual / footing work", residual, 0.0, f"+-{RESIDUAL_BAND:.0%}",
                abs(residual) <= RESIDUAL_BAND, True,
                "the footing's work is booked as load work: the balance closes", unit="rel"),
+        target("Mohr-Coulomb phi = 0: limit / (2 + pi) Su", np.max(pressure_mc) / q_u - 1.0,
+               0.0, f"+-{BAND:.0%}", abs(np.max(pressure_mc) / q_u - 1.0) <= BAND, True,
+               "the same soil as mohr_coulomb with phi = 0, c = Su: the same strength in plane "
+               "strain", unit="rel"),
         target("settlement at the end / dx", metrics["settlement_over_dx_end"], None,
                "< 0.5", metrics["settlement_over_dx_end"] < 0.5, True,
                "the region holds one row of nodes until it has moved half a cell"),
@@ -112,17 +125,18 @@ def main(argv=None):
                  "(prescribed_motion, Prandtl)",
         "resolution": "full",
         "heading": "B / dx = 20 (50 mm cells)",
-        "case_files": [relative(CASE)],
+        "case_files": [relative(CASE), relative(CASE_MC)],
         "headline": f"The limit pressure is {pressure[peak] / 1e3:.2f} kPa, "
                     f"{pressure[peak] / q_u - 1.0:+.1%} of Prandtl's (2 + pi) Su = "
                     f"{q_u / 1e3:.2f} kPa, reached at {settlement[peak] * 1e3:.1f} mm; "
                     f"{pressure[-1] / 1e3:.2f} kPa ({pressure[-1] / q_u - 1.0:+.1%}) at "
-                    f"{settlement[-1] * 1e3:.0f} mm.",
+                    f"{settlement[-1] * 1e3:.0f} mm (tresca); Mohr-Coulomb phi = 0: "
+                    f"{np.max(pressure_mc) / q_u - 1.0:+.1%}.",
         "setup": {"rows": [
             ["footing", "B = 1 m (half model), smooth: vertical velocity 10 mm/s of the "
                         "surface nodes under it, ramp 0.2 s"],
-            ["soil", f"mohr_coulomb phi = 0 (Tresca), Su = {su / 1e3:g} kPa, E = 100 MPa, "
-                     "nu = 0.3, weightless; 4 m x 2.5 m, sliding sides, fixed base"],
+            ["soil", f"tresca Su = {su / 1e3:g} kPa (second run: mohr_coulomb phi = 0, c = Su), "
+                     "E = 100 MPa, nu = 0.3, weightless; 4 m x 2.5 m, sliding sides, fixed base"],
             ["grid", f"dx = {dx * 1e3:g} mm (B / dx = 20), 2 x 2 particles per cell, cpGIMP, "
                      "MUSL, F-bar, local damping 0.05"],
         ]},
@@ -133,8 +147,19 @@ def main(argv=None):
         "threads": os.environ.get("OMP_NUM_THREADS", str(os.cpu_count())),
     }
     png = Path(args.results) / "prandtl_footing.png"
-    plot_load_displacement(png, settlement, pressure, title=report["title"].split(" (")[0],
-                           reference=(q_u, "Prandtl (2 + pi) Su"), ylabel="pressure [Pa]")
+    figure = agg_figure(7.0, 4.5)
+    axes = figure.add_subplot()
+    axes.plot(settlement * 1e3, pressure / 1e3, color="black", lw=1.2, label="tresca")
+    axes.plot(settlement_mc * 1e3, pressure_mc / 1e3, color="tab:green", lw=1.0, ls="--",
+              label="mohr_coulomb phi = 0")
+    axes.axhline(q_u / 1e3, color="tab:red", ls=":", lw=1.0, label="Prandtl (2 + pi) Su")
+    axes.set_xlabel("settlement [mm]")
+    axes.set_ylabel("pressure [kPa]")
+    axes.set_title(report["title"].split(" (")[0], fontsize=10)
+    axes.grid(alpha=0.3)
+    axes.legend(fontsize=8)
+    png.parent.mkdir(parents=True, exist_ok=True)
+    figure.savefig(png, dpi=110)
     report["plots"] = [png.name]
     write_json(Path(args.results) / "metrics.json", report)
     for t in results:

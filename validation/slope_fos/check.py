@@ -129,7 +129,6 @@ def main(argv=None):
     axes.set_title("2:1 slope, c/(gamma H) = 0.05, phi = 20 deg: strength reduction", fontsize=10)
     axes.grid(True, which="both", alpha=0.3)
     axes.legend(fontsize=8)
-    figure.tight_layout()
     png = Path(args.results) / "slope_fos.png"
     png.parent.mkdir(parents=True, exist_ok=True)
     figure.savefig(png, dpi=110)
@@ -152,7 +151,6 @@ def main(argv=None):
                        f"{t['displacement'][index]:.3f} m", fontsize=9)
         axes.set_xlabel("x [m]")
         figure.colorbar(shown, ax=axes, shrink=0.7, label="plastic shear strain")
-    figure.tight_layout()
     mechanism = Path(args.results) / "slope_fos_mechanism.png"
     figure.savefig(mechanism, dpi=110)
 
