@@ -1,5 +1,5 @@
-!> The `bodies` key of a case: boxes, 2D polygons or closed STL surfaces filled with
-!> particles.
+!> The `bodies` key of a case: boxes, 2D polygons, circles (2D), spheres and cylinders (3D)
+!> or closed STL surfaces filled with particles.
 module mpm_case_bodies
     use mpm_kinds, only: wp, i8
     use mpm_error, only: error_type, fatal_error, exit_other
@@ -14,11 +14,26 @@ module mpm_case_bodies
     implicit none
     private
     public :: body_spec_type, read_bodies, body_keys, body_count_interface, &
-        body_overlap_interface, domain_digits
+        body_overlap_interface, domain_digits, round_keys, cylinder_keys, inside_shape, &
+        is_box, shape_none, shape_circle, shape_sphere, shape_cylinder
 
     character(len=*), parameter :: body_keys(*) = [character(len=8) :: "name", "material", &
-        "min", "max", "velocity", "file", "scale", "offset", "polygon"]
+        "min", "max", "velocity", "file", "scale", "offset", "polygon", "circle", "sphere", &
+        "cylinder"]
         !! keys of an item of `bodies`
+    character(len=*), parameter :: round_keys(*) = [character(len=6) :: "center", "radius"]
+        !! keys of `bodies[i].circle` and `bodies[i].sphere`
+    character(len=*), parameter :: cylinder_keys(*) = [character(len=6) :: "start", "end", &
+        "radius"]
+        !! keys of `bodies[i].cylinder`
+    ! analytic shapes of a body
+    integer, parameter :: shape_none = 0      !! a box, a polygon or a surface
+    integer, parameter :: shape_circle = 1    !! a disc (2D)
+    integer, parameter :: shape_sphere = 2    !! a ball (3D)
+    integer, parameter :: shape_cylinder = 3  !! a finite solid cylinder (3D)
+    character(len=*), parameter :: shape_names(3) = [character(len=8) :: "circle", "sphere", &
+        "cylinder"]
+        !! the keys of the shapes
     character(len=*), parameter :: body_stl_keys(*) = [character(len=6) :: "scale", "offset"]
         !! keys of a body that only apply with `file`
     real(wp), parameter :: box_tolerance = 1.0e-9_wp
@@ -51,6 +66,14 @@ module mpm_case_bodies
             !! corners (coordinate, corner 1..3, triangle) of the closed surface after scale and
             !! offset, or of the walls of a polygon extruded across z = 0 (mpm_polygon::
             !! polygon_walls); not allocated for a box [m]
+        integer :: shape = shape_none
+            !! an analytic shape: shape_circle, shape_sphere, shape_cylinder
+        real(wp) :: centre(3) = 0.0_wp
+            !! centre of a circle or a sphere, centre of the start face of a cylinder [m]
+        real(wp) :: axis_end(3) = 0.0_wp
+            !! centre of the end face of a cylinder [m]
+        real(wp) :: radius = 0.0_wp
+            !! radius of the shape [m]
         integer(i8) :: particles = -1
             !! particles the body holds, counted by the reader (-1: not counted)
     end type body_spec_type
@@ -173,12 +196,16 @@ contains
                 else if (item%has("polygon")) then
                     call read_body_polygon(item, dim, domain%dx, body, error)
                     if (allocated(error)) return
+                else if (item%has("circle") .or. item%has("sphere") .or. item%has("cylinder")) then
+                    call read_body_shape(item, dim, body, error)
+                    if (allocated(error)) return
                 else
                     if (.not. (item%has("min") &
                         .or. item%has("max"))) then
                         call root%fail(error, path//' "'//body%name//'": give one of ' &
-                            //"'min' and 'max' (a box), 'polygon' (2D) or 'file' (a closed " &
-                            //"STL surface); none was given")
+                            //"'min' and 'max' (a box), 'polygon' or 'circle' (2D), 'sphere' " &
+                            //"or 'cylinder' (3D) or 'file' (a closed STL surface); none was " &
+                            //"given")
                         return
                     end if
                     do j = 1, 2
@@ -231,9 +258,11 @@ contains
 
         path = item%path
         label = path//' "'//body%name//'"'
-        if (item%has("min") .or. item%has("max") .or. item%has("polygon")) then
+        if (item%has("min") .or. item%has("max") .or. item%has("polygon") .or. &
+            has_shape(item)) then
             call item%fail(error, label//": give one of 'file' (a closed STL surface), " &
-                //"'min' and 'max' (a box) or 'polygon', not several")
+                //"'min' and 'max' (a box), 'polygon', 'circle', 'sphere' or 'cylinder', " &
+                //"not several")
             return
         end if
         body%file = ""
@@ -300,9 +329,9 @@ contains
                 //"(dimension = 2); in 3D give a closed STL surface ('file')")
             return
         end if
-        if (item%has("min") .or. item%has("max")) then
-            call item%fail(error, label//": give either 'polygon' or 'min' and 'max' (a " &
-                //"box), not both")
+        if (item%has("min") .or. item%has("max") .or. has_shape(item)) then
+            call item%fail(error, label//": give one of 'polygon', 'min' and 'max' (a box) " &
+                //"or 'circle', not several")
             return
         end if
         do j = 1, size(body_stl_keys)
@@ -338,6 +367,133 @@ contains
         body%xmax(1:2) = maxval(body%polygon, dim=2)
         body%triangle = polygon_walls(body%polygon, dx)
     end subroutine read_body_polygon
+
+    !> A body given by an analytic shape: `circle` (2D) {center, radius}, `sphere` (3D)
+    !> {center, radius} or `cylinder` (3D) {start, end, radius}, the centres of its two end
+    !> faces; one shape, and none of `min`, `max`, `polygon`, `file`, `scale`, `offset`. Sets
+    !> min/max to its bounding box.
+    subroutine read_body_shape(item, dim, body, error)
+        type(cursor_type), intent(in) :: item
+            !! the body's object ("bodies[i]")
+        integer, intent(in) :: dim
+            !! number of space dimensions
+        type(body_spec_type), intent(inout) :: body
+            !! the body (name set)
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(cursor_type) :: sec
+        character(len=:), allocatable :: label, key
+        integer :: k, given
+        real(wp) :: axis(3), length, reach(3)
+        character(len=*), parameter :: others(*) = [character(len=7) :: "min", "max", &
+            "polygon", "scale", "offset"]
+
+        label = item%path//' "'//body%name//'"'
+        given = 0
+        do k = 1, size(shape_names)
+            if (item%has(trim(shape_names(k)))) then
+                given = given + 1
+                body%shape = k
+            end if
+        end do
+        key = trim(shape_names(body%shape))
+        if (given > 1) then
+            call item%fail(error, label//": give one of 'circle', 'sphere' and 'cylinder', " &
+                //"not several")
+            return
+        end if
+        do k = 1, size(others)
+            if (item%has(trim(others(k)))) then
+                call item%fail(error, label//": give one of '"//key//"', 'min' and 'max' (a " &
+                    //"box), 'polygon' or 'file', not several ('"//trim(others(k))//"' is " &
+                    //"given too)")
+                return
+            end if
+        end do
+        if (body%shape == shape_circle .and. dim /= 2) then
+            call item%fail(error, item%key_path("circle")//": a circle is a 2D body; in a 3D " &
+                //"case give a 'sphere' or a 'cylinder'")
+            return
+        else if (body%shape /= shape_circle .and. dim /= 3) then
+            call item%fail(error, item%key_path(key)//": a "//key//" is a 3D body; in a 2D " &
+                //"case give a 'circle' (or a 'polygon')")
+            return
+        end if
+        if (body%shape == shape_cylinder) then
+            call item%get_section(key, cylinder_keys, sec, error, required=.true.)
+            if (allocated(error)) return
+            call sec%get_vector("start", dim, body%centre, error, required=.true., unit="m")
+            if (allocated(error)) return
+            call sec%get_vector("end", dim, body%axis_end, error, required=.true., unit="m")
+            if (allocated(error)) return
+            axis = body%axis_end - body%centre
+            length = norm2(axis)
+            if (.not. length > 0.0_wp) then
+                call sec%fail(error, sec%path//": start and end are the same point " &
+                    //fmt_vector(body%centre(1:dim))//" [m]; they are the centres of the " &
+                    //"cylinder's two end faces")
+                return
+            end if
+        else
+            call item%get_section(key, round_keys, sec, error, required=.true.)
+            if (allocated(error)) return
+            call sec%get_vector("center", dim, body%centre, error, required=.true., unit="m")
+            if (allocated(error)) return
+        end if
+        call sec%get_real("radius", body%radius, error, required=.true., above=0.0_wp, unit="m")
+        if (allocated(error)) return
+        if (body%shape == shape_cylinder) then
+            ! the end discs reach radius * sqrt(1 - (axis_a / length)^2) along axis a
+            reach = body%radius*sqrt(max(0.0_wp, 1.0_wp - (axis/length)**2))
+            body%xmin = min(body%centre, body%axis_end) - reach
+            body%xmax = max(body%centre, body%axis_end) + reach
+        else
+            body%xmin = body%centre - body%radius
+            body%xmax = body%centre + body%radius
+        end if
+        body%xmin(dim + 1:) = 0.0_wp
+        body%xmax(dim + 1:) = 0.0_wp
+    end subroutine read_body_shape
+
+    !> Whether a body's object gives an analytic shape.
+    logical function has_shape(item)
+        type(cursor_type), intent(in) :: item
+            !! the body's object
+
+        has_shape = item%has("circle") .or. item%has("sphere") .or. item%has("cylinder")
+    end function has_shape
+
+    !> Whether a point lies inside a body's analytic shape (its boundary included).
+    pure logical function inside_shape(body, x)
+        type(body_spec_type), intent(in) :: body
+            !! a body with a shape
+        real(wp), intent(in) :: x(3)
+            !! the point (0 on unused axes) [m]
+
+        real(wp) :: axis(3), t, length2, d(3)
+
+        select case (body%shape)
+        case (shape_circle, shape_sphere)
+            inside_shape = sum((x - body%centre)**2) <= body%radius**2
+        case (shape_cylinder)
+            axis = body%axis_end - body%centre
+            length2 = sum(axis**2)
+            t = dot_product(x - body%centre, axis)/length2
+            d = x - body%centre - t*axis
+            inside_shape = t >= 0.0_wp .and. t <= 1.0_wp .and. sum(d**2) <= body%radius**2
+        case default
+            inside_shape = .false.
+        end select
+    end function inside_shape
+
+    !> Whether a body is a box (every site of its range holds a particle).
+    pure logical function is_box(body)
+        type(body_spec_type), intent(in) :: body
+            !! the body
+
+        is_box = .not. allocated(body%triangle) .and. body%shape == shape_none
+    end function is_box
 
     !> Geometric checks of body `i`: a proper box, inside the domain, holding particles and
     !> sharing no particle site with the bodies before it (two boxes: no common volume).
@@ -376,6 +532,10 @@ contains
                 corner = "the bounding box of the polygon, corner"
                 what = "the polygon (bounding box "//fmt_box(body%xmin(1:dim), &
                     body%xmax(1:dim))//" [m])"
+            else if (body%shape /= shape_none) then
+                corner = "the bounding box of the "//trim(shape_names(body%shape))//", corner"
+                what = "the "//trim(shape_names(body%shape))//" (bounding box " &
+                    //fmt_box(body%xmin(1:dim), body%xmax(1:dim))//" [m])"
             else if (allocated(body%triangle)) then
                 corner = "the bounding box of the surface '"//body%file//"', corner"
                 what = "the closed surface '"//body%file//"' (bounding box " &
@@ -395,13 +555,13 @@ contains
             upper(1:dim) = domain%origin(1:dim) + domain%ncells(1:dim)*domain%dx
             if (any(body%xmin(1:dim) < lower(1:dim) - tol)) then
                 call root%fail(error, label//": "//corner//" min = " &
-                    //fmt_vector(body%xmin(1:dim))//" lies outside the domain " &
+                    //corner_text(body%xmin(1:dim))//" lies outside the domain " &
                     //fmt_box(lower(1:dim), upper(1:dim), domain_digits)//" [m]")
                 return
             end if
             if (any(body%xmax(1:dim) > upper(1:dim) + tol)) then
                 call root%fail(error, label//": "//corner//" max = " &
-                    //fmt_vector(body%xmax(1:dim))//" lies outside the domain " &
+                    //corner_text(body%xmax(1:dim))//" lies outside the domain " &
                     //fmt_box(lower(1:dim), upper(1:dim), domain_digits)//" [m]")
                 return
             end if
@@ -422,7 +582,7 @@ contains
                 associate (other => bodies(j))
                     if (.not. all(min(body%xmax(1:dim), other%xmax(1:dim)) &
                         - max(body%xmin(1:dim), other%xmin(1:dim)) > tol)) cycle
-                    if (.not. (allocated(body%triangle) .or. allocated(other%triangle))) then
+                    if (is_box(body) .and. is_box(other)) then
                         call root%fail(error, label//" overlaps bodies["//int_text(j) &
                             //'] "'//other%name//'": the boxes ' &
                             //fmt_box(body%xmin(1:dim), body%xmax(1:dim))//" and " &
@@ -449,6 +609,20 @@ contains
                 end associate
             end do
         end associate
+    contains
+
+        !> A corner as given, or computed from a shape's centre and radius (without round-off).
+        function corner_text(v) result(text)
+            real(wp), intent(in) :: v(:)
+            character(len=:), allocatable :: text
+
+            if (bodies(i)%shape /= shape_none) then
+                text = fmt_vector(v, domain_digits)
+            else
+                text = fmt_vector(v)
+            end if
+        end function corner_text
+
     end subroutine check_body_box
 
 end module mpm_case_bodies

@@ -17,7 +17,7 @@ submodule (mpm_case) mpm_case_reader
     use mpm_material, only: material_holder_type, material_key_width, key_path_width
     use mpm_material_registry, only: material_models, material_choices, material_choice_codes, &
         keys_of
-    use mpm_case_bodies, only: read_bodies, body_keys
+    use mpm_case_bodies, only: read_bodies, body_keys, round_keys, cylinder_keys
     use mpm_case_sites, only: body_site_count, body_shared_sites
     use mpm_case_states, only: read_states
     use mpm_case_solver, only: read_solver, solver_keys
@@ -108,6 +108,9 @@ contains
             call add_key_paths(list, material, sections)
         end do
         call add_key_paths(list, "bodies[]", body_keys)
+        call add_key_paths(list, "bodies[].circle", round_keys)
+        call add_key_paths(list, "bodies[].sphere", round_keys)
+        call add_key_paths(list, "bodies[].cylinder", cylinder_keys)
         call add_key_paths(list, "solver", solver_keys)
         call add_key_paths(list, "time", time_keys)
         call add_key_paths(list, "damping", damping_keys)

@@ -9,7 +9,7 @@ module mpm_case_sites
     use mpm_error, only: error_type, fatal_error, exit_other
     use mpm_case_domain, only: domain_section_type
     use mpm_case_particles, only: particles_section_type, dist_random
-    use mpm_case_bodies, only: body_spec_type
+    use mpm_case_bodies, only: body_spec_type, is_box, inside_shape, shape_none
     implicit none
     private
     public :: body_site_count, body_shared_sites, body_sites, body_subcell_range, &
@@ -183,7 +183,7 @@ contains
             first = first + product(max(0, u(1:dim) - l(1:dim) + 1))
         end do
         call body_subcell_range(dim, domain, particles, bodies(b), lo, hi)
-        if (.not. allocated(bodies(b)%triangle)) return
+        if (is_box(bodies(b))) return
         allocate (inside(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)), stat=stat, errmsg=msg)
         if (stat /= 0) then
             call fatal_error(error, "cannot allocate the sites of body '" &
@@ -192,8 +192,48 @@ contains
         end if
         inside = .false.
         if (any(hi(1:dim) < lo(1:dim))) return
-        call fill_surface(dim, domain, particles, bodies(b)%triangle, lo, hi, first, inside, error)
+        if (bodies(b)%shape /= shape_none) then
+            call fill_shape(dim, domain, particles, bodies(b), lo, hi, first, inside)
+        else
+            call fill_surface(dim, domain, particles, bodies(b)%triangle, lo, hi, first, &
+                inside, error)
+        end if
     end subroutine body_sites
+
+    !> Mark the sites whose particle lies inside a body's analytic shape (see body_sites).
+    pure subroutine fill_shape(dim, domain, particles, body, lo, hi, first, inside)
+        integer, intent(in) :: dim
+            !! number of space dimensions
+        type(domain_section_type), intent(in) :: domain
+            !! the grid
+        type(particles_section_type), intent(in) :: particles
+            !! particles per cell and their placement
+        type(body_spec_type), intent(in) :: body
+            !! the body
+        integer, intent(in) :: lo(3)
+            !! first sub-cell along each axis
+        integer, intent(in) :: hi(3)
+            !! last sub-cell along each axis
+        integer, intent(in) :: first
+            !! sites of the bodies before this one
+        logical, intent(inout) :: inside(lo(1):, lo(2):, lo(3):)
+            !! site holds a particle
+
+        integer :: i, j, k, n
+        real(wp) :: h
+
+        h = domain%dx/real(particles%ppc, wp)
+        n = first
+        do k = lo(3), hi(3)
+            do j = lo(2), hi(2)
+                do i = lo(1), hi(1)
+                    n = n + 1
+                    inside(i, j, k) = inside_shape(body, particle_position(dim, domain, &
+                        particles, [i, j, k], n, h))
+                end do
+            end do
+        end do
+    end subroutine fill_shape
 
     !> Mark the sites whose particle lies inside a closed surface (see body_sites).
     subroutine fill_surface(dim, domain, particles, triangle, lo, hi, first, inside, error)

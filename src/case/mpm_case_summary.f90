@@ -3,7 +3,7 @@ submodule (mpm_case) mpm_case_summary
     use mpm_kinds, only: i8
     use mpm_strings, only: int_text, fmt_real, fmt_vector, fmt_box, int_list, text_or, yes_no
     use mpm_case_domain, only: axis_names
-    use mpm_case_bodies, only: domain_digits
+    use mpm_case_bodies, only: domain_digits, shape_none, shape_circle, shape_cylinder
     use mpm_case_sites, only: body_site_count
     use mpm_case_stability, only: start_time_step
     use mpm_case_output_fields, only: output_fields, nfields
@@ -79,6 +79,14 @@ contains
                     if (allocated(body%polygon)) then
                         line = line//"polygon of "//int_text(size(body%polygon, 2)) &
                             //" vertices in "
+                    else if (body%shape == shape_cylinder) then
+                        line = line//"cylinder from "//fmt_vector(body%centre(1:dim))//" to " &
+                            //fmt_vector(body%axis_end(1:dim))//", radius " &
+                            //fmt_real(body%radius)//" m, in "
+                    else if (body%shape /= shape_none) then
+                        line = line//trim(merge("circle", "sphere", body%shape == shape_circle)) &
+                            //" of centre "//fmt_vector(body%centre(1:dim))//", radius " &
+                            //fmt_real(body%radius)//" m, in "
                     else if (allocated(body%file)) then
                         if (len(body%file) > 0) line = line//"surface '"//body%file//"' in "
                     end if

@@ -3,7 +3,7 @@
 !> message (code exit_input) that names the key path, the bad value and what is allowed.
 !> The values of valid cases are tested in test_mpm_case.
 program test_mpm_case_errors
-    use mpm_kinds, only: wp
+    use mpm_kinds, only: wp, i8
     use mpm_error, only: exit_input
     use mpm_case, only: case_type
     use mpm_case_stability, only: critical_time_step, p_wave_speed
@@ -25,6 +25,7 @@ program test_mpm_case_errors
     call test_body_errors()
     call test_stl_body_errors()
     call test_polygon_body_errors()
+    call test_shape_bodies()
     call test_time_errors()
     call test_section_errors()
     call test_document_errors()
@@ -193,11 +194,11 @@ contains
         call expect_error(suite, case_text(bodies='"bodies": [{"name": "s", "material": "soil", ' &
             //cube//', "min": [0, 0], "max": [0.1, 0.1]}]'), [character(len=200) :: &
             'bodies[1] "s"', "give one of 'file' (a closed STL surface), 'min' and 'max' " &
-            //"(a box) or 'polygon', not several"], &
+            //"(a box), 'polygon', 'circle', 'sphere' or 'cylinder', not several"], &
             "STL body with min and max")
         call expect_error(suite, case_text(bodies='"bodies": [{"name": "s", "material": "soil"}]'), &
             [character(len=200) :: 'bodies[1] "s"', "give one of 'min' and 'max' (a box), " &
-            //"'polygon' (2D) or 'file'", &
+            //"'polygon' or 'circle' (2D), 'sphere' or 'cylinder' (3D) or 'file'", &
             "none was given"], "body with neither file nor min/max")
         call expect_error(suite, case_text(bodies='"bodies": [{"name": "s", "material": "soil", ' &
             //'"min": [0, 0], "max": [0.1, 0.1], "scale": 2}]'), [character(len=200) :: &
@@ -280,13 +281,77 @@ contains
             "a polygon outside the domain")
         call expect_error(suite, case_text(bodies='"bodies": [{"name": "p", "material": "soil", ' &
             //'"min": [0, 0], "polygon": [[0, 0], [0.2, 0], [0.2, 0.1]]}]'), &
-            [character(len=200) :: "give either 'polygon' or 'min' and 'max' (a box), not both"], &
-            "a polygon and a box")
+            [character(len=200) :: "give one of 'polygon', 'min' and 'max' (a box) or " &
+            //"'circle', not several"], "a polygon and a box")
         call expect_error(suite, case_text(domain='"dimension": 3, "domain": {"nx": 4, ' &
             //'"ny": 2, "nz": 2, "dx": 0.1}', bodies='"bodies": [{"material": "soil", ' &
             //'"polygon": [[0, 0], [0.2, 0], [0.2, 0.1]]}]'), [character(len=200) :: &
             "bodies[1].polygon: a polygon body is two-dimensional"], "a polygon in 3D")
     end subroutine test_polygon_body_errors
+
+    !> Circles, spheres and cylinders: the particles inside them, and what is refused.
+    subroutine test_shape_bodies()
+        type(case_type) :: case
+        character(len=*), parameter :: domain_3d = '"dimension": 3, "domain": {"nx": 10, ' &
+            //'"ny": 10, "nz": 10, "dx": 0.1}'
+        integer(i8) :: n
+        real(wp) :: expected
+
+        ! a circle of radius 0.3 m, dx 0.01 m, ppc 2: about pi r^2 / h^2 particles
+        call read_valid(suite, '{"domain": {"nx": 100, "ny": 100, "dx": 0.01}, '//materials_1 &
+            //', "bodies": [{"material": "soil", "circle": {"center": [0.5, 0.5], "radius": ' &
+            //'0.3}}], '//time_1//'}', case, "circle body")
+        expected = acos(-1.0_wp)*0.3_wp**2/0.005_wp**2
+        n = case%bodies(1)%particles
+        call check(suite, abs(real(n, wp)/expected - 1.0_wp) < 2.0e-3_wp, "circle: pi r^2 / h^2 " &
+            //"particles (0.2 %)")
+        call check_close(suite, case%bodies(1)%xmin(1), 0.2_wp, tol, "circle: bounding box")
+        ! a sphere of radius 0.4 m in a 1 m cube, dx 0.1, ppc 2: 4/3 pi r^3 / h^3
+        call read_valid(suite, '{'//domain_3d//', '//materials_1//', "bodies": [{"material": ' &
+            //'"soil", "sphere": {"center": [0.5, 0.5, 0.5], "radius": 0.4}}], '//time_1//'}', &
+            case, "sphere body")
+        expected = 4.0_wp/3.0_wp*acos(-1.0_wp)*0.4_wp**3/0.05_wp**3
+        n = case%bodies(1)%particles
+        call check(suite, abs(real(n, wp)/expected - 1.0_wp) < 0.03_wp, "sphere: 4/3 pi r^3 / h^3 " &
+            //"particles (3 %: 1072 sites)")
+        ! a cylinder along x, radius 0.3, length 0.8, beside a box it does not touch
+        call read_valid(suite, '{'//domain_3d//', '//materials_1//', "bodies": [{"material": ' &
+            //'"soil", "cylinder": {"start": [0.1, 0.5, 0.5], "end": [0.9, 0.5, 0.5], ' &
+            //'"radius": 0.3}}, {"material": "soil", "min": [0, 0, 0], "max": [1, 1, 0.1]}], ' &
+            //time_1//'}', case, "cylinder body")
+        expected = acos(-1.0_wp)*0.3_wp**2*0.8_wp/0.05_wp**3
+        n = case%bodies(1)%particles
+        call check(suite, abs(real(n, wp)/expected - 1.0_wp) < 0.03_wp, "cylinder: pi r^2 L / " &
+            //"h^3 particles (3 %)")
+        call check_close(suite, case%bodies(1)%xmin(2), 0.2_wp, tol, "cylinder: bounding box")
+        ! refused
+        call expect_error(suite, case_text(bodies='"bodies": [{"material": "soil", "sphere": ' &
+            //'{"center": [0.2, 0.1], "radius": 0.05}}]'), [character(len=200) :: &
+            "bodies[1].sphere: a sphere is a 3D body; in a 2D case give a 'circle'"], "sphere in 2D")
+        call expect_error(suite, case_text(bodies='"bodies": [{"material": "soil", "circle": ' &
+            //'{"center": [0.2, 0.1], "radius": 0}}]'), [character(len=200) :: &
+            "bodies[1].circle.radius = 0 is out of range: must be > 0 [m]"], "zero radius")
+        call expect_error(suite, case_text(bodies='"bodies": [{"material": "soil", "circle": ' &
+            //'{"center": [0.2, 0.1], "radius": 0.15}}]'), [character(len=200) :: &
+            "the bounding box of the circle, corner min = (0.05, -0.05) lies outside the domain"], &
+            "circle outside the domain")
+        call expect_error(suite, case_text(bodies='"bodies": [{"material": "soil", "circle": ' &
+            //'{"center": [0.2, 0.1], "radius": 0.05}, "min": [0, 0]}]'), [character(len=200) :: &
+            "give one of 'circle', 'min' and 'max' (a box), 'polygon' or 'file', not several"], &
+            "circle and box")
+        call expect_error(suite, case_text(bodies='"bodies": [{"material": "soil", "circle": ' &
+            //'{"centre": [0.2, 0.1], "radius": 0.05}}]'), [character(len=200) :: &
+            "unknown key 'bodies[1].circle.centre'"], "circle key misspelt")
+        call expect_error(suite, case_text(domain=domain_3d, bodies='"bodies": [{"material": ' &
+            //'"soil", "cylinder": {"start": [0.5, 0.5, 0.5], "end": [0.5, 0.5, 0.5], ' &
+            //'"radius": 0.1}}]'), [character(len=200) :: "bodies[1].cylinder: start and end " &
+            //"are the same point"], "cylinder of no length")
+        call expect_error(suite, case_text(bodies='"bodies": [{"name": "a", "material": "soil", ' &
+            //'"circle": {"center": [0.1, 0.1], "radius": 0.08}}, {"name": "b", "material": ' &
+            //'"soil", "circle": {"center": [0.2, 0.1], "radius": 0.08}}]'), [character(len=200) :: &
+            'bodies[2] "b" overlaps bodies[1] "a"', "particle sites lie in both"], &
+            "overlapping circles")
+    end subroutine test_shape_bodies
 
     subroutine test_time_errors()
         type(case_type) :: case
