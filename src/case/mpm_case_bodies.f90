@@ -19,7 +19,7 @@ module mpm_case_bodies
 
     character(len=*), parameter :: body_keys(*) = [character(len=8) :: "name", "material", &
         "min", "max", "velocity", "file", "scale", "offset", "polygon", "circle", "sphere", &
-        "cylinder"]
+        "cylinder", "top", "bottom"]
         !! keys of an item of `bodies`
     character(len=*), parameter :: round_keys(*) = [character(len=6) :: "center", "radius"]
         !! keys of `bodies[i].circle` and `bodies[i].sphere`
@@ -74,6 +74,12 @@ module mpm_case_bodies
             !! centre of the end face of a cylinder [m]
         real(wp) :: radius = 0.0_wp
             !! radius of the shape [m]
+        character(len=:), allocatable :: bottom_file
+            !! a layer's lower surface (STL file; `file` holds its upper one); not allocated for
+            !! other bodies
+        real(wp), allocatable :: bottom(:, :, :)
+            !! a layer's lower surface (coordinate, corner, triangle), after scale and offset;
+            !! `triangle` holds its upper one [m]
         integer(i8) :: particles = -1
             !! particles the body holds, counted by the reader (-1: not counted)
     end type body_spec_type
@@ -190,7 +196,10 @@ contains
                         //material_list(materials))
                     return
                 end if
-                if (item%has("file")) then
+                if (item%has("top") .or. item%has("bottom")) then
+                    call read_body_layer(item, dim, body, error)
+                    if (allocated(error)) return
+                else if (item%has("file")) then
                     call read_body_surface(item, dim, body, error)
                     if (allocated(error)) return
                 else if (item%has("polygon")) then
@@ -204,8 +213,8 @@ contains
                         .or. item%has("max"))) then
                         call root%fail(error, path//' "'//body%name//'": give one of ' &
                             //"'min' and 'max' (a box), 'polygon' or 'circle' (2D), 'sphere' " &
-                            //"or 'cylinder' (3D) or 'file' (a closed STL surface); none was " &
-                            //"given")
+                            //"or 'cylinder' (3D), 'file' (a closed STL surface) or 'top' and " &
+                            //"'bottom' (a layer); none was given")
                         return
                     end if
                     do j = 1, 2
@@ -302,6 +311,102 @@ contains
                 //"is its section by the plane z = 0, which must cross the surface")
         end if
     end subroutine read_body_surface
+
+    !> A layer between two surfaces (`top`, `bottom`: STL files of height fields, e.g. a
+    !> terrain and a slip surface, with the body's `scale` and `offset`): the particles below
+    !> the top surface and above the bottom one, where both lie above and below them. Its
+    !> bounding box spans the two surfaces' common horizontal extent and their heights.
+    subroutine read_body_layer(item, dim, body, error)
+        type(cursor_type), intent(in) :: item
+            !! the body's object ("bodies[i]")
+        integer, intent(in) :: dim
+            !! number of space dimensions
+        type(body_spec_type), intent(inout) :: body
+            !! the body (name set)
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(stl_mesh_type) :: top, bottom
+        character(len=:), allocatable :: label
+        character(len=*), parameter :: others(*) = [character(len=8) :: "min", "max", &
+            "polygon", "file", "circle", "sphere", "cylinder"]
+        integer :: k, w
+
+        label = item%path//' "'//body%name//'"'
+        do k = 1, size(others)
+            if (item%has(trim(others(k)))) then
+                call item%fail(error, label//": give one of 'top' and 'bottom' (a layer), " &
+                    //"'min' and 'max' (a box), 'polygon', 'file' or a shape, not several ('" &
+                    //trim(others(k))//"' is given too)")
+                return
+            end if
+        end do
+        call item%get_real("scale", body%scale, error, above=0.0_wp)
+        if (allocated(error)) return
+        call item%get_vector("offset", 3, body%offset, error, unit="m")
+        if (allocated(error)) return
+        call read_layer_surface(item, "top", body%scale, body%offset, body%file, top, error)
+        if (allocated(error)) return
+        call read_layer_surface(item, "bottom", body%scale, body%offset, body%bottom_file, &
+            bottom, error)
+        if (allocated(error)) return
+        w = dim
+        body%xmin = max(top%lo, bottom%lo)
+        body%xmax = min(top%hi, bottom%hi)
+        body%xmin(w) = bottom%lo(w)
+        body%xmax(w) = top%hi(w)
+        if (dim == 2) then
+            if (.not. (max(top%lo(3), bottom%lo(3)) < 0.0_wp .and. &
+                0.0_wp < min(top%hi(3), bottom%hi(3)))) then
+                call item%fail(error, label//": the surfaces 'top' and 'bottom' must both cross " &
+                    //"the plane z = 0 (a 2D layer is their section by it)")
+                return
+            end if
+            body%xmin(3) = 0.0_wp
+            body%xmax(3) = 0.0_wp
+        end if
+        if (any(body%xmin(1:dim - 1) >= body%xmax(1:dim - 1))) then
+            call item%fail(error, label//": the surfaces 'top' ("//body%file//") and 'bottom' (" &
+                //body%bottom_file//") have no horizontal extent in common (bounding boxes " &
+                //fmt_box(top%lo(1:dim), top%hi(1:dim))//" and "//fmt_box(bottom%lo(1:dim), &
+                bottom%hi(1:dim))//" [m])")
+            return
+        end if
+        call move_alloc(top%vertex, body%triangle)
+        call move_alloc(bottom%vertex, body%bottom)
+    end subroutine read_body_layer
+
+    !> One surface of a layer: the STL file of `key`, read with the body's scale and offset.
+    subroutine read_layer_surface(item, key, scale, offset, file, mesh, error)
+        type(cursor_type), intent(in) :: item
+            !! the body's object
+        character(len=*), intent(in) :: key
+            !! "top" or "bottom"
+        real(wp), intent(in) :: scale, offset(3)
+            !! the body's scale [m per unit] and offset [m]
+        character(len=:), allocatable, intent(out) :: file
+            !! the file named
+        type(stl_mesh_type), intent(out) :: mesh
+            !! its triangles
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        type(error_type), allocatable :: stl_error
+        logical :: exists
+
+        file = ""
+        call item%get_path(key, 0, file, error, required=.true.)
+        if (allocated(error)) return
+        inquire (file=file, exist=exists)
+        if (len(file) == 0 .or. .not. exists) then
+            call item%fail(error, item%key_path(key)//": STL file '"//file//"' not found " &
+                //"(a relative path is taken from the current working directory)")
+            return
+        end if
+        call read_stl(file, mesh, stl_error, scale, offset, item%key_path(key))
+        if (allocated(stl_error)) call fatal_error(error, item%src//": "//stl_error%message, &
+            stl_error%code)
+    end subroutine read_layer_surface
 
     !> A 2D polygon body (`polygon`): its vertices, refused when it is not simple (edges that
     !> cross or touch, a repeated vertex) or has no area, or with `min`, `max`, `scale` or
@@ -536,6 +641,10 @@ contains
                 corner = "the bounding box of the "//trim(shape_names(body%shape))//", corner"
                 what = "the "//trim(shape_names(body%shape))//" (bounding box " &
                     //fmt_box(body%xmin(1:dim), body%xmax(1:dim))//" [m])"
+            else if (allocated(body%bottom)) then
+                corner = "the bounding box of the layer, corner"
+                what = "the layer between '"//body%file//"' and '"//body%bottom_file &
+                    //"' (bounding box "//fmt_box(body%xmin(1:dim), body%xmax(1:dim))//" [m])"
             else if (allocated(body%triangle)) then
                 corner = "the bounding box of the surface '"//body%file//"', corner"
                 what = "the closed surface '"//body%file//"' (bounding box " &

@@ -194,11 +194,55 @@ contains
         if (any(hi(1:dim) < lo(1:dim))) return
         if (bodies(b)%shape /= shape_none) then
             call fill_shape(dim, domain, particles, bodies(b), lo, hi, first, inside)
+        else if (allocated(bodies(b)%bottom)) then
+            call fill_layer(dim, domain, particles, bodies(b), lo, hi, first, inside, error)
         else
             call fill_surface(dim, domain, particles, bodies(b)%triangle, lo, hi, first, &
                 inside, error)
         end if
     end subroutine body_sites
+
+    !> Mark the sites of a layer: their particle lies below the top surface (which its line
+    !> crosses, no crossing below it) and above the bottom one (a crossing below it).
+    subroutine fill_layer(dim, domain, particles, body, lo, hi, first, inside, error)
+        integer, intent(in) :: dim
+            !! number of space dimensions
+        type(domain_section_type), intent(in) :: domain
+            !! the grid
+        type(particles_section_type), intent(in) :: particles
+            !! particles per cell and their placement
+        type(body_spec_type), intent(in) :: body
+            !! the layer
+        integer, intent(in) :: lo(3)
+            !! first sub-cell along each axis
+        integer, intent(in) :: hi(3)
+            !! last sub-cell along each axis
+        integer, intent(in) :: first
+            !! sites of the bodies before this one
+        logical, intent(inout) :: inside(lo(1):, lo(2):, lo(3):)
+            !! site holds a particle
+        type(error_type), allocatable, intent(out) :: error
+            !! set when memory cannot be allocated
+
+        integer, allocatable :: below_top(:, :, :), all_top(:, :, :), below_bottom(:, :, :)
+        integer :: stat
+        character(len=256) :: msg
+
+        allocate (below_top, all_top, below_bottom, mold=merge(0, 0, inside), stat=stat, &
+            errmsg=msg)
+        if (stat /= 0) then
+            call fatal_error(error, "cannot allocate the sites of body '"//body%name//"': " &
+                //trim(msg), exit_other)
+            return
+        end if
+        call fill_surface(dim, domain, particles, body%triangle, lo, hi, first, inside, error, &
+            below_top, all_top)
+        if (allocated(error)) return
+        call fill_surface(dim, domain, particles, body%bottom, lo, hi, first, inside, error, &
+            below_bottom)
+        if (allocated(error)) return
+        inside = all_top > 0 .and. below_top == 0 .and. below_bottom > 0
+    end subroutine fill_layer
 
     !> Mark the sites whose particle lies inside a body's analytic shape (see body_sites).
     pure subroutine fill_shape(dim, domain, particles, body, lo, hi, first, inside)
@@ -236,7 +280,8 @@ contains
     end subroutine fill_shape
 
     !> Mark the sites whose particle lies inside a closed surface (see body_sites).
-    subroutine fill_surface(dim, domain, particles, triangle, lo, hi, first, inside, error)
+    subroutine fill_surface(dim, domain, particles, triangle, lo, hi, first, inside, error, &
+            below_count, column_count)
         integer, intent(in) :: dim
             !! number of space dimensions
         type(domain_section_type), intent(in) :: domain
@@ -255,6 +300,10 @@ contains
             !! site holds a particle (false on entry)
         type(error_type), allocatable, intent(out) :: error
             !! set when memory cannot be allocated
+        integer, intent(out), optional :: below_count(lo(1):, lo(2):, lo(3):)
+            !! per site, the crossings of its line below its particle
+        integer, intent(out), optional :: column_count(lo(1):, lo(2):, lo(3):)
+            !! per site, all the crossings of its line
 
         integer :: va, wa, nu, nv, ncol, t, iu, iv, c, m, s(3), n, k, stat, below
         integer :: range(2, 2)
@@ -333,6 +382,8 @@ contains
                     end if
                     below = count(crossing(1:m) < x(wa))
                     inside(s(1), s(2), s(3)) = modulo(below, 2) == 1
+                    if (present(below_count)) below_count(s(1), s(2), s(3)) = below
+                    if (present(column_count)) column_count(s(1), s(2), s(3)) = m
                 end do
             end do
         end do

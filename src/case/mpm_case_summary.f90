@@ -87,6 +87,9 @@ contains
                         line = line//trim(merge("circle", "sphere", body%shape == shape_circle)) &
                             //" of centre "//fmt_vector(body%centre(1:dim))//", radius " &
                             //fmt_real(body%radius)//" m, in "
+                    else if (allocated(body%bottom_file)) then
+                        line = line//"layer below '"//body%file//"' above '"//body%bottom_file &
+                            //"' in "
                     else if (allocated(body%file)) then
                         if (len(body%file) > 0) line = line//"surface '"//body%file//"' in "
                     end if

@@ -198,7 +198,7 @@ contains
             "STL body with min and max")
         call expect_error(suite, case_text(bodies='"bodies": [{"name": "s", "material": "soil"}]'), &
             [character(len=200) :: 'bodies[1] "s"', "give one of 'min' and 'max' (a box), " &
-            //"'polygon' or 'circle' (2D), 'sphere' or 'cylinder' (3D) or 'file'", &
+            //"'polygon' or 'circle' (2D), 'sphere' or 'cylinder' (3D), 'file'", &
             "none was given"], "body with neither file nor min/max")
         call expect_error(suite, case_text(bodies='"bodies": [{"name": "s", "material": "soil", ' &
             //'"min": [0, 0], "max": [0.1, 0.1], "scale": 2}]'), [character(len=200) :: &
@@ -351,6 +351,29 @@ contains
             //'"soil", "circle": {"center": [0.2, 0.1], "radius": 0.08}}]'), [character(len=200) :: &
             'bodies[2] "b" overlaps bodies[1] "a"', "particle sites lie in both"], &
             "overlapping circles")
+        ! a layer between two height fields
+        call read_valid(suite, '{"domain": {"nx": 40, "ny": 20, "dx": 0.01}, '//materials_1 &
+            //', "bodies": [{"material": "soil", "top": "tests/data/stl/layer_top.stl", ' &
+            //'"bottom": "tests/data/stl/layer_bottom.stl"}], '//time_1//'}', case, "layer body")
+        ! the sites (i + 1/2, j + 1/2) h, h = 5 mm, with x <= 0.375 and 0.0625 + 0.25 x < y <
+        ! 0.1875: 1134 (counted site by site; the area / h^2 is 1171.9, the top at a site edge)
+        n = case%bodies(1)%particles
+        call check(suite, n == 1134_i8, "layer: the 1134 sites between the surfaces")
+        call check_close(suite, case%bodies(1)%xmax(1), 0.375_wp, tol, "layer: the surfaces' " &
+            //"common extent")
+        call check_close(suite, case%bodies(1)%xmin(2), 0.0625_wp, tol, "layer: from the " &
+            //"bottom surface's lowest point")
+        call expect_error(suite, case_text(bodies='"bodies": [{"material": "soil", "top": ' &
+            //'"tests/data/stl/layer_top.stl"}]'), [character(len=200) :: &
+            "missing required key 'bodies[1].bottom'"], "layer without bottom")
+        call expect_error(suite, case_text(bodies='"bodies": [{"material": "soil", "top": ' &
+            //'"tests/data/stl/layer_top.stl", "bottom": "tests/data/stl/none.stl"}]'), &
+            [character(len=200) :: "bodies[1].bottom: STL file 'tests/data/stl/none.stl' not " &
+            //"found"], "layer bottom missing")
+        call expect_error(suite, case_text(bodies='"bodies": [{"material": "soil", "top": ' &
+            //'"tests/data/stl/layer_top.stl", "bottom": "tests/data/stl/layer_bottom.stl", ' &
+            //'"min": [0, 0]}]'), [character(len=200) :: "give one of 'top' and 'bottom' (a " &
+            //"layer)"], "layer and box")
     end subroutine test_shape_bodies
 
     subroutine test_time_errors()
