@@ -11,15 +11,16 @@ module mpm_case_bodies
     use mpm_case_domain, only: domain_section_type
     use mpm_case_particles, only: particles_section_type
     use mpm_case_materials, only: material_spec_type, material_index, material_list
+    use mpm_case_particle_list, only: particle_list_type, read_particle_list
     implicit none
     private
     public :: body_spec_type, read_bodies, body_keys, body_count_interface, &
         body_overlap_interface, domain_digits, round_keys, cylinder_keys, inside_shape, &
         is_box, shape_none, shape_circle, shape_sphere, shape_cylinder
 
-    character(len=*), parameter :: body_keys(*) = [character(len=8) :: "name", "material", &
+    character(len=*), parameter :: body_keys(*) = [character(len=13) :: "name", "material", &
         "min", "max", "velocity", "file", "scale", "offset", "polygon", "circle", "sphere", &
-        "cylinder", "top", "bottom"]
+        "cylinder", "top", "bottom", "particle_list"]
         !! keys of an item of `bodies`
     character(len=*), parameter :: round_keys(*) = [character(len=6) :: "center", "radius"]
         !! keys of `bodies[i].circle` and `bodies[i].sphere`
@@ -80,6 +81,8 @@ module mpm_case_bodies
         real(wp), allocatable :: bottom(:, :, :)
             !! a layer's lower surface (coordinate, corner, triangle), after scale and offset;
             !! `triangle` holds its upper one [m]
+        type(particle_list_type), allocatable :: list
+            !! the particles of a `particle_list` body (its sites are none)
         integer(i8) :: particles = -1
             !! particles the body holds, counted by the reader (-1: not counted)
     end type body_spec_type
@@ -196,7 +199,10 @@ contains
                         //material_list(materials))
                     return
                 end if
-                if (item%has("top") .or. item%has("bottom")) then
+                if (item%has("particle_list")) then
+                    call read_body_list(item, dim, domain, materials, body, error)
+                    if (allocated(error)) return
+                else if (item%has("top") .or. item%has("bottom")) then
                     call read_body_layer(item, dim, body, error)
                     if (allocated(error)) return
                 else if (item%has("file")) then
@@ -213,8 +219,8 @@ contains
                         .or. item%has("max"))) then
                         call root%fail(error, path//' "'//body%name//'": give one of ' &
                             //"'min' and 'max' (a box), 'polygon' or 'circle' (2D), 'sphere' " &
-                            //"or 'cylinder' (3D), 'file' (a closed STL surface) or 'top' and " &
-                            //"'bottom' (a layer); none was given")
+                            //"or 'cylinder' (3D), 'file' (a closed STL surface), 'top' and " &
+                            //"'bottom' (a layer) or 'particle_list'; none was given")
                         return
                     end if
                     do j = 1, 2
@@ -311,6 +317,41 @@ contains
                 //"is its section by the plane z = 0, which must cross the surface")
         end if
     end subroutine read_body_surface
+
+    !> A body of listed particles (`particle_list`, a CSV file; mpm_case_particle_list): no
+    !> other geometry key; its min/max become the bounding box of the positions.
+    subroutine read_body_list(item, dim, domain, materials, body, error)
+        type(cursor_type), intent(in) :: item
+            !! the body's object ("bodies[i]")
+        integer, intent(in) :: dim
+            !! number of space dimensions
+        type(domain_section_type), intent(in) :: domain
+            !! the grid
+        type(material_spec_type), intent(in) :: materials(:)
+            !! the case's materials
+        type(body_spec_type), intent(inout) :: body
+            !! the body (name and material set)
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        character(len=*), parameter :: others(*) = [character(len=8) :: "min", "max", &
+            "polygon", "file", "circle", "sphere", "cylinder", "top", "bottom", "scale", "offset"]
+        integer :: k
+
+        do k = 1, size(others)
+            if (item%has(trim(others(k)))) then
+                call item%fail(error, item%path//' "'//body%name//'": a particle_list body ' &
+                    //"takes its particles from the file; remove '"//trim(others(k))//"'")
+                return
+            end if
+        end do
+        allocate (body%list)
+        call read_particle_list(item, dim, domain, materials, body%material, body%list, error)
+        if (allocated(error)) return
+        body%xmin = minval(body%list%x, dim=2)
+        body%xmax = maxval(body%list%x, dim=2)
+        body%particles = size(body%list%volume, kind=i8)
+    end subroutine read_body_list
 
     !> A layer between two surfaces (`top`, `bottom`: STL files of height fields, e.g. a
     !> terrain and a slip surface, with the body's `scale` and `offset`): the particles below
@@ -629,6 +670,8 @@ contains
         integer(i8) :: count, shared
 
         tol = box_tolerance*domain%dx
+        ! listed particles: each checked by the reader; no lattice, no overlap test
+        if (allocated(bodies(i)%list)) return
         associate (body => bodies(i))
             label = "bodies["//int_text(i)//'] "'//body%name//'"'
             corner = "corner"
@@ -688,6 +731,7 @@ contains
                 return
             end if
             do j = 1, i - 1
+                if (allocated(bodies(j)%list)) cycle
                 associate (other => bodies(j))
                     if (.not. all(min(body%xmax(1:dim), other%xmax(1:dim)) &
                         - max(body%xmin(1:dim), other%xmin(1:dim)) > tol)) cycle

@@ -165,6 +165,7 @@ contains
             !! first error found
 
         type(cursor_type) :: root
+        integer :: i
 
         case%file = src
         case%contact%type = "none"
@@ -205,6 +206,14 @@ contains
         call read_initial_stress(root, case%dim, case%gravity, case%materials, case%load_state, &
             case%initial_stress, error)
         if (allocated(error)) return
+        if (case%initial_stress%type == initial_k0 .and. allocated(case%bodies)) then
+            if (any([(allocated(case%bodies(i)%list), i=1, size(case%bodies))])) then
+                call root%fail(error, 'initial_stress.type = "k0" weighs the bodies filled ' &
+                    //"on the lattice; a particle_list body gives its particles' stresses in " &
+                    //"its columns sxx, syy, ...: remove initial_stress or the list")
+                return
+            end if
+        end if
         call read_loads(root, case%dim, case%domain, case%materials, case%loads, error)
         if (allocated(error)) return
         call read_motions(root, case%dim, case%domain, case%motions, error)

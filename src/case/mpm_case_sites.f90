@@ -140,6 +140,8 @@ contains
             lo(a) = max(0, ceiling((body%xmin(a) - domain%origin(a))/h - 0.5_wp))
             hi(a) = min(nsub - 1, ceiling((body%xmax(a) - domain%origin(a))/h - 0.5_wp) - 1)
         end do
+        ! a particle list has no sites
+        if (allocated(body%list)) hi = lo - 1
     end subroutine body_subcell_range
 
     !> Sites (sub-cells, see body_subcell_range) of body b and, for an STL body, which of

@@ -87,6 +87,10 @@ contains
                         line = line//trim(merge("circle", "sphere", body%shape == shape_circle)) &
                             //" of centre "//fmt_vector(body%centre(1:dim))//", radius " &
                             //fmt_real(body%radius)//" m, in "
+                    else if (allocated(body%list)) then
+                        line = line//"particle list '"//body%list%file//"'"
+                        if (allocated(body%list%stress)) line = line//" with stresses"
+                        line = line//" in "
                     else if (allocated(body%bottom_file)) then
                         line = line//"layer below '"//body%file//"' above '"//body%bottom_file &
                             //"' in "

@@ -4,6 +4,7 @@ module mpm_bodies
     use mpm_error, only: error_type, fatal_error, exit_other
     use mpm_case, only: case_type, initial_k0
     use mpm_case_sites, only: body_site_count, body_sites, particle_position
+    use mpm_case_particle_list, only: particle_list_type
     use mpm_particles, only: particles_type, new_particles
     implicit none
     private
@@ -32,8 +33,12 @@ contains
         integer, intent(in) :: b
             !! body index
 
-        count_body_particles = body_site_count(case%dim, case%domain, case%particles, &
-            case%bodies, b)
+        if (allocated(case%bodies(b)%list)) then
+            count_body_particles = size(case%bodies(b)%list%volume, kind=i8)
+        else
+            count_body_particles = body_site_count(case%dim, case%domain, case%particles, &
+                case%bodies, b)
+        end if
     end function count_body_particles
 
     !> Create the particles of every body: positions, volumes, masses, velocities, sizes,
@@ -69,7 +74,9 @@ contains
             call body_sites(case%dim, case%domain, case%particles, case%bodies, b, sites(b)%lo, &
                 sites(b)%hi, first, sites(b)%inside, error)
             if (allocated(error)) return
-            if (allocated(sites(b)%inside)) then
+            if (allocated(case%bodies(b)%list)) then
+                total = total + size(case%bodies(b)%list%volume, kind=i8)
+            else if (allocated(sites(b)%inside)) then
                 total = total + count(sites(b)%inside, kind=i8)
             else
                 total = total + product(int(max(0, sites(b)%hi(1:dim) - sites(b)%lo(1:dim) &
@@ -144,8 +151,43 @@ contains
                         end do
                     end do
                 end associate
+                if (allocated(case%bodies(b)%list)) call add_listed(case%bodies(b)%list)
             end do
         end do
+
+    contains
+
+        !> The particles of a list (after the lattice ones of the same body).
+        subroutine add_listed(list)
+            type(particle_list_type), intent(in) :: list
+
+            integer :: r, m
+
+            do r = 1, size(list%volume)
+                p = p + 1
+                if (present(slab)) then
+                    a = global_cell_of(case, list%x(slab(1), r), slab(1))
+                    if (a < slab(2) .or. a >= slab(3)) cycle
+                end if
+                q = q + 1
+                if (present(slab) .and. pass == 1) cycle
+                if (present(slab)) particles%id(q) = p
+                m = list%material(r)
+                particles%x(:, q) = list%x(1:dim, r)
+                particles%v(:, q) = case%bodies(b)%velocity(1:dim)
+                particles%volume(q) = list%volume(r)
+                particles%volume0(q) = list%volume(r)
+                particles%mass(q) = case%materials(m)%density*list%volume(r)
+                particles%lp0(:, q) = 0.5_wp*list%volume(r)**(1.0_wp/real(dim, wp))
+                particles%material(q) = m
+                if (allocated(list%stress)) particles%stress(:, q) = list%stress(:, r)
+                if (allocated(case%materials(m)%law)) then
+                    call case%materials(m)%law%initial_state(list%x(1:dim, r), &
+                        particles%state(:, q))
+                end if
+            end do
+        end subroutine add_listed
+
     end subroutine create_particles
 
     !> For each site of a polygon or surface body, the sites of the body above it in its
@@ -287,6 +329,12 @@ contains
                     end do
                 end do
             end do
+            if (allocated(case%bodies(b)%list)) then
+                do i = 1, size(case%bodies(b)%list%volume)
+                    c = global_cell_of(case, case%bodies(b)%list%x(a, i), a)
+                    histogram(c) = histogram(c) + 1
+                end do
+            end if
         end do
     end subroutine body_cell_histogram
 
