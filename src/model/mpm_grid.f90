@@ -64,6 +64,16 @@ module mpm_grid
             !! face (side, axis) of each pair (2, nprescribed)
         real(wp), allocatable :: prescribed_velocity(:, :)
             !! velocity the face gives the node (dim, nprescribed) [m/s]
+        integer :: nheld = 0
+            !! number of (node, holding face) pairs: nodes of the faces that hold components
+            !! at zero (sliding, fixed), for their reactions
+        integer, allocatable :: held_node(:)
+            !! node of each pair (nheld)
+        integer, allocatable :: held_face(:, :)
+            !! face (side, axis) of each pair (2, nheld)
+        logical, allocatable :: held_mask(:, :)
+            !! the components whose reaction the pair's face books: those it holds that no
+            !! face before it holds (a corner's component goes to one face) (dim, nheld)
         integer :: nregion_nodes = 0
             !! number of nodes moved by the regions of prescribed_motion in this step
             !! (mpm_motion marks them at the start of each step and releases them at its end)
@@ -89,7 +99,8 @@ module mpm_grid
             !! face (side, axis) of each pair (2, nacting)
         real(wp) :: face_impulse(3, 2, 3) = 0.0_wp
             !! impulse each face (side, axis) gave the material in the last nodal update, over
-            !! this image's nodes (node_owned); zero but at velocity faces [N s]
+            !! this image's nodes (node_owned): the velocity faces' and the holding faces' (the
+            !! force on their held components); zero at the others [N s]
         integer :: ncontacts = 0
             !! number of (node, frictional face) pairs
         integer, allocatable :: contact_node(:)
@@ -203,7 +214,7 @@ contains
         type(error_type), allocatable, intent(out) :: error
             !! set when memory cannot be allocated
 
-        integer :: stat, i, j, k, a, id, d, side, face, c, n, m, lo(3), hi(3)
+        integer :: stat, i, j, k, a, id, d, side, face, c, n, m, h, lo(3), hi(3)
         character(len=256) :: msg
         type(face_nodes_type) :: nodes(2, 3)
 
@@ -257,11 +268,14 @@ contains
                 if (nodes(side, a)%prescribed) grid%nprescribed = grid%nprescribed &
                     + grid%nnodes/grid%nn(a)
                 if (nodes(side, a)%acts) grid%nacting = grid%nacting + grid%nnodes/grid%nn(a)
+                if (holds(nodes(side, a))) grid%nheld = grid%nheld + grid%nnodes/grid%nn(a)
             end do
         end do
         allocate (grid%prescribed_node(grid%nprescribed), &
             grid%prescribed_face(2, grid%nprescribed), &
             grid%acting_node(grid%nacting), grid%acting_face(2, grid%nacting), &
+            grid%held_node(grid%nheld), grid%held_face(2, grid%nheld), &
+            grid%held_mask(d, grid%nheld), &
             grid%prescribed_velocity(d, grid%nprescribed), &
             grid%contact_node(grid%ncontacts), grid%contact_axis(grid%ncontacts), &
             grid%contact_normal(grid%ncontacts), grid%contact_dir(d, grid%ncontacts), &
@@ -281,6 +295,7 @@ contains
         c = 0
         n = 0
         m = 0
+        h = 0
         do a = 1, d
             do side = 1, 2
                 face = merge(0, grid%nn(a) - 1, side == 1)
@@ -293,6 +308,13 @@ contains
                     do j = lo(2), hi(2)
                         do i = lo(1), hi(1)
                             id = node_index(grid, [i, j, k])
+                            if (holds(nodes(side, a))) then
+                                h = h + 1
+                                grid%held_node(h) = id
+                                grid%held_face(:, h) = [side, a]
+                                grid%held_mask(:, h) = nodes(side, a)%held(1:d) &
+                                    .and. .not. grid%constrained(:, id)
+                            end if
                             grid%constrained(:, id) = grid%constrained(:, id) &
                                 .or. nodes(side, a)%held(1:d)
                             if (nodes(side, a)%prescribed) then
@@ -320,6 +342,17 @@ contains
                 end do
             end do
         end do
+
+    contains
+
+        !> A face whose nodes hold components at zero (not a velocity face, which books its
+        !> reaction as prescribed).
+        pure logical function holds(face_nodes)
+            type(face_nodes_type), intent(in) :: face_nodes
+
+            holds = any(face_nodes%held(1:d)) .and. .not. face_nodes%prescribed
+        end function holds
+
     end subroutine new_grid
 
     !> Frictional contact with a rigid terrain surface: every node within two cells of the

@@ -1,5 +1,5 @@
 !> The energy history of a run, history.csv: its header and one line per output of the
-!> energies (mpm_energy), followed by the reactions of the velocity faces and the reactions
+!> energies (mpm_energy), followed by the reactions of the faces that hold their nodes (sliding, fixed, velocity) and the reactions
 !> and displacements of the regions of prescribed_motion. Written through the C library
 !> (mpm_filesystem::text_file_type): gfortran does not report a write to a full disk.
 module mpm_history
@@ -57,10 +57,10 @@ contains
             call put_line(unit, trim(line))
             return
         end if
-        ! the reaction of each velocity face, after the energies
+        ! the reaction of each holding face, after the energies
         do axis = 1, sim%case%dim
             do side = 1, 2
-                if (.not. is_velocity_face(sim%case, side, axis)) cycle
+                if (.not. has_reaction(sim%case, side, axis)) cycle
                 do d = 1, sim%case%dim
                     write (value, "(',',es23.15e3)") sim%face_reaction(d, side, axis)
                     line = trim(line)//value
@@ -84,7 +84,7 @@ contains
         call put_line(unit, trim(line))
     end subroutine write_history
 
-    !> The columns of the reactions of the velocity faces in history.csv,
+    !> The columns of the reactions of the holding faces in history.csv,
     !> ",reaction_ymax_x,reaction_ymax_y", then the reaction and displacement of each region
     !> of prescribed_motion, ",reaction_footing_x,...,displacement_footing_y" (empty without
     !> either).
@@ -99,7 +99,7 @@ contains
         text = ""
         do axis = 1, case%dim
             do side = 1, 2
-                if (.not. is_velocity_face(case, side, axis)) cycle
+                if (.not. has_reaction(case, side, axis)) cycle
                 do d = 1, case%dim
                     text = text//",reaction_"//axes(axis:axis)//trim(merge("min", "max", &
                         side == 1))//"_"//axes(d:d)
@@ -116,8 +116,9 @@ contains
         end do
     end function reaction_header
 
-    !> Whether a face prescribes the velocity of its nodes (its reaction is a history column).
-    logical function is_velocity_face(case, side, axis)
+    !> Whether a face holds velocity components of its nodes (sliding, fixed, velocity): its
+    !> reaction is a history column.
+    logical function has_reaction(case, side, axis)
         type(case_type), intent(in) :: case
             !! resolved case
         integer, intent(in) :: side, axis
@@ -126,7 +127,7 @@ contains
         type(face_nodes_type) :: nodes
 
         nodes = case%domain%nodes(side, axis, case%dim)
-        is_velocity_face = nodes%prescribed
-    end function is_velocity_face
+        has_reaction = any(nodes%held(1:case%dim))
+    end function has_reaction
 
 end module mpm_history

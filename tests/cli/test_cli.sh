@@ -72,7 +72,7 @@ for f in small.xdmf history.csv particles_000000.h5; do
     [ -s "$tmp/run/$f" ] && ok || bad "run did not write $f"
 done
 [ -s "$tmp/state/small.h5" ] && ok || bad "save_state did not write the state file"
-head -1 "$tmp/run/history.csv" | grep -q "^time,step,kinetic_energy,elastic_energy,potential_energy,plastic_work,viscous_work,damping_work,friction_work,load_work,boundary_work,transfer_loss,total,residual$" \
+head -1 "$tmp/run/history.csv" | grep -q "^time,step,kinetic_energy,elastic_energy,potential_energy,plastic_work,viscous_work,damping_work,friction_work,load_work,boundary_work,transfer_loss,total,residual" \
     && ok || bad "history.csv header"
 nhist=$(wc -l < "$tmp/run/history.csv")
 [ "$nhist" -ge 3 ] && ok || bad "history.csv has $nhist lines"
@@ -209,7 +209,7 @@ cat > "$tmp/plate.json" <<'JSON'
 JSON
 expect 0 "prescribed motion" -- "$exe" "$tmp/plate.json" --output "$tmp/plate"
 contains 'prescribed_motion[1] "plate" has moved 0.12' "prescribed motion: half a cell noted"
-head -1 "$tmp/plate/history.csv" | grep -q ",residual,reaction_plate_x,reaction_plate_y,displacement_plate_x,displacement_plate_y$" \
+head -1 "$tmp/plate/history.csv" | grep -q ",reaction_plate_x,reaction_plate_y,displacement_plate_x,displacement_plate_y$" \
     && ok || bad "prescribed motion: history.csv columns of the region"
 
 # ParaView's readers on the outputs: tests/cli/test_paraview.sh

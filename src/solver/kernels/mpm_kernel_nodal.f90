@@ -145,6 +145,17 @@ contains
             end associate
             work = work + dot_product(impulse(1:dim), grid%prescribed_velocity(:, n))
         end do
+        ! the faces that hold components at zero: the force on those components (no work)
+        do n = 1, grid%nheld
+            id = grid%held_node(n)
+            if (grid%mass(id) <= grid%small_mass .or. .not. node_owned(grid, id)) cycle
+            impulse(1:dim) = merge(-dt*(grid%fint(:, id) + grid%fext(:, id) &
+                + grid%mass(id)*gravity(1:dim)), 0.0_wp, grid%held_mask(:, n))
+            associate (side => grid%held_face(1, n), axis => grid%held_face(2, n))
+                grid%face_impulse(1:dim, side, axis) = grid%face_impulse(1:dim, side, axis) &
+                    + impulse(1:dim)
+            end associate
+        end do
         ! the regions of prescribed_motion: the same, on the components they hold
         if (allocated(grid%region_impulse)) grid%region_impulse = 0.0_wp
         do n = 1, grid%nregion_nodes
