@@ -12,7 +12,8 @@ sigma_h = K0 sigma_v, no shear.
 Compared at every particle, at its initial height, at the end of the run: sigma_v and sigma_h
 against the closed form, relative to rho_s g dx (the size of a discretisation error of the
 stress; round-off is 1e-13 of it); the largest kinetic energy of the run against the elastic
-energy the column starts with; the largest displacement. Bands: 1e-9 for the stresses and the
+energy the column starts with; the largest displacement; the base's vertical reaction
+(history.csv) against the column's weight. Bands: 1e-9 for the stresses and the
 energy ratio (round-off, not discretisation: with regular particles the K0 state is the
 discrete equilibrium of the column), 1e-9 m for the displacement.
 
@@ -87,6 +88,9 @@ def main(argv=None):
     shear = float(np.max(np.abs(stress[:, 3])) / scale)
     kinetic = float(np.max(history["kinetic_energy"]) / history["elastic_energy"][0])
     moved = float(np.max(np.abs(end["displacement"])))
+    sand, clay = case["materials"]
+    weight = G * (sand["rho"] * 5.0 + clay["rho"] * 5.0) * 1.0      # per metre, 1 m wide
+    base = float(history["reaction_ymin_y"][-1])
     metrics = {
         "time_s": end["time"],
         "sigma_v_error_over_rho_g_dx": error_v,
@@ -95,6 +99,7 @@ def main(argv=None):
         "shear_over_rho_g_dx": shear,
         "kinetic_peak_over_elastic": kinetic,
         "largest_displacement_m": moved,
+        "base_reaction_over_weight": base / weight,
         "k0_sand": 0.5, "k0_clay": 0.3 / 0.7,
     }
     results = [
@@ -110,6 +115,9 @@ def main(argv=None):
                "(undamped)"),
         target("largest displacement [m]", moved, 0.0, "< 1e-9", moved < 1e-9, True,
                "no settlement at all"),
+        target("base reaction / weight - 1", base / weight - 1.0, 0.0, f"< {BAND:g}",
+               abs(base / weight - 1.0) < BAND, True,
+               "history.csv's reaction_ymin_y carries the column's weight"),
     ]
     passed = all(t["passed"] for t in results if t["gating"])
 
@@ -144,7 +152,7 @@ def main(argv=None):
         "headline": f"After 1 s undamped, the stresses equal the closed form to "
                     f"{max(error_v, error_h, error_z):.1e} of rho g dx; the largest kinetic "
                     f"energy is {kinetic:.1e} of the elastic energy and nothing moves "
-                    f"({moved:.1e} m).",
+                    f"({moved:.1e} m); the base carries the weight to {abs(base / weight - 1):.0e}.",
         "setup": {"rows": [
             ["column", "1 m x 10 m, sliding walls, fixed base; gravity 9.81 m/s2"],
             ["sand", "0 to 5 m: mohr_coulomb rho 2000, E 50 MPa, nu 0.3, phi 30, c 0: K0 = 0.5"],
