@@ -158,7 +158,7 @@ contains
         real(wp), intent(in) :: factor
             !! strength reduction factor F > 0 [-]
         logical, intent(out) :: reduced
-            !! true: the material has a strength
+            !! whether it has a strength to reduce (it has)
 
         call set_up(self, reduced_strength(self%strength, factor), self%cone)
         reduced = .true.

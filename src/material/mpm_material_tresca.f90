@@ -160,7 +160,7 @@ contains
         if (allocated(error)) return
         if (self%softening == softening_none) then
             if (softening%has("sensitivity") .or. softening%has("strain")) call item%fail(error, &
-                softening%path//'.sensitivity and .strain only apply to softening.type = ' &
+                softening%path//".sensitivity and .strain only apply to softening.type = " &
                 //'"linear" or "exponential" (here "none"); remove them')
             return
         end if
@@ -258,7 +258,7 @@ contains
         real(wp), intent(in) :: factor
             !! strength reduction factor F > 0 [-]
         logical, intent(out) :: reduced
-            !! true: the material has a strength
+            !! whether it has a strength to reduce (it has)
 
         self%su = self%su/factor
         self%su_gradient = self%su_gradient/factor
