@@ -227,7 +227,7 @@ contains
                         if (item%has(trim(body_stl_keys(j)))) then
                             call root%fail(error, path//"."//trim(body_stl_keys(j)) &
                                 //" only applies to a body given by 'file' (a closed STL " &
-                                //"surface); remove it")
+                                //"surface) or by 'top' and 'bottom' (a layer); remove it")
                             return
                         end if
                     end do

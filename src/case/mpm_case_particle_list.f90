@@ -57,7 +57,8 @@ contains
         type(material_spec_type), intent(in) :: materials(:)
             !! the case's materials
         integer, intent(in) :: default_material
-            !! the body's `material` (0 when it gives none)
+            !! the body's `material` (required), the material of the particles when the file
+            !! has no material column
         type(particle_list_type), intent(out) :: list
             !! the particles read
         type(error_type), allocatable, intent(out) :: error
@@ -131,12 +132,6 @@ contains
             close (unit)
             return
         end do
-        if (material_column == 0 .and. default_material == 0) then
-            call item%fail(error, item%path//": give the body a 'material' or the list a " &
-                //"material column")
-            close (unit)
-            return
-        end if
         allocate (list%x(3, 1024), list%volume(1024), list%material(1024))
         if (stress_column(1) > 0) allocate (list%stress(nstress, 1024))
         allocate (values(size(fields)))
@@ -146,8 +141,13 @@ contains
         row = 1
         do
             read (unit, "(a)", iostat=ios, iomsg=msg) line
-            if (ios /= 0) exit
+            if (is_iostat_end(ios)) exit
             row = row + 1
+            if (ios /= 0) then
+                call item%fail(error, where//": line "//int_text(row)//" cannot be read: " &
+                    //trim(msg))
+                exit
+            end if
             if (len_trim(line) == 0) cycle
             call split_fields(line, fields)
             if (size(fields) /= size(values)) then
@@ -222,6 +222,7 @@ contains
         !> A material by name or by its position in `materials`.
         integer function material_of(text)
             character(len=*), intent(in) :: text
+                !! a material's name or its position in `materials`
 
             integer :: kind2
             real(wp) :: number

@@ -191,6 +191,17 @@ contains
         if (allocated(error)) return
         call read_states(root, case%save_state, case%load_state, error)
         if (allocated(error)) return
+        if (len(case%load_state) > 0) then
+            do i = 1, size(case%materials)
+                if (.not. allocated(case%materials(i)%law)) cycle
+                if (.not. case%materials(i)%law%needs_initial_state()) cycle
+                call root%fail(error, "materials["//int_text(i)//'] "'//case%materials(i)%name &
+                    //'"'//" takes a state from the initial position of each particle (a " &
+                    //"strength growing with depth), which the state file of load_state does " &
+                    //"not keep; start the case from its bodies, or give a constant strength")
+                return
+            end do
+        end if
         call read_bodies(root, case%dim, case%domain, case%particles, case%materials, &
             case%load_state, body_site_count, body_shared_sites, case%bodies, error)
         if (allocated(error)) return

@@ -49,7 +49,7 @@ contains
         type(body_spec_type), intent(in) :: bodies(:)
             !! bodies of the case
 
-        integer :: b
+        integer :: b, m
         real(wp) :: speed, viscous
 
         speed = 0.0_wp
@@ -59,6 +59,14 @@ contains
                 speed = max(speed, p_wave_speed(mat) + norm2(bodies(b)%velocity(1:dim)))
                 viscous = min(viscous, viscous_time_step(mat, dx, dim))
             end associate
+            ! a particle list: the materials of its particles too
+            if (allocated(bodies(b)%list)) then
+                do m = 1, size(materials)
+                    if (.not. any(bodies(b)%list%material == m)) cycle
+                    speed = max(speed, p_wave_speed(materials(m)) + norm2(bodies(b)%velocity(1:dim)))
+                    viscous = min(viscous, viscous_time_step(materials(m), dx, dim))
+                end do
+            end if
         end do
         if (speed > 0.0_wp) then
             critical_time_step = min(dx/speed, viscous)
@@ -93,6 +101,11 @@ contains
                 dt = critical_time_step(dim, dx, materials, bodies)
                 do b = 1, size(bodies)
                     limit = min(limit, viscous_time_step(materials(bodies(b)%material), dx, dim))
+                    if (.not. allocated(bodies(b)%list)) cycle
+                    do m = 1, size(materials)
+                        if (any(bodies(b)%list%material == m)) limit = min(limit, &
+                            viscous_time_step(materials(m), dx, dim))
+                    end do
                 end do
                 viscous = limit < huge(1.0_wp) .and. dt >= limit
                 return

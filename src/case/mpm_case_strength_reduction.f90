@@ -63,6 +63,12 @@ contains
             found=found)
         if (allocated(error) .or. .not. found) return
         section%enabled = .true.
+        if (root%has("save_state")) then
+            call cur%fail(error, "strength_reduction runs the case once per trial; save_state " &
+                //"would write every trial's state over the last one: remove save_state (each " &
+                //"trial's particles are in its folder)")
+            return
+        end if
         call cur%get_real("factor_min", section%factor_min, error, above=0.0_wp)
         if (allocated(error)) return
         call cur%get_real("factor_max", section%factor_max, error, above=section%factor_min)

@@ -74,6 +74,9 @@ module mpm_material
         procedure :: initial_state => material_initial_state
             !! the state variables of a new particle at its initial position (default: none
             !! set, zero): a strength that varies with depth
+        procedure :: needs_initial_state => material_needs_initial_state
+            !! whether initial_state gives a particle state a state file does not keep (its
+            !! initial position): such a material cannot start from load_state (default no)
         procedure :: reduce_strength => material_reduce_strength
             !! divide the shear strength by a factor (strength reduction, factor of safety):
             !! tan(phi) and c of a frictional material, Su of an undrained one; `reduced`
@@ -244,6 +247,13 @@ contains
         real(wp), intent(inout) :: state(:)
             !! its state variables (zero on entry)
     end subroutine material_initial_state
+
+    !> Default: the state of a particle needs nothing of its creation.
+    pure logical function material_needs_initial_state(self)
+        class(material_type), intent(in) :: self
+            !! the material
+        material_needs_initial_state = .false.
+    end function material_needs_initial_state
 
     !> Default: no strength to reduce (an elastic solid, a fluid); the material is unchanged.
     pure subroutine material_reduce_strength(self, factor, reduced)

@@ -11,7 +11,9 @@
 !>   (q = sqrt(3 J2) = 2 Su), the usual match in 3D.
 !>
 !> Su grows with depth: Su(z) = Su + Su_gradient max(Su_elevation - z, 0), z the particle's
-!> initial elevation (y in 2D, z in 3D), fixed at its creation (state(2)). Softening to the
+!> initial elevation (y in 2D, z in 3D), kept from its creation (state(2)); a state file
+!> (load_state) keeps no such elevation, so a gradient with load_state is refused (the
+!> constant Su needs no state). Softening to the
 !> residual Su / St (St the sensitivity) with the accumulated plastic shear strain, linear or
 !> exponential (`mpm_softening`).
 !>
@@ -21,7 +23,7 @@
 !> adds dl / sqrt(3) to the equivalent plastic shear strain, as for Drucker-Prager.
 !>
 !> State of a particle: state(1) = accumulated equivalent plastic shear strain [-], state(2) =
-!> its peak Su at its initial depth [Pa].
+!> its initial elevation [m] (used with a gradient only).
 !>
 !> `materials[i].type = "tresca"`: keys `E`, `nu`, `rho` (`mpm_elastic_solid`), `Su`,
 !> `Su_gradient`, `Su_elevation`, `match` and `softening` {`type`, `sensitivity`, `strain`}.
@@ -78,6 +80,7 @@ module mpm_material_tresca
         procedure :: nstate => tresca_nstate
         procedure :: work_kind => tresca_work_kind
         procedure :: initial_state => tresca_initial_state
+        procedure :: needs_initial_state => tresca_needs_initial_state
         procedure :: reduce_strength => tresca_reduce_strength
         !> The strength at a depth and after a plastic shear strain.
         procedure :: strength_at => tresca_strength_at
@@ -239,7 +242,14 @@ contains
         tresca_work_kind = work_plastic
     end function tresca_work_kind
 
-    !> A new particle's peak Su from its initial elevation (the last axis).
+    !> With a gradient, Su depends on each particle's initial elevation.
+    pure logical function tresca_needs_initial_state(self)
+        class(tresca_material_type), intent(in) :: self
+            !! the material
+        tresca_needs_initial_state = self%su_gradient > 0.0_wp
+    end function tresca_needs_initial_state
+
+    !> A new particle's initial elevation (the last axis), from which its Su follows.
     pure subroutine tresca_initial_state(self, x, state)
         class(tresca_material_type), intent(in) :: self
             !! the material
@@ -248,8 +258,20 @@ contains
         real(wp), intent(inout) :: state(:)
             !! its state variables
 
-        state(2) = self%su + self%su_gradient*max(self%su_elevation - x(size(x)), 0.0_wp)
+        state(2) = x(size(x))
     end subroutine tresca_initial_state
+
+    !> The peak Su of a particle of initial elevation z0.
+    pure real(wp) function peak_su(self, z0)
+        class(tresca_material_type), intent(in) :: self
+            !! the material
+        real(wp), intent(in) :: z0
+            !! initial elevation [m]
+
+        peak_su = self%su
+        if (self%su_gradient > 0.0_wp) peak_su = self%su + self%su_gradient &
+            *max(self%su_elevation - z0, 0.0_wp)
+    end function peak_su
 
     !> Strength reduction: Su and its gradient divided by F.
     pure subroutine tresca_reduce_strength(self, factor, reduced)
@@ -295,13 +317,13 @@ contains
         real(wp), intent(in) :: dt
             !! time step [s] (unused: rate independent)
         real(wp), intent(inout) :: state(:)
-            !! state(1) plastic shear strain [-], state(2) peak Su [Pa]
+            !! state(1) plastic shear strain [-], state(2) initial elevation [m]
 
         real(wp) :: k, m, rho, dev(6)
         integer :: n
 
         n = size(stress)
-        k = self%strength_at(state(2), state(1))
+        k = self%strength_at(peak_su(self, state(2)), state(1))
         call add_elastic_trial(self, stress, dstrain, omega)
         call mean_and_deviator(stress, m, dev(1:n), rho)
         if (rho <= k) return

@@ -64,6 +64,9 @@ module mpm_grid
             !! face (side, axis) of each pair (2, nprescribed)
         real(wp), allocatable :: prescribed_velocity(:, :)
             !! velocity the face gives the node (dim, nprescribed) [m/s]
+        logical, allocatable :: prescribed_mask(:, :)
+            !! the components whose reaction the pair's face books: those no face before it
+            !! holds (a corner's component goes to one face) (dim, nprescribed)
         integer :: nheld = 0
             !! number of (node, holding face) pairs: nodes of the faces that hold components
             !! at zero (sliding, fixed), for their reactions
@@ -215,6 +218,7 @@ contains
             !! set when memory cannot be allocated
 
         integer :: stat, i, j, k, a, id, d, side, face, c, n, m, h, lo(3), hi(3)
+        logical :: before(3)
         character(len=256) :: msg
         type(face_nodes_type) :: nodes(2, 3)
 
@@ -277,6 +281,7 @@ contains
             grid%held_node(grid%nheld), grid%held_face(2, grid%nheld), &
             grid%held_mask(d, grid%nheld), &
             grid%prescribed_velocity(d, grid%nprescribed), &
+            grid%prescribed_mask(d, grid%nprescribed), &
             grid%contact_node(grid%ncontacts), grid%contact_axis(grid%ncontacts), &
             grid%contact_normal(grid%ncontacts), grid%contact_dir(d, grid%ncontacts), &
             grid%contact_mu(grid%ncontacts), &
@@ -308,12 +313,13 @@ contains
                     do j = lo(2), hi(2)
                         do i = lo(1), hi(1)
                             id = node_index(grid, [i, j, k])
+                            before(1:d) = grid%constrained(:, id)
                             if (holds(nodes(side, a))) then
                                 h = h + 1
                                 grid%held_node(h) = id
                                 grid%held_face(:, h) = [side, a]
                                 grid%held_mask(:, h) = nodes(side, a)%held(1:d) &
-                                    .and. .not. grid%constrained(:, id)
+                                    .and. .not. before(1:d)
                             end if
                             grid%constrained(:, id) = grid%constrained(:, id) &
                                 .or. nodes(side, a)%held(1:d)
@@ -322,6 +328,7 @@ contains
                                 grid%prescribed_node(n) = id
                                 grid%prescribed_face(:, n) = [side, a]
                                 grid%prescribed_velocity(:, n) = nodes(side, a)%velocity(1:d)
+                                grid%prescribed_mask(:, n) = .not. before(1:d)
                             end if
                             if (nodes(side, a)%acts) then
                                 m = m + 1

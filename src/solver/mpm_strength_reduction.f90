@@ -13,7 +13,7 @@
 module mpm_strength_reduction
     use, intrinsic :: iso_fortran_env, only: output_unit
     use mpm_kinds, only: wp
-    use mpm_error, only: error_type, fatal_error, exit_input
+    use mpm_error, only: error_type, fatal_error, exit_input, exit_interrupted
     use mpm_strings, only: int_text, fmt_real
     use mpm_case, only: case_type
     use mpm_case_output_fields, only: output_field_index
@@ -47,7 +47,8 @@ module mpm_strength_reduction
         type(trial_type), allocatable :: trials(:)
             !! every trial, in the order run
         real(wp) :: holds = 0.0_wp
-            !! largest factor at which the ground held (0: it failed at factor_min) [-]
+            !! largest factor at which the ground held (0: it failed at factor_min, the only
+            !! trial) [-]
         real(wp) :: fails = 0.0_wp
             !! smallest factor at which it failed (0: it held at factor_max) [-]
         real(wp) :: factor_of_safety = 0.0_wp
@@ -100,12 +101,14 @@ contains
             call trial(low, error)
             if (allocated(error)) return
             if (outcome%trials(1)%fails) then
+                outcome%fails = low
                 call finish(error)
                 return
             end if
             call trial(high, error)
             if (allocated(error)) return
             if (.not. outcome%trials(2)%fails) then
+                outcome%holds = high
                 call finish(error)
                 return
             end if
@@ -129,7 +132,9 @@ contains
         !> Run one trial at factor f and judge it.
         subroutine trial(f, error)
             real(wp), intent(in) :: f
+                !! the factor F [-]
             type(error_type), allocatable, intent(out) :: error
+                !! the trial's failure, if any
 
             type(case_type) :: reduced
             type(simulation_type) :: sim
@@ -148,8 +153,15 @@ contains
             reduced%output%fields(output_field_index("displacement")) = .true.
             call run_case(reduced, quiet_options, sim, summary, error)
             if (allocated(error)) then
-                if (len(error%message) > 0) error%message = "strength reduction trial at F = " &
-                    //fmt_real(f)//": "//error%message
+                if (error%code == exit_interrupted .and. len(error%message) > 0) then
+                    ! a trial's checkpoint cannot continue the analysis (--restart runs one case)
+                    error%message = "strength reduction stopped by a signal in trial " &
+                        //int_text(size(outcome%trials) + 1)//" (F = "//fmt_real(f)//"); the " &
+                        //"trials so far are in "//dir//"; run the analysis again to finish it"
+                else if (len(error%message) > 0) then
+                    error%message = "strength reduction trial at F = "//fmt_real(f)//": " &
+                        //error%message
+                end if
                 return
             end if
             t%displacement = 0.0_wp
@@ -170,6 +182,7 @@ contains
         !> The table of the trials and the verdict.
         subroutine finish(error)
             type(error_type), allocatable, intent(out) :: error
+                !! set when the table cannot be written
 
             type(text_file_type) :: table
             character(len=:), allocatable :: verdict

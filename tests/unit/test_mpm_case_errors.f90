@@ -479,6 +479,11 @@ contains
             //state_file//'", "gravity": [0, -9.81], "time": {"tend": 1}, "initial_stress": ' &
             //'{"type": "k0"}}', [character(len=200) :: 'initial_stress.type = "k0" cannot be ' &
             //"used with load_state"], "k0 with load_state")
+        call expect_error(suite, "{"//domain_2d//', "materials": [{"name": "soil", "type": ' &
+            //'"tresca", '//elastic_part//', "Su": 0, "Su_gradient": 1500, "Su_elevation": 0.2}]' &
+            //', "load_state": "'//state_file//'", "time": {"tend": 1}}', [character(len=200) :: &
+            'materials[1] "soil" takes a state from the initial position of each particle', &
+            "the state file of load_state does not keep"], "Su gradient with load_state")
         ! strength_reduction
         call expect_error(suite, case_text(extra='"strength_reduction": {"displacement_limit": ' &
             //'0.1}'), [character(len=200) :: "strength_reduction: no material of the case has " &

@@ -97,28 +97,56 @@ contains
     end subroutine triaxial_compression
 
     subroutine profile_and_softening()
-        type(tresca_material_type) :: mat
+        type(tresca_material_type) :: mat, soft
         real(wp) :: state(2)
         logical :: reduced
 
         call new_tresca_material(mat, young, poisson, 2000.0_wp, 1.0e4_wp, 2.0e3_wp, 5.0_wp, &
-            match_plane_strain, softening_linear, 2.0_wp, 0.1_wp)
+            match_plane_strain, softening_none, 1.0_wp, 0.0_wp)
         state = 0.0_wp
         call mat%initial_state([1.0_wp, 2.0_wp], state)
-        call check_close(suite, state(2), 1.6e4_wp, 1.0e-10_wp, "Su 3 m below: Su + 3 gradient")
-        state = 0.0_wp
-        call mat%initial_state([1.0_wp, 7.0_wp], state)
-        call check_close(suite, state(2), 1.0e4_wp, 1.0e-10_wp, "Su above its elevation: Su")
-        call check_close(suite, mat%strength_at(1.6e4_wp, 0.0_wp), 1.6e4_wp, 1.0e-10_wp, &
+        call check(suite, state(2) == 2.0_wp, "the initial elevation is the state")
+        call check(suite, mat%needs_initial_state(), "a gradient needs the initial elevation")
+        ! Su 3 m below the elevation: the first plastic step of pure shear returns to k = Su(z)
+        call check_close(suite, yield_radius(mat, 2.0_wp), 1.6e4_wp, 1.0e-10_wp, &
+            "Su 3 m below: Su + 3 gradient")
+        call check_close(suite, yield_radius(mat, 7.0_wp), 1.0e4_wp, 1.0e-10_wp, &
+            "Su above its elevation: Su")
+        call new_tresca_material(soft, young, poisson, 2000.0_wp, 1.0e4_wp, 2.0e3_wp, 5.0_wp, &
+            match_plane_strain, softening_linear, 2.0_wp, 0.1_wp)
+        call check_close(suite, soft%strength_at(1.6e4_wp, 0.0_wp), 1.6e4_wp, 1.0e-10_wp, &
             "peak strength")
-        call check_close(suite, mat%strength_at(1.6e4_wp, 0.05_wp), 1.2e4_wp, 1.0e-10_wp, &
+        call check_close(suite, soft%strength_at(1.6e4_wp, 0.05_wp), 1.2e4_wp, 1.0e-10_wp, &
             "linear softening halfway: 3/4 of the peak (St = 2)")
-        call check_close(suite, mat%strength_at(1.6e4_wp, 0.5_wp), 0.8e4_wp, 1.0e-10_wp, &
+        call check_close(suite, soft%strength_at(1.6e4_wp, 0.5_wp), 0.8e4_wp, 1.0e-10_wp, &
             "residual: peak / St")
         call mat%reduce_strength(2.0_wp, reduced)
         call check(suite, reduced .and. mat%su == 5.0e3_wp .and. mat%su_gradient == 1.0e3_wp, &
             "strength reduction divides Su and its gradient")
+        call check_close(suite, yield_radius(mat, 2.0_wp), 0.8e4_wp, 1.0e-10_wp, &
+            "a reduced particle's Su: (Su + 3 gradient) / F")
+        call new_tresca_material(mat, young, poisson, 2000.0_wp, 1.0e4_wp, 0.0_wp, 0.0_wp, &
+            match_plane_strain, softening_none, 1.0_wp, 0.0_wp)
+        call check(suite, .not. mat%needs_initial_state(), "a constant Su needs no state")
+        call check_close(suite, yield_radius(mat, 0.0_wp), 1.0e4_wp, 1.0e-10_wp, &
+            "constant Su whatever the state (a particle from load_state)")
     end subroutine profile_and_softening
+
+    !> sqrt(J2) after a large shear step from rest, for a particle of initial elevation z0:
+    !> the radius of the yield cylinder (no softening).
+    real(wp) function yield_radius(mat, z0)
+        type(tresca_material_type), intent(in) :: mat
+        real(wp), intent(in) :: z0
+
+        real(wp) :: stress(4), state(2), m, dev(4)
+
+        stress = -1.0e5_wp
+        stress(4) = 0.0_wp
+        state = [0.0_wp, z0]
+        call mat%update_stress(stress, [0.0_wp, 0.0_wp, 0.0_wp, 0.1_wp], [0.0_wp, 0.0_wp, &
+            0.0_wp], 1.0e-3_wp, state)
+        call mean_and_deviator(stress, m, dev, yield_radius)
+    end function yield_radius
 
     subroutine refused()
         character(len=*), parameter :: base = '"type": "tresca", "E": 1e6, "nu": 0.49, "rho": 1800'

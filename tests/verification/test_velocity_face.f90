@@ -25,6 +25,7 @@ program test_velocity_face
     call new_suite(suite, "velocity_face")
     call run_column("2D", 2)
     call run_column("3D", 3)
+    call asymmetric()
     call finish(suite)
 
 contains
@@ -122,5 +123,36 @@ contains
             ", work error ", sim%energy%loads/stored - 1, ", residual / work ", &
             energy_residual(sim%energy)/sim%energy%loads
     end subroutine run_column
+
+    !> A column against one sliding wall (xmin; xmax free), on a sliding base, pressed by a
+    !> velocity face: at rest the reactions of all faces balance, and the corner nodes' x
+    !> component, held by the wall and by the top, is booked once.
+    subroutine asymmetric()
+        type(case_type) :: case
+        type(simulation_type) :: sim
+        type(error_type), allocatable :: error
+        real(wp) :: rx, ry
+
+        call read_case_string('{"domain": {"nx": 4, "ny": 10, "dx": 0.1, "boundaries": ' &
+            //'{"xmin": "sliding", "ymin": "sliding", "ymax": {"type": "velocity", ' &
+            //'"velocity": [0, -4e-4]}}}, "particles": {"ppc": 2}, "materials": [{"name": ' &
+            //'"m", "type": "linear_elastic", "E": 1e6, "nu": 0.3, "rho": 1000}], "bodies": ' &
+            //'[{"material": "m", "min": [0, 0], "max": [0.2, 1.0]}], "gravity": [0, 0], ' &
+            //'"time": {"tend": 2.5, "cfl": 0.5}, "damping": {"type": "local", "value": 0.2}}', &
+            case, error)
+        if (.not. allocated(error)) call new_simulation(sim, case, error)
+        call check(suite, .not. allocated(error), "one-wall column starts")
+        if (allocated(error)) return
+        do while (sim%time < case%time%tend - 1.0e-12_wp .and. .not. allocated(error))
+            call advance(sim, min(stable_time_step(sim), case%time%tend - sim%time), error)
+        end do
+        rx = sum(sim%face_reaction(1, :, :))
+        ry = sum(sim%face_reaction(2, :, :))
+        call check(suite, abs(rx) < 0.02_wp*abs(sim%face_reaction(1, 1, 1)) .and. &
+            abs(sim%face_reaction(1, 1, 1)) > 0.0_wp, "one wall: the x reactions balance " &
+            //"within 2 % of the wall's (the corner booked once)")
+        call check(suite, abs(ry) < 0.02_wp*abs(sim%face_reaction(2, 1, 2)), &
+            "one wall: the y reactions balance within 2 % of the base's")
+    end subroutine asymmetric
 
 end program test_velocity_face

@@ -139,9 +139,10 @@ contains
             if (grid%mass(id) <= grid%small_mass .or. .not. node_owned(grid, id)) cycle
             impulse(1:dim) = -dt*(grid%fint(:, id) + grid%fext(:, id) &
                 + grid%mass(id)*gravity(1:dim))
+            ! (a component an earlier face holds is that face's reaction)
             associate (side => grid%prescribed_face(1, n), axis => grid%prescribed_face(2, n))
                 grid%face_impulse(1:dim, side, axis) = grid%face_impulse(1:dim, side, axis) &
-                    + impulse(1:dim)
+                    + merge(impulse(1:dim), 0.0_wp, grid%prescribed_mask(:, n))
             end associate
             work = work + dot_product(impulse(1:dim), grid%prescribed_velocity(:, n))
         end do
