@@ -269,7 +269,7 @@ contains
         type(stl_mesh_type) :: mesh
         type(error_type), allocatable :: stl_error
         character(len=:), allocatable :: path, label, message
-        logical :: exists, closed
+        logical :: closed
 
         path = item%path
         label = path//' "'//body%name//'"'
@@ -280,24 +280,12 @@ contains
                 //"not several")
             return
         end if
-        body%file = ""
-        call item%get_path("file", 0, body%file, error, required=.true.)
-        if (allocated(error)) return
-        inquire (file=body%file, exist=exists)
-        if (len(body%file) == 0 .or. .not. exists) then
-            call item%fail(error, path//".file: STL file '"//body%file//"' not found " &
-                //"(a relative path is taken from the current working directory)")
-            return
-        end if
         call item%get_real("scale", body%scale, error, above=0.0_wp)
         if (allocated(error)) return
         call item%get_vector("offset", 3, body%offset, error, unit="m")
         if (allocated(error)) return
-        call read_stl(body%file, mesh, stl_error, body%scale, body%offset, path//".file")
-        if (allocated(stl_error)) then
-            call fatal_error(error, item%src//": "//stl_error%message, stl_error%code)
-            return
-        end if
+        call read_surface_file(item, "file", body%scale, body%offset, body%file, mesh, error)
+        if (allocated(error)) return
         call check_closed(mesh, closed, message, stl_error)
         if (allocated(stl_error)) then
             call fatal_error(error, item%src//": "//stl_error%message, stl_error%code)
@@ -386,9 +374,9 @@ contains
         if (allocated(error)) return
         call item%get_vector("offset", 3, body%offset, error, unit="m")
         if (allocated(error)) return
-        call read_layer_surface(item, "top", body%scale, body%offset, body%file, top, error)
+        call read_surface_file(item, "top", body%scale, body%offset, body%file, top, error)
         if (allocated(error)) return
-        call read_layer_surface(item, "bottom", body%scale, body%offset, body%bottom_file, &
+        call read_surface_file(item, "bottom", body%scale, body%offset, body%bottom_file, &
             bottom, error)
         if (allocated(error)) return
         w = dim
@@ -417,8 +405,9 @@ contains
         call move_alloc(bottom%vertex, body%bottom)
     end subroutine read_body_layer
 
-    !> One surface of a layer: the STL file of `key`, read with the body's scale and offset.
-    subroutine read_layer_surface(item, key, scale, offset, file, mesh, error)
+    !> The STL file of `key` (`file`, or a layer's `top` or `bottom`), found and read with the
+    !> body's scale and offset.
+    subroutine read_surface_file(item, key, scale, offset, file, mesh, error)
         type(cursor_type), intent(in) :: item
             !! the body's object
         character(len=*), intent(in) :: key
@@ -447,7 +436,7 @@ contains
         call read_stl(file, mesh, stl_error, scale, offset, item%key_path(key))
         if (allocated(stl_error)) call fatal_error(error, item%src//": "//stl_error%message, &
             stl_error%code)
-    end subroutine read_layer_surface
+    end subroutine read_surface_file
 
     !> A 2D polygon body (`polygon`): its vertices, refused when it is not simple (edges that
     !> cross or touch, a repeated vertex) or has no area, or with `min`, `max`, `scale` or
