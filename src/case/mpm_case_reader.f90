@@ -227,7 +227,10 @@ contains
         end if
         call read_loads(root, case%dim, case%domain, case%materials, case%loads, error)
         if (allocated(error)) return
-        call read_motions(root, case%dim, case%domain, case%motions, error)
+        call read_motions(root, case%dim, case%domain, case%materials, &
+            materials_used(case%materials, case%bodies), case%motions, error)
+        if (allocated(error)) return
+        call check_deformable(root, case, error)
         if (allocated(error)) return
         call read_strength_reduction(root, case%materials, case%strength_reduction, error)
         if (allocated(error)) return
@@ -241,6 +244,52 @@ contains
         if (allocated(error)) return
         call read_guard(root, case%guard, error)
     end subroutine resolve_case
+
+    !> Whether some body holds particles of each material (its own or a list's).
+    pure function materials_used(materials, bodies) result(used)
+        type(material_spec_type), intent(in) :: materials(:)
+            !! the materials
+        type(body_spec_type), allocatable, intent(in) :: bodies(:)
+            !! the bodies (unallocated: the particles come from a state file, which may hold
+            !! any material)
+        logical :: used(size(materials))
+
+        integer :: b
+
+        used = .not. allocated(bodies)
+        if (.not. allocated(bodies)) return
+        do b = 1, size(bodies)
+            if (bodies(b)%material > 0) used(bodies(b)%material) = .true.
+            if (allocated(bodies(b)%list)) used(pack(bodies(b)%list%material, &
+                bodies(b)%list%material > 0)) = .true.
+        end do
+    end function materials_used
+
+    !> A case of rigid bodies has a deformable body too: a rigid body limits no time step, and
+    !> moves over the material it touches. Rigid bodies need one image (their motion is summed
+    !> over all their nodes in the middle of a step).
+    subroutine check_deformable(root, case, error)
+        type(cursor_type), intent(in) :: root
+            !! top-level object
+        type(case_type), intent(in) :: case
+            !! the case read so far
+        type(error_type), allocatable, intent(out) :: error
+            !! first error found
+
+        logical :: used(size(case%materials)), rigid(size(case%materials))
+        integer :: m
+
+        if (.not. any(case%motions%rigid > 0)) return
+        used = materials_used(case%materials, case%bodies)
+        do m = 1, size(case%materials)
+            rigid(m) = .false.
+            if (allocated(case%materials(m)%law)) rigid(m) = case%materials(m)%law%rigid()
+        end do
+        if (.not. any(used .and. .not. rigid)) then
+            call root%fail(error, "every body of the case is rigid; a rigid body moves over " &
+                //"the material it touches: give the case a body of a deformable material")
+        end if
+    end subroutine check_deformable
 
     !> `name`: default from the file name; it becomes a folder name, so keep it simple.
     subroutine read_name(root, default_name, name, error)

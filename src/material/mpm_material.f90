@@ -81,6 +81,9 @@ module mpm_material
             !! divide the shear strength by a factor (strength reduction, factor of safety):
             !! tan(phi) and c of a frictional material, Su of an undrained one; `reduced`
             !! is false for a material without a strength to reduce (the default)
+        procedure :: rigid => material_rigid
+            !! whether the particles of the material form one rigid body that moves as a
+            !! whole (mpm_material_rigid; default no: a deformable material)
     end type material_type
 
     !> Holder so that materials of different types fit in one array.
@@ -254,6 +257,13 @@ contains
             !! the material
         material_needs_initial_state = .false.
     end function material_needs_initial_state
+
+    !> Default: a deformable material.
+    pure logical function material_rigid(self)
+        class(material_type), intent(in) :: self
+            !! the material
+        material_rigid = .false.
+    end function material_rigid
 
     !> Default: no strength to reduce (an elastic solid, a fluid); the material is unchanged.
     pure subroutine material_reduce_strength(self, factor, reduced)

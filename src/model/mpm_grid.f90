@@ -93,6 +93,20 @@ module mpm_grid
         real(wp), allocatable :: region_impulse(:, :)
             !! impulse each region gave the material in the last nodal update, over this
             !! image's nodes (node_owned) (dim, regions) [N s]
+        integer, allocatable :: region_rigid(:)
+            !! the rigid material of each region that is a rigid body, 0 for a box (regions)
+        integer, allocatable :: region_mark(:)
+            !! the region that moves each node in this step, 0 for none (nodes; kept zero
+            !! between the steps)
+        real(wp), allocatable :: body_velocity(:, :)
+            !! velocity of each rigid body at the end of the step's nodal update (dim,
+            !! regions; zero for a box) [m/s]
+        real(wp), allocatable :: body_fill(:)
+            !! scratch of mpm_motion::hold_regions: the volume of a rigid body's particles
+            !! weighted by each node's shape function (nodes; kept zero between the steps)
+            !! [m3, m2 in 2D]
+        logical :: bodies_moved = .false.
+            !! whether the nodal update of this step has set body_velocity
         integer :: nacting = 0
             !! number of (node, acting face) pairs: nodes of faces whose condition acts on
             !! them after each nodal update (an absorbing face)

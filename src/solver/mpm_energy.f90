@@ -6,7 +6,7 @@ module mpm_energy
     use mpm_material, only: nwork_kinds, work_plastic, work_viscous
     use mpm_kernel_stress, only: nstress_sums
     use mpm_kernel_nodal, only: nnodal_sums, nodal_damping, nodal_friction, nodal_boundary, &
-        nodal_faces, nodal_absorbed
+        nodal_faces, nodal_absorbed, nodal_rigid
     implicit none
     private
     public :: energies_type, energy_total, energy_residual, energy_scale, energy_record, &
@@ -153,8 +153,10 @@ contains
         e%supplied = max(before%supplied, abs(e%potential) + abs(e%loads))
         e%damping = e%damping + nodal(nodal_damping)
         e%friction = e%friction + nodal(nodal_friction)
-        ! what the faces stop, and what leaves through the absorbing faces
-        e%boundary = e%boundary + nodal(nodal_boundary) + nodal(nodal_absorbed)
+        ! what the faces stop, what leaves through the absorbing faces, and what the rigid
+        ! bodies' constraint takes (FLIP too: the nodal accelerations carry it)
+        e%boundary = e%boundary + nodal(nodal_boundary) + nodal(nodal_absorbed) &
+            + nodal(nodal_rigid)
         if (.not. grid_velocities) then
             ! a FLIP-PIC blend: the kinetic energy its PIC part took from the FLIP velocities
             ! (0 for FLIP); the FLIP part is booked as FLIP is

@@ -10,7 +10,7 @@ module mpm_history
     use mpm_filesystem, only: file_exists, text_file_type, open_text_file, put_line
     use mpm_simulation, only: simulation_type
     use mpm_energy, only: energy_total, energy_residual
-    use mpm_motion, only: region_count, region_displacement
+    use mpm_motion, only: region_count, region_displacement, body_displacement
     implicit none
     private
     public :: open_history, write_history
@@ -69,7 +69,11 @@ contains
         end do
         ! the reaction and displacement of each region of prescribed_motion
         do r = 1, region_count(sim%case)
-            shift = region_displacement(sim%case, r, sim%time)
+            if (sim%case%motions(r)%rigid > 0) then
+                shift = body_displacement(sim%case, sim%particles, r)
+            else
+                shift = region_displacement(sim%case, r, sim%time)
+            end if
             do d = 1, sim%case%dim
                 reaction = 0.0_wp
                 if (allocated(sim%region_reaction)) reaction = sim%region_reaction(d, r)

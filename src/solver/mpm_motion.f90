@@ -14,11 +14,21 @@ module mpm_motion
     use mpm_error, only: error_type, fatal_error, exit_input
     use mpm_case, only: case_type
     use mpm_grid, only: grid_type
+    use mpm_particles, only: particles_type
+    use mpm_stencil, only: stencils_type
     implicit none
     private
-    public :: hold_regions, release_regions, region_displacement, region_count, half_cell_notes
+    public :: hold_regions, release_regions, region_displacement, region_count, half_cell_notes, &
+        body_displacement
 
     character(len=*), parameter :: axis_names = "xyz"
+    real(wp), parameter :: min_fill = 0.2_wp
+        !! a rigid body moves the nodes whose cell it fills to a fifth at least: the volume
+        !! of its particles weighted by the node's shape function, sum_p N_ip V_p, over
+        !! dx^dim (1 inside the body, 1/2 on a face, 1/4 at a corner of a 2D body on the
+        !! nodes). The nodes its particles merely reach would drag the material between
+        !! them and the body along (a rigid plate on a column: +5 % on its reaction, the
+        !! top row of cells never strained; a footing: 20 % wider)
 
 contains
 
@@ -46,43 +56,49 @@ contains
         end associate
     end function region_displacement
 
-    !> Hold the nodes of every region at time t (the step's start) for the step. A region
-    !> that would move a component a face holds (a fixed or sliding face, a velocity face) is
-    !> an error: the two contradict each other.
-    subroutine hold_regions(case, grid, t, error)
+    !> Hold the nodes of every region at time t (the step's start) for the step: the nodes
+    !> inside each box region's moved box, and the nodes each rigid body's particles touch
+    !> (a nonzero weight in this step's stencils). A region that would move a component a face
+    !> holds (a fixed or sliding face, a velocity face) is an error: the two contradict each
+    !> other; so are two regions that reach the same node (a rigid body within a cell of
+    !> another, or of a box region: one velocity field cannot move a node two ways).
+    subroutine hold_regions(case, grid, t, particles, stc, error)
         type(case_type), intent(in) :: case
             !! the case
         type(grid_type), intent(inout) :: grid
             !! the grid of the step
         real(wp), intent(in) :: t
             !! time of the step's start [s]
+        type(particles_type), intent(in) :: particles
+            !! the particles (the rigid bodies' nodes)
+        type(stencils_type), intent(in) :: stc
+            !! their stencils of this step
         type(error_type), allocatable, intent(out) :: error
-            !! set when a region contradicts a face
+            !! set when a region contradicts a face or another region
 
-        integer :: r, n, dim, lo(3), hi(3), i, j, k, id, count
+        integer :: r, n, dim, lo(3), hi(3), i, j, k
         real(wp) :: shift(3), factor
 
         grid%nregion_nodes = 0
+        grid%bodies_moved = .false.
         if (region_count(case) == 0) return
         dim = grid%dim
         if (.not. allocated(grid%region_velocity)) then
             allocate (grid%region_velocity(dim, size(case%motions)), &
                 grid%region_held(dim, size(case%motions)), &
-                grid%region_impulse(dim, size(case%motions)))
+                grid%region_impulse(dim, size(case%motions)), &
+                grid%body_velocity(dim, size(case%motions)), &
+                grid%region_rigid(size(case%motions)))
             grid%region_impulse = 0.0_wp
+            grid%body_velocity = 0.0_wp
+            grid%region_rigid = case%motions%rigid
         end if
-        ! the nodes of each region's box: count, then list
-        count = 0
-        do r = 1, size(case%motions)
-            call region_box(r, lo, hi)
-            count = count + product(max(0, hi(1:dim) - lo(1:dim) + 1))
-        end do
-        if (allocated(grid%region_node)) then
-            if (size(grid%region_node) < count) deallocate (grid%region_node, grid%region_of, &
-                grid%region_saved)
+        if (.not. allocated(grid%region_mark)) then
+            allocate (grid%region_mark(size(grid%mass)))
+            grid%region_mark = 0
         end if
-        if (.not. allocated(grid%region_node)) allocate (grid%region_node(count), &
-            grid%region_of(count), grid%region_saved(dim, count))
+        if (.not. allocated(grid%region_node)) allocate (grid%region_node(64), &
+            grid%region_of(64), grid%region_saved(dim, 64))
         n = 0
         do r = 1, size(case%motions)
             associate (motion => case%motions(r))
@@ -91,29 +107,119 @@ contains
                     motion%held(1:dim))
                 grid%region_held(:, r) = motion%held(1:dim)
             end associate
+            if (case%motions(r)%rigid > 0) cycle
             call region_box(r, lo, hi)
             do k = lo(3), hi(3)
                 do j = lo(2), hi(2)
                     do i = lo(1), hi(1)
-                        id = 1 + i + grid%nn(1)*(j + grid%nn(2)*k)
-                        if (any(grid%constrained(:, id) .and. grid%region_held(:, r) .and. &
-                            grid%region_velocity(:, r) /= 0.0_wp)) then
-                            call contradiction(r, id)
-                            call release_regions(grid)
-                            return
-                        end if
-                        n = n + 1
-                        grid%region_node(n) = id
-                        grid%region_of(n) = r
-                        grid%region_saved(:, n) = grid%constrained(:, id)
-                        grid%constrained(:, id) = grid%constrained(:, id) .or. &
-                            grid%region_held(:, r)
-                        grid%nregion_nodes = n
+                        call add_node(r, 1 + i + grid%nn(1)*(j + grid%nn(2)*k))
+                        if (allocated(error)) return
                     end do
                 end do
             end do
         end do
+        ! the rigid bodies, one after the other: the nodes a fifth of whose cell (at least)
+        ! the body fills
+        do r = 1, size(case%motions)
+            if (case%motions(r)%rigid == 0) cycle
+            call body_nodes(r, case%motions(r)%rigid)
+            if (allocated(error)) return
+        end do
     contains
+        !> The nodes of rigid body r (material m).
+        subroutine body_nodes(r, m)
+            integer, intent(in) :: r, m
+
+            integer :: i, j, k, id, p, a(3), d, ntouched
+            integer, allocatable :: touched(:)
+            real(wp) :: weight
+
+            if (.not. allocated(grid%body_fill)) then
+                allocate (grid%body_fill(size(grid%mass)))
+                grid%body_fill = 0.0_wp
+            end if
+            allocate (touched(256))
+            ntouched = 0
+            do p = 1, particles%n
+                if (particles%material(p) /= m) cycle
+                do k = 1, stc%nper(3)
+                    do j = 1, stc%nper(2)
+                        do i = 1, stc%nper(1)
+                            a = [i, j, k]
+                            if (stc%tensor) then
+                                weight = 1.0_wp
+                                do d = 1, dim
+                                    weight = weight*stc%w(a(d), d, p)
+                                end do
+                            else
+                                weight = stc%wn(i + stc%nper(1)*(j - 1 + stc%nper(2)*(k - 1)), p)
+                            end if
+                            if (weight <= 0.0_wp) cycle
+                            a(1:dim) = stc%first(:, p) + a(1:dim) - 1
+                            a(dim + 1:) = 0
+                            id = 1 + sum(a*stc%stride)
+                            if (grid%body_fill(id) == 0.0_wp) then
+                                if (ntouched == size(touched)) touched = [touched, touched]
+                                ntouched = ntouched + 1
+                                touched(ntouched) = id
+                            end if
+                            grid%body_fill(id) = grid%body_fill(id) + weight*particles%volume(p)
+                        end do
+                    end do
+                end do
+            end do
+            do i = 1, ntouched
+                id = touched(i)
+                if (.not. allocated(error) .and. grid%body_fill(id) >= min_fill*grid%dx**dim) then
+                    call add_node(r, id)
+                end if
+                grid%body_fill(id) = 0.0_wp
+            end do
+        end subroutine body_nodes
+
+        !> Node id moves with region r: listed, marked, its held components constrained.
+        subroutine add_node(r, id)
+            integer, intent(in) :: r, id
+
+            integer :: other
+            logical, allocatable :: saved(:, :)
+            integer, allocatable :: ids(:)
+
+            other = grid%region_mark(id)
+            if (other /= 0) then
+                call shared_node(other, r, id)
+                call release_regions(grid)
+                return
+            end if
+            if (any(grid%constrained(:, id) .and. grid%region_held(:, r) .and. &
+                grid%region_velocity(:, r) /= 0.0_wp)) then
+                call contradiction(r, id)
+                call release_regions(grid)
+                return
+            end if
+            if (n == size(grid%region_node)) then
+                ids = grid%region_node
+                deallocate (grid%region_node)
+                allocate (grid%region_node(2*n))
+                grid%region_node(1:n) = ids
+                ids = grid%region_of
+                deallocate (grid%region_of)
+                allocate (grid%region_of(2*n))
+                grid%region_of(1:n) = ids
+                saved = grid%region_saved
+                deallocate (grid%region_saved)
+                allocate (grid%region_saved(dim, 2*n))
+                grid%region_saved(:, 1:n) = saved
+            end if
+            n = n + 1
+            grid%region_node(n) = id
+            grid%region_of(n) = r
+            grid%region_saved(:, n) = grid%constrained(:, id)
+            grid%region_mark(id) = r
+            grid%constrained(:, id) = grid%constrained(:, id) .or. grid%region_held(:, r)
+            grid%nregion_nodes = n
+        end subroutine add_node
+
         !> The node index range (0-based, this grid) inside region r's box at time t.
         subroutine region_box(r, lo, hi)
             integer, intent(in) :: r
@@ -128,6 +234,44 @@ contains
                 + shift(1:dim) - grid%origin(1:dim))/grid%dx + 1.0e-9_wp))
         end subroutine region_box
 
+        !> The position of node id [m].
+        function node_position(id) result(x)
+            integer, intent(in) :: id
+            real(wp) :: x(3)
+
+            integer :: node(3)
+
+            node = [mod(id - 1, grid%nn(1)), mod((id - 1)/grid%nn(1), grid%nn(2)), &
+                (id - 1)/(grid%nn(1)*grid%nn(2))]
+            x = grid%origin + grid%dx*real(node, wp)
+        end function node_position
+
+        !> The error of two regions that reach node id.
+        subroutine shared_node(first, second, id)
+            integer, intent(in) :: first, second, id
+
+            real(wp) :: x(3)
+
+            x = node_position(id)
+            call fatal_error(error, case%file//": at t = "//fmt_real(t, 6)//" s, " &
+                //region_text(first)//" and "//region_text(second)//" reach the same grid " &
+                //"node, at "//fmt_vector(x(1:dim), 6)//" m: one velocity " &
+                //"field cannot move it two ways. Keep rigid bodies and regions more than a " &
+                //"cell apart (dx = "//fmt_real(grid%dx)//" m)", exit_input)
+        end subroutine shared_node
+
+        !> "prescribed_motion[r] "name"" or "the rigid body "name"".
+        function region_text(r) result(text)
+            integer, intent(in) :: r
+            character(len=:), allocatable :: text
+
+            if (case%motions(r)%rigid > 0) then
+                text = 'the rigid body "'//case%motions(r)%name//'"'
+            else
+                text = "prescribed_motion["//int_text(r)//'] "'//case%motions(r)%name//'"'
+            end if
+        end function region_text
+
         !> The error of a region that moves a held component of a face's node.
         subroutine contradiction(r, id)
             integer, intent(in) :: r, id
@@ -138,7 +282,7 @@ contains
 
             node = [mod(id - 1, grid%nn(1)), mod((id - 1)/grid%nn(1), grid%nn(2)), &
                 (id - 1)/(grid%nn(1)*grid%nn(2))]
-            x = grid%origin + grid%dx*real(node, wp)
+            x = node_position(id)
             do a = 1, dim
                 if (grid%constrained(a, id) .and. grid%region_held(a, r) .and. &
                     grid%region_velocity(a, r) /= 0.0_wp) exit
@@ -148,11 +292,11 @@ contains
                 if (node(b) == 0) faces = faces//" "//axis_names(b:b)//"min"
                 if (node(b) == grid%nn(b) - 1) faces = faces//" "//axis_names(b:b)//"max"
             end do
-            call fatal_error(error, case%file//": prescribed_motion["//int_text(r)//'] "' &
-                //case%motions(r)%name//'" moves the node at '//fmt_vector(x(1:dim), 6) &
-                //" m along "//axis_names(a:a)//", which domain.boundaries holds there (face" &
-                //faces//"); give the region only the components the face leaves free " &
-                //"(components), or keep its box off that face", exit_input)
+            call fatal_error(error, case%file//": "//region_text(r)//" moves the node at " &
+                //fmt_vector(x(1:dim), 6)//" m along "//axis_names(a:a)//", which " &
+                //"domain.boundaries holds there (face"//faces//"); give the region only " &
+                //"the components the face leaves free (components), or keep it off that face", &
+                exit_input)
         end subroutine contradiction
     end subroutine hold_regions
 
@@ -174,7 +318,7 @@ contains
             noted = .false.
         end if
         do r = 1, size(noted)
-            if (noted(r)) cycle
+            if (noted(r) .or. case%motions(r)%rigid > 0) cycle
             moved = maxval(abs(region_displacement(case, r, t)))
             if (moved <= 0.5_wp*case%domain%dx) cycle
             noted(r) = .true.
@@ -186,6 +330,31 @@ contains
         end do
     end subroutine half_cell_notes
 
+    !> The displacement of rigid body r: that of its particles (their mean, by mass) [m].
+    function body_displacement(case, particles, r) result(d)
+        type(case_type), intent(in) :: case
+            !! the case
+        type(particles_type), intent(in) :: particles
+            !! the particles (with their displacements u)
+        integer, intent(in) :: r
+            !! the region of the body
+        real(wp) :: d(3)
+
+        integer :: p, dim
+        real(wp) :: mass
+
+        d = 0.0_wp
+        mass = 0.0_wp
+        dim = case%dim
+        if (.not. allocated(particles%u)) return
+        do p = 1, particles%n
+            if (particles%material(p) /= case%motions(r)%rigid) cycle
+            d(1:dim) = d(1:dim) + particles%mass(p)*particles%u(1:dim, p)
+            mass = mass + particles%mass(p)
+        end do
+        if (mass > 0.0_wp) d = d/mass
+    end function body_displacement
+
     !> Give the region nodes back the constraints of their faces (end of the step).
     subroutine release_regions(grid)
         type(grid_type), intent(inout) :: grid
@@ -195,6 +364,7 @@ contains
 
         do n = 1, grid%nregion_nodes
             grid%constrained(:, grid%region_node(n)) = grid%region_saved(:, n)
+            grid%region_mark(grid%region_node(n)) = 0
         end do
         grid%nregion_nodes = 0
     end subroutine release_regions

@@ -31,7 +31,7 @@ module mpm_solver
     use mpm_transfer, only: p2g, p2g_options_type, g2p, motion_type, report_lost, update_stress, &
         nstress_sums
     use mpm_kernel_nodal, only: nnodal_sums, nodal_friction, &
-        nodal_boundary, nodal_kinetic
+        nodal_boundary, nodal_rigid, nodal_kinetic
     use mpm_kernel_contact, only: keep_contact_start, contact_particle_work
     use mpm_halo, only: halo_sum, halo_box, halo_contact_gaps, settle_light_nodes, fold_light
     use mpm_step_passes, only: step_passes, grid_velocity, update_nodes, xpic_field, pass_xpic, &
@@ -46,6 +46,7 @@ module mpm_solver
         phase_other, phase_output
     use mpm_loads, only: assign_loads, apply_loads
     use mpm_motion, only: hold_regions, release_regions, region_count
+    use mpm_kernel_rigid, only: body_particle_velocities, body_particle_positions
     use mpm_solver_slabs, only: slab_grid, terrain_contact, rebalance, decompose_bodies, &
         decompose_loaded, migrate_particles
     implicit none
@@ -109,6 +110,14 @@ contains
         call new_shape(sim%shape, trim(case%solver%shape_function), error, &
             text_or(case%file, "?"))
         if (allocated(error)) return
+        if (image_count() > 1 .and. any(case%motions%rigid > 0)) then
+            call fatal_error(error, case%file//": the rigid bodies of this case (materials of " &
+                //'type "rigid") run on one image: the motion of a body is summed over all its ' &
+                //"nodes in the middle of a step, which a run on "//int_text(image_count()) &
+                //" images does not do yet; run it without cafrun (threads: OMP_NUM_THREADS)", &
+                exit_input)
+            return
+        end if
         loaded = .false.
         restart = .false.
         if (present(start)) then
@@ -159,6 +168,8 @@ contains
             described = particle_field(k)
             if (described%held /= held_written .or. has_text(case%save_state)) cycle
             if (any(case%output%fields .and. output_fields%source == described%name)) cycle
+            ! the displacement of a rigid body (history.csv) is that of its particles
+            if (described%name == "u" .and. any(case%motions%rigid > 0)) cycle
             call release_field(sim%particles, k)
         end do
         ! the particles that carry the tractions and point loads (a checkpoint keeps its own)
@@ -390,21 +401,19 @@ contains
         real(wp), allocatable :: sums(:)
         integer :: scheme, k, nregions
         integer, allocatable :: passes(:)
-        logical :: grid_energy, one_pass, ready
+        logical :: grid_energy, one_pass, ready, rigid
         type(motion_type) :: motion
         type(energies_type) :: next
 
         scheme = sim%case%solver%scheme
         ! the loads at the step's start: the particles' extra body force
         call apply_loads(sim%case, sim%particles, sim%time)
-        ! the nodes of the regions of prescribed_motion, held for the step
-        call hold_regions(sim%case, sim%grid, sim%time, error)
-        ! a contradiction is found on the image of its node: every image stops (collective)
-        if (region_count(sim%case) > 0) call agree(error)
-        if (allocated(error)) return
         ! one pass: the last particle pass scatters the next step's P2G (a prescribed body
-        ! force may change between the steps: its P2G stays in its own pass)
-        one_pass = sim%one_pass .and. .not. allocated(sim%particles%body_force)
+        ! force may change between the steps: its P2G stays in its own pass; the particles of
+        ! a rigid body take its velocity after G2P)
+        rigid = any(sim%case%motions%rigid > 0)
+        one_pass = sim%one_pass .and. .not. allocated(sim%particles%body_force) .and. &
+            .not. rigid
         ready = one_pass .and. sim%scatter_ready
         sim%scatter_ready = .false.
         ! the nodes' kinetic energies are booked only when G2P gives the particles the nodal
@@ -425,6 +434,12 @@ contains
             call compute_stencils(sim%stencils, sim%grid, sim%particles, sim%shape, error, &
                 cells=sim%case%solver%fbar, margin=merge(1, 0, one_pass))
         end if
+        if (allocated(error)) return
+        ! the nodes of the regions of prescribed_motion and of the rigid bodies, held for the
+        ! step
+        call hold_regions(sim%case, sim%grid, sim%time, sim%particles, sim%stencils, error)
+        ! a contradiction is found on the image of its node: every image stops (collective)
+        if (region_count(sim%case) > 0) call agree(error)
         if (allocated(error)) return
         call lap(sim, phase_stencils, clock)
         passes = step_passes(scheme, sim%case%solver%fbar, xpic=sim%case%solver%xpic)
@@ -496,6 +511,7 @@ contains
                             sim%case%gravity, remap=.false., motion=motion, kinetic=kinetic, &
                             materials=sim%materials, strain_work=work, blend_loss=blend_loss, &
                             xpic=sim%case%solver%xpic)
+                        if (rigid) call rigid_velocities(sim, kinetic, nodal_work)
                         call lap(sim, phase_g2p, clock)
                     end if
                 case (pass_g2p)
@@ -503,6 +519,7 @@ contains
                     call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, &
                         sim%case%gravity, remap=.false., motion=motion, kinetic=kinetic, &
                         blend_loss=blend_loss, xpic=sim%case%solver%xpic)
+                    if (rigid) call rigid_velocities(sim, kinetic, nodal_work)
                     call lap(sim, phase_g2p, clock)
                 case (pass_g2p_remap)
                     ! MUSL: the same pass maps the updated particle momentum back to the nodes;
@@ -510,6 +527,7 @@ contains
                     call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, &
                         sim%case%gravity, remap=.true., motion=motion, kinetic=kinetic, &
                         blend_loss=blend_loss, xpic=sim%case%solver%xpic)
+                    if (rigid) call rigid_velocities(sim, kinetic, nodal_work)
                     ! the remapped momentum of the shared nodes, then the velocities of the
                     ! remap
                     call halo_sum(grid, sim%shape%halo_width(), momentum=.true.)
@@ -555,6 +573,8 @@ contains
                 end select
             end do
         end associate
+        ! the rigid bodies' particles move together
+        if (rigid) call body_particle_positions(sim%grid, sim%particles)
         call release_regions(sim%grid)
         ! sums over the images, in one reduction (the faces' and regions' impulses last)
         nregions = 0
@@ -595,6 +615,24 @@ contains
         if (.not. allocated(error)) call rebalance(sim, error)
         call lap(sim, phase_other, clock)
     end subroutine advance
+
+    !> The particles of the rigid bodies at their bodies' velocities after G2P
+    !> (mpm_kernel_rigid): the kinetic energy that changes is theirs, and what it takes is
+    !> stopped by the rigid constraint (booked with the constraints).
+    subroutine rigid_velocities(sim, kinetic, nodal_work)
+        type(simulation_type), intent(inout) :: sim
+            !! the simulation
+        real(wp), intent(inout) :: kinetic
+            !! kinetic energy of the particles after G2P [J]
+        real(wp), intent(inout) :: nodal_work(nnodal_sums)
+            !! the nodal sums of the step
+
+        real(wp) :: change
+
+        call body_particle_velocities(sim%grid, sim%particles, change)
+        kinetic = kinetic + change
+        nodal_work(nodal_rigid) = nodal_work(nodal_rigid) - change
+    end subroutine rigid_velocities
 
     !> P2G of the step with the images' halo: with mass, the images first trade the parts of
     !> their boxes of touched nodes in the shared layers (the box of the step's grid work);

@@ -13,7 +13,8 @@ module mpm_step_passes
     use mpm_stencil, only: stencils_type
     use mpm_transfer, only: map_through_particles
     use mpm_kernel_nodal, only: nodal_velocity, integrate_nodes, nnodal_sums, nodal_absorbed, &
-        box_middle, box_row
+        nodal_rigid, box_middle, box_row
+    use mpm_kernel_rigid, only: move_bodies
     implicit none
     private
     public :: step_passes, grid_velocity, update_nodes, act_on_faces, xpic_field
@@ -77,15 +78,20 @@ contains
         real(wp), intent(out), optional :: friction_work
             !! work of the friction impulses at these velocities [J]
 
+        real(wp) :: lost
+
         ! (again after P2G's fold: it adds nothing more)
         call fold_light(grid, grid%momentum)
         call nodal_velocity(grid, step, friction_work)
         call slave_light(grid, grid%velocity)
+        ! the rigid bodies' nodes at their bodies' velocities
+        call move_bodies(grid, step, .false., lost)
     end subroutine grid_velocity
 
     !> The nodal update (mpm_kernel_nodal::integrate_nodes) with the light nodes: their
     !> momentum and forces to their masters before, their velocities and accelerations
-    !> slaved after; in between, the conditions that act on their faces' nodes.
+    !> slaved after; in between, the conditions that act on their faces' nodes; then the
+    !> rigid bodies (mpm_kernel_rigid::move_bodies).
     subroutine update_nodes(grid, faces, time, dt, gravity, local_damping, alpha, dissipated)
         type(grid_type), intent(inout) :: grid
             !! grid with mass, momentum and forces set
@@ -117,6 +123,9 @@ contains
         end if
         call slave_light(grid, grid%velocity)
         call slave_light(grid, grid%acceleration)
+        ! each rigid body moves as one (what the lump takes is stopped by a constraint)
+        call move_bodies(grid, dt, .true., taken)
+        dissipated(nodal_rigid) = taken
     end subroutine update_nodes
 
     !> Each face whose condition acts on its nodes (grid%acting_*) applies its `act` to the

@@ -13,6 +13,13 @@ program test_mpm_case_errors
     implicit none
 
     character(len=*), parameter :: state_file = "test_mpm_case_errors_state.tmp"
+    character(len=*), parameter :: rigid_materials = '"materials": [{"name": "soil", "type": ' &
+        //'"linear_elastic", "E": 1e6, "nu": 0.0, "rho": 1000}, {"name": "steel", "type": ' &
+        //'"rigid", "rho": 7800}]'
+        !! a soil and a rigid material
+    character(len=*), parameter :: rigid_bodies = '"bodies": [{"material": "soil", "min": ' &
+        //'[0, 0], "max": [0.2, 0.1]}, {"material": "steel", "min": [0.3, 0], "max": [0.4, 0.1]}]'
+        !! a soil block and a rigid block beside it
         !! a file whose existence load_state checks (its own name: the suites may run side by
         !! side in one folder)
 
@@ -586,6 +593,45 @@ contains
             //'"min": [0, 0.1], "max": [0.2, 0.2], "velocity": [0, 0]}]'), &
             [character(len=200) :: 'prescribed_motion[1].name = "a b" names columns of ' &
             //"history.csv"], "region name with a space")
+        ! rigid bodies
+        call expect_error(suite, case_text(materials=rigid_materials, bodies=rigid_bodies, &
+            extra='"prescribed_motion": [{"rigid": "soil", "velocity": [0, 0]}]'), &
+            [character(len=200) :: 'prescribed_motion[1].rigid = "soil" is a material of ' &
+            //'type "linear_elastic"; a rigid body is a material of type "rigid"'], &
+            "rigid: a deformable material")
+        call expect_error(suite, case_text(materials=rigid_materials, bodies=rigid_bodies, &
+            extra='"prescribed_motion": [{"rigid": "lead", "velocity": [0, 0]}]'), &
+            [character(len=200) :: 'prescribed_motion[1].rigid = "lead" is not a material of ' &
+            //"this case"], "rigid: no such material")
+        call expect_error(suite, case_text(materials=rigid_materials, bodies=rigid_bodies, &
+            extra='"prescribed_motion": [{"rigid": "steel", "min": [0, 0.1], "max": [0.2, ' &
+            //'0.2], "velocity": [0, 0]}]'), [character(len=200) :: 'prescribed_motion[1] ' &
+            //'pushes the rigid body "steel", whose nodes are those its particles fill: ' &
+            //"remove min and max"], "rigid with a box")
+        call expect_error(suite, case_text(materials=rigid_materials, bodies=rigid_bodies, &
+            extra='"prescribed_motion": [{"rigid": "steel", "velocity": [0, 0]}, {"name": ' &
+            //'"again", "rigid": "steel", "velocity": [0, 0]}]'), [character(len=200) :: &
+            'prescribed_motion[2].rigid = "steel" is pushed by prescribed_motion[1] already'], &
+            "rigid pushed twice")
+        call expect_error(suite, case_text(materials=rigid_materials), [character(len=200) :: &
+            'materials[2] "steel" is a rigid body that no body of the case fills'], &
+            "rigid material without a body")
+        call expect_error(suite, case_text(materials=rigid_materials, bodies='"bodies": [{' &
+            //'"material": "steel", "min": [0, 0], "max": [0.2, 0.1]}]'), &
+            [character(len=200) :: "every body of the case is rigid"], "only rigid bodies")
+        call expect_error(suite, case_text(materials=rigid_materials, bodies=rigid_bodies, &
+            extra='"prescribed_motion": [{"rigid": "steel", "velocity": [0, -1]}]'), &
+            [character(len=200) :: "prescribed_motion[1] starts at its full velocity at t = 0"], &
+            "rigid: sudden start")
+        call expect_error(suite, case_text(materials='"materials": [{"name": "soil", "type": ' &
+            //'"linear_elastic", "E": 1e6, "nu": 0.0, "rho": 1000}, {"name": "st eel", "type": ' &
+            //'"rigid", "rho": 7800}]', bodies='"bodies": [{"material": "soil", "min": [0, 0], ' &
+            //'"max": [0.2, 0.1]}, {"material": "st eel", "min": [0.3, 0], "max": [0.4, 0.1]}]'), &
+            [character(len=200) :: 'materials[2] "st eel" is a free rigid body, whose name ' &
+            //"names its columns of history.csv"], "free rigid body with a space in its name")
+        call expect_error(suite, case_text(materials='"materials": [{"name": "steel", "type": ' &
+            //'"rigid", "rho": 0}]'), [character(len=200) :: "materials[1].rho"], &
+            "rigid: density zero")
     end subroutine test_section_errors
 
     subroutine test_document_errors()
@@ -761,7 +807,8 @@ contains
             "misspelt type")
         call expect_error(suite, soil_case(elastic_part), [character(len=200) :: "missing required " &
             //"key 'materials[1].type' (one of ""linear_elastic"", ""elastic"", " &
-            //"""mohr_coulomb"", ""drucker_prager"", ""newtonian"", ""neo_hookean"", ""mu_i"", ""tresca"")"], &
+            //"""mohr_coulomb"", ""drucker_prager"", ""newtonian"", ""neo_hookean"", ""mu_i"", ""tresca"", " &
+            //"""rigid"")"], &
             "type missing")
         call expect_error(suite, soil_case('"type": "mohr-coulomb", '//elastic_part//', "phi": 30'), &
             [character(len=200) :: 'materials[1].type = "mohr-coulomb" is not allowed'], &

@@ -91,6 +91,8 @@ contains
                 example = '{"E": 1e6, "nu": 0.49, "rho": 1000, "Su": 1e4, "Su_gradient": 1e3, ' &
                     //'"Su_elevation": 5, "softening": {"type": "linear", "sensitivity": 2, ' &
                     //'"strain": 0.2}}'
+            case ("rigid")
+                example = '{"rho": 1000}'
             case ("mu_i")
                 example = '{"K": 1e6, "G": 5e5, "rho": 1000, "mu_s": 0.38, "mu_2": 0.64, ' &
                     //'"I_0": 0.279, "grain_diameter": 5e-4, "grain_density": 2450}'
@@ -107,8 +109,10 @@ contains
             call check(suite, .not. allocated(error), trim(names(1))//": example reads")
             if (.not. allocated(error)) then
                 speed = law%wave_speed()
-                call check(suite, ieee_is_finite(speed) .and. speed > 0.0_wp, &
-                    trim(names(1))//": finite positive wave speed")
+                ! (a rigid body carries no wave: zero)
+                call check(suite, ieee_is_finite(speed) .and. (speed > 0.0_wp .or. &
+                    (law%rigid() .and. speed == 0.0_wp)), trim(names(1))//": finite positive " &
+                    //"wave speed (zero: rigid)")
                 call check(suite, law%density == 1000.0_wp, trim(names(1))//": density read")
                 call check(suite, law%time_step_limit(0.1_wp, 2) > 0.0_wp, &
                     trim(names(1))//": positive time-step limit")

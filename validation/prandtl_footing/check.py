@@ -11,6 +11,15 @@ the locking of the isochoric plastic flow. Reference: Prandtl (1920), the limit 
 smooth strip on a weightless cohesive half-space, q_u = (2 + pi) Su = 51.42 kPa (e.g. Chen
 1975, Limit Analysis and Soil Plasticity; ../shared/REFERENCES.md section 9).
 
+A third run pushes a rigid footing body instead (prandtl_footing_rigid.json: a material of
+type "rigid", 0.5 m x 0.1 m, 20 mm/s, to 58 mm, more than a cell): its nodes are those its
+particles fill to a fifth, its horizontal motion is held by the symmetry plane it touches
+(a rough footing: the same (2 + pi) Su on a weightless soil), and it keeps its shape while it
+sinks past the rows of nodes. Compared: its limit pressure before it has sunk 0.8 of a cell
+(gating, 5 %), and its pressure once past a cell (reported: the single velocity field moves
+the soil between the footing's two bottom rows of nodes with it at the footing's edge, which
+raises the pressure).
+
 The footing's pressure is minus its reaction (history.csv, reaction_footing_y) over B / 2.
 Compared: the limit pressure, the largest pressure of the curve, within 5 % of q_u (the band
 of the issue: finite-element and MPM studies at 10 to 20 elements under the footing
@@ -47,6 +56,7 @@ from mpm_post.validation import (  # noqa: E402
 RESULTS = HERE / "results"
 CASE = HERE / "prandtl_footing.json"
 CASE_MC = HERE / "prandtl_footing_mc.json"
+CASE_RIGID = HERE / "prandtl_footing_rigid.json"
 BAND = 0.05            # limit pressure against (2 + pi) Su
 RESIDUAL_BAND = 0.01   # energy residual / load work
 
@@ -64,7 +74,7 @@ def main(argv=None):
     wall = None
     curves = []
     try:
-        for path in (CASE, CASE_MC):
+        for path in (CASE, CASE_MC, CASE_RIGID):
             output = parent / load_json(path)["name"]
             if not args.no_run:
                 if exe_missing(args.exe):
@@ -80,7 +90,8 @@ def main(argv=None):
     except (OSError, ValueError, KeyError, RuntimeError) as exc:
         print(f"check.py: error: {exc}", file=sys.stderr)
         return 2
-    (history, settlement, pressure), (_, settlement_mc, pressure_mc) = curves
+    ((history, settlement, pressure), (_, settlement_mc, pressure_mc),
+     (history_rigid, settlement_rigid, pressure_rigid)) = curves
     su = case["materials"][0]["Su"]
     q_u = (2.0 + math.pi) * su
     dx = case["domain"]["dx"]
@@ -96,6 +107,17 @@ def main(argv=None):
         "energy_residual_over_load_work": residual,
         "limit_pressure_mohr_coulomb_Pa": float(np.max(pressure_mc)),
     }
+    early = settlement_rigid < 0.8 * dx
+    past = settlement_rigid > dx
+    rigid_limit = float(np.max(pressure_rigid[early]))
+    rigid_past = float(np.mean(pressure_rigid[past])) if np.any(past) else float("nan")
+    rigid_residual = float(history_rigid["residual"][-1] / history_rigid["load_work"][-1])
+    metrics.update({
+        "rigid_limit_pressure_Pa": rigid_limit,
+        "rigid_pressure_past_a_cell_Pa": rigid_past,
+        "rigid_end_settlement_m": float(settlement_rigid[-1]),
+        "rigid_energy_residual_over_load_work": rigid_residual,
+    })
     results = [
         target("limit pressure / (2 + pi) Su", pressure[peak] / q_u - 1.0, 0.0,
                f"+-{BAND:.0%}", abs(pressure[peak] / q_u - 1.0) <= BAND, True,
@@ -114,6 +136,18 @@ def main(argv=None):
                0.0, f"+-{BAND:.0%}", abs(np.max(pressure_mc) / q_u - 1.0) <= BAND, True,
                "the same soil as mohr_coulomb with phi = 0, c = Su: the same strength in plane "
                "strain", unit="rel"),
+        target("rigid body: limit / (2 + pi) Su", rigid_limit / q_u - 1.0, 0.0,
+               f"+-{BAND:.0%}", abs(rigid_limit / q_u - 1.0) <= BAND, True,
+               "a rigid footing body (material rigid), rough, before it has sunk 0.8 of a cell: "
+               "the same limit pressure", unit="rel"),
+        target("rigid body: past a cell / (2 + pi) Su", rigid_past / q_u - 1.0, 0.0,
+               f"+-{BAND:.0%}", abs(rigid_past / q_u - 1.0) <= BAND, False,
+               "reported: once past a cell the footing's edge drags the soil between its two "
+               "bottom rows of nodes (one velocity field), which raises the pressure",
+               unit="rel"),
+        target("rigid body: energy residual / work", rigid_residual, 0.0,
+               f"+-{RESIDUAL_BAND:.0%}", abs(rigid_residual) <= RESIDUAL_BAND, True,
+               "the body's work is booked, and the lump of its nodes with it", unit="rel"),
         target("settlement at the end / dx", metrics["settlement_over_dx_end"], None,
                "< 0.5", metrics["settlement_over_dx_end"] < 0.5, True,
                "the region holds one row of nodes until it has moved half a cell"),
@@ -125,16 +159,19 @@ def main(argv=None):
                  "(prescribed_motion, Prandtl)",
         "resolution": "full",
         "heading": "B / dx = 20 (50 mm cells)",
-        "case_files": [relative(CASE), relative(CASE_MC)],
+        "case_files": [relative(CASE), relative(CASE_MC), relative(CASE_RIGID)],
         "headline": f"The limit pressure is {pressure[peak] / 1e3:.2f} kPa, "
                     f"{pressure[peak] / q_u - 1.0:+.1%} of Prandtl's (2 + pi) Su = "
                     f"{q_u / 1e3:.2f} kPa, reached at {settlement[peak] * 1e3:.1f} mm; "
                     f"{pressure[-1] / 1e3:.2f} kPa ({pressure[-1] / q_u - 1.0:+.1%}) at "
                     f"{settlement[-1] * 1e3:.0f} mm (tresca); Mohr-Coulomb phi = 0: "
-                    f"{np.max(pressure_mc) / q_u - 1.0:+.1%}.",
+                    f"{np.max(pressure_mc) / q_u - 1.0:+.1%}; a rigid footing body: "
+                    f"{rigid_limit / q_u - 1.0:+.1%} before 0.8 of a cell, "
+                    f"{rigid_past / q_u - 1.0:+.1%} once past a cell (outside the band).",
         "setup": {"rows": [
             ["footing", "B = 1 m (half model), smooth: vertical velocity 10 mm/s of the "
-                        "surface nodes under it, ramp 0.2 s"],
+                        "surface nodes under it, ramp 0.2 s; third run: a rigid footing body "
+                        "0.5 m x 0.1 m (rho 2500), 20 mm/s, rough"],
             ["soil", f"tresca Su = {su / 1e3:g} kPa (second run: mohr_coulomb phi = 0, c = Su), "
                      "E = 100 MPa, nu = 0.3, weightless; 4 m x 2.5 m, sliding sides, fixed base"],
             ["grid", f"dx = {dx * 1e3:g} mm (B / dx = 20), 2 x 2 particles per cell, cpGIMP, "
@@ -152,6 +189,9 @@ def main(argv=None):
     axes.plot(settlement * 1e3, pressure / 1e3, color="black", lw=1.2, label="tresca")
     axes.plot(settlement_mc * 1e3, pressure_mc / 1e3, color="tab:green", lw=1.0, ls="--",
               label="mohr_coulomb phi = 0")
+    axes.plot(settlement_rigid * 1e3, pressure_rigid / 1e3, color="tab:blue", lw=1.0,
+              label="rigid footing body (tresca)")
+    axes.axvline(dx * 1e3, color="grey", lw=0.6, ls="-.", label="one cell")
     axes.axhline(q_u / 1e3, color="tab:red", ls=":", lw=1.0, label="Prandtl (2 + pi) Su")
     axes.set_xlabel("settlement [mm]")
     axes.set_ylabel("pressure [kPa]")

@@ -12,16 +12,18 @@ module mpm_kernel_nodal
     private
     public :: nodal_velocity, integrate_nodes, box_middle, box_row, nodal_kinetic
     public :: nodal_damping, nodal_friction, nodal_boundary, nodal_faces, nodal_absorbed, &
-        nnodal_sums
+        nodal_rigid, nnodal_sums
 
     integer, parameter :: nodal_damping = 1, nodal_friction = 2, nodal_boundary = 3, &
-        nodal_faces = 4, nodal_absorbed = 5, nnodal_sums = 5
+        nodal_faces = 4, nodal_absorbed = 5, nodal_rigid = 6, nnodal_sums = 6
         !! sums of the nodal update (integrate_nodes): work of local damping, of the friction
         !! of frictional faces and the terrain, and the kinetic energy the fixed components
         !! and the normal constraint of the contacts stop (positive: energy removed); the
         !! work of the velocity faces on the material (positive: energy given); the energy the
         !! faces that act on their nodes took (absorbing faces, mpm_step_passes::
-        !! act_on_faces; positive: removed), booked with what the faces stop
+        !! act_on_faces; positive: removed), booked with what the faces stop; the kinetic
+        !! energy the rigid bodies' constraint takes from their nodes and particles
+        !! (mpm_kernel_rigid; positive: removed), booked with it too
 
 
 contains
@@ -272,7 +274,9 @@ contains
                             v0(a) = 0.0_wp
                         end if
                     end do
-                    if (local_damping) then
+                    ! (not on the nodes of a rigid body: the body's motion replaces theirs,
+                    ! mpm_kernel_rigid)
+                    if (local_damping .and. .not. body_node(grid, i)) then
                         fd(1:dim) = -alpha*abs(f(1:dim))*sign(1.0_wp, v0(1:dim))
                         where (v0(1:dim) == 0.0_wp) fd(1:dim) = 0.0_wp
                         where (grid%constrained(:, i)) fd(1:dim) = 0.0_wp
@@ -309,6 +313,19 @@ contains
             end do
         end if
     end subroutine integrate_nodes
+
+    !> Whether node i moves with a rigid body in this step.
+    pure logical function body_node(grid, i)
+        type(grid_type), intent(in) :: grid
+            !! the grid of the step
+        integer, intent(in) :: i
+            !! node
+
+        body_node = .false.
+        if (.not. allocated(grid%region_rigid)) return
+        if (grid%region_mark(i) == 0) return
+        body_node = grid%region_rigid(grid%region_mark(i)) > 0
+    end function body_node
 
     !> Middle index bound of a box for box_row: the y bound in 3D, 0 in 2D (the slowest axis,
     !> the outer loop, is y there).
