@@ -22,7 +22,7 @@ module mpm_case_output
         logical :: fields(nfields) = .true.
             !! which particle fields are written (the entries of mpm_case_output_fields)
         logical :: grid = .false.
-            !! also write the grid nodes (mass, velocity)
+            !! also write the grid nodes (mass, velocity, the force of the constraints)
         logical :: overwrite = .false.
             !! allow writing into an existing output folder
         real(wp) :: history_interval = 0.0_wp

@@ -680,6 +680,14 @@ contains
             call hdf5_write_dataset(group, "mass", grid%mass, error, units=mass_units(grid%dim))
             if (allocated(error)) exit steps
             call write_vector(group, "velocity", grid%velocity, "m/s", error)
+            if (allocated(error)) exit steps
+            if (allocated(grid%node_reaction)) then
+                call write_vector(group, "reaction", grid%node_reaction, &
+                    trim(merge("N  ", "N/m", grid%dim == 3)), error)
+            else
+                call write_vector(group, "reaction", spread([(0.0_wp, id = 1, grid%dim)], 2, &
+                    grid%nnodes), trim(merge("N  ", "N/m", grid%dim == 3)), error)
+            end if
         end block steps
         call hdf5_close_after(group, error)
     end subroutine write_grid_group

@@ -179,6 +179,7 @@ contains
             ! order): XDMFReader fails on a vector of shape (nnodes, 3) on a structured mesh
             call put_attribute("mass", "Scalar", mesh, "Float", source//"mass")
             call put_attribute("velocity", "Vector", mesh//" 3", "Float", source//"velocity")
+            call put_attribute("reaction", "Vector", mesh//" 3", "Float", source//"reaction")
             call put("      </Grid>")
         end subroutine put_grid
 

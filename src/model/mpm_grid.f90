@@ -105,6 +105,12 @@ module mpm_grid
             !! scratch of mpm_motion::hold_regions: the volume of a rigid body's particles
             !! weighted by each node's shape function (nodes; kept zero between the steps)
             !! [m3, m2 in 2D]
+        logical :: keep_reaction = .false.
+            !! keep the force of the constraints on each node (output.grid)
+        real(wp), allocatable :: node_reaction(:, :)
+            !! force the faces, the regions of prescribed_motion and the rigid bodies applied
+            !! on each node over the last nodal update, the node's share of their reactions
+            !! (dim, nnodes; zero elsewhere; only with keep_reaction) [N, N/m in 2D]
         logical :: bodies_moved = .false.
             !! whether the nodal update of this step has set body_velocity
         integer :: nacting = 0

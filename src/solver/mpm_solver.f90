@@ -178,6 +178,8 @@ contains
             call agree(error)
             if (allocated(error)) return
         end if
+        ! the force of the constraints on each node, for the grid output
+        sim%grid%keep_reaction = case%output%grid
         ! the same threshold on every image: the shared nodes get the same update
         lightest = huge(1.0_wp)
         if (sim%particles%n > 0) lightest = minval(sim%particles%mass)

@@ -97,12 +97,14 @@ contains
         type(case_type) :: case
         type(simulation_type) :: sim
         type(error_type), allocatable :: error
-        real(wp) :: modulus, d(3), expected, work, spread, stress
+        real(wp) :: modulus, d(3), expected, work, spread, stress, total(2)
+        integer :: half
 
         call read_case_string(column_case(', {"material": "steel", "min": [0, 2], "max": ' &
             //'[1, 2.2]}', '"prescribed_motion": [{"rigid": "steel", "velocity": [0, -0.01], ' &
             //'"components": ["y"], "time_function": {"type": "ramp", "duration": 0.2}}], ', &
             "10", "[0, 0]", '{"type": "local", "value": 0.1}'), case, error, "pushed plate")
+        case%output%grid = .true.
         if (.not. allocated(error)) call new_simulation(sim, case, error)
         call check(suite, .not. allocated(error), "pushed plate: set-up")
         if (allocated(error)) then
@@ -111,6 +113,21 @@ contains
         end if
         call check(suite, case%motions(1)%name == "steel", "the entry takes the material's name")
         if (.not. run_to(sim, 1.0_wp, "pushed plate")) return
+        ! the nodes' reactions (output.grid) add up to those of history.csv
+        call check(suite, allocated(sim%grid%node_reaction), "output.grid keeps the nodes' reactions")
+        if (allocated(sim%grid%node_reaction)) then
+            ! the nodes above mid-height: the plate's (the sides hold no vertical component),
+            ! below it: the base's
+            half = sim%grid%nn(1)*(sim%grid%nn(2)/2)
+            total(1) = sum(sim%grid%node_reaction(2, half + 1:))
+            total(2) = sum(sim%grid%node_reaction(2, 1:half))
+            print '(a, 4es13.5)', "  pushed plate: nodes' reactions y above, below mid-height; " &
+                //"plate's, base's", total, sim%region_reaction(2, 1), sim%face_reaction(2, 1, 2)
+            call check(suite, abs(total(1) - sim%region_reaction(2, 1)) < 1.0e-9_wp &
+                *abs(total(1)) .and. abs(total(2) - sim%face_reaction(2, 1, 2)) < 1.0e-9_wp &
+                *abs(total(2)), "pushed plate: the nodes' reactions add up to the plate's and " &
+                //"the base's")
+        end if
         d = body_displacement(case, sim%particles, 1)
         print '(a, 2es12.4)', "  pushed plate: displacement x, y [m]", d(1:2)
         ! (the nodes move at the velocity of each step's start: a lag of v dt / 2 per step of

@@ -136,6 +136,13 @@ contains
         dim = grid%dim
         work = 0.0_wp
         grid%face_impulse = 0.0_wp
+        if (grid%keep_reaction) then
+            if (allocated(grid%node_reaction)) then
+                if (size(grid%node_reaction, 2) /= grid%nnodes) deallocate (grid%node_reaction)
+            end if
+            if (.not. allocated(grid%node_reaction)) allocate (grid%node_reaction(dim, grid%nnodes))
+            grid%node_reaction = 0.0_wp
+        end if
         do n = 1, grid%nprescribed
             id = grid%prescribed_node(n)
             if (grid%mass(id) <= grid%small_mass .or. .not. node_owned(grid, id)) cycle
@@ -146,6 +153,8 @@ contains
                 grid%face_impulse(1:dim, side, axis) = grid%face_impulse(1:dim, side, axis) &
                     + merge(impulse(1:dim), 0.0_wp, grid%prescribed_mask(:, n))
             end associate
+            if (grid%keep_reaction) grid%node_reaction(:, id) = grid%node_reaction(:, id) &
+                + merge(impulse(1:dim), 0.0_wp, grid%prescribed_mask(:, n))/dt
             work = work + dot_product(impulse(1:dim), grid%prescribed_velocity(:, n))
         end do
         ! the faces that hold components at zero: the force on those components (no work)
@@ -158,6 +167,8 @@ contains
                 grid%face_impulse(1:dim, side, axis) = grid%face_impulse(1:dim, side, axis) &
                     + impulse(1:dim)
             end associate
+            if (grid%keep_reaction) grid%node_reaction(:, id) = grid%node_reaction(:, id) &
+                + impulse(1:dim)/dt
         end do
         ! the regions of prescribed_motion: the same, on the components they hold
         if (allocated(grid%region_impulse)) grid%region_impulse = 0.0_wp
@@ -168,6 +179,8 @@ contains
             impulse(1:dim) = merge(-dt*(grid%fint(:, id) + grid%fext(:, id) &
                 + grid%mass(id)*gravity(1:dim)), 0.0_wp, grid%region_held(:, r))
             grid%region_impulse(:, r) = grid%region_impulse(:, r) + impulse(1:dim)
+            if (grid%keep_reaction) grid%node_reaction(:, id) = grid%node_reaction(:, id) &
+                + impulse(1:dim)/dt
             work = work + dot_product(impulse(1:dim), grid%region_velocity(:, r))
         end do
     end subroutine prescribed_impulses
