@@ -7,7 +7,7 @@
 !> Every node inside the box that the material reaches moves at v f(t) along the held
 !> `components` (all by default; only the vertical one for a smooth footing, whose nodes
 !> slide freely sideways). A rigid body (`"rigid"`: the name of a material of type "rigid")
-!> is the set of nodes its particles touch in each step: they move at v f(t) along the held
+!> is the set of nodes whose cell its particles fill to a fifth in each step: they move at v f(t) along the held
 !> components, and the body moves freely along the others. The force a region applies on
 !> the material over each step (the impulse that holds those components / dt) is its
 !> reaction, written to history.csv with the region's displacement, and its work enters the

@@ -105,6 +105,9 @@ module mpm_grid
             !! scratch of mpm_motion::hold_regions: the volume of a rigid body's particles
             !! weighted by each node's shape function (nodes; kept zero between the steps)
             !! [m3, m2 in 2D]
+        real(wp), allocatable :: body_start(:, :)
+            !! displacement of each rigid body at the step's start, the mean of its particles'
+            !! by mass (dim, regions; zero for a box) [m]
         logical :: keep_reaction = .false.
             !! keep the force of the constraints on each node (output.grid)
         real(wp), allocatable :: node_reaction(:, :)

@@ -57,8 +57,8 @@ contains
     end function region_displacement
 
     !> Hold the nodes of every region at time t (the step's start) for the step: the nodes
-    !> inside each box region's moved box, and the nodes each rigid body's particles touch
-    !> (a nonzero weight in this step's stencils). A region that would move a component a face
+    !> inside each box region's moved box, and the nodes whose cell each rigid body's particles
+    !> fill to a fifth (min_fill, from this step's stencils). A region that would move a component a face
     !> holds (a fixed or sliding face, a velocity face) is an error: the two contradict each
     !> other; so are two regions that reach the same node (a rigid body within a cell of
     !> another, or of a box region: one velocity field cannot move a node two ways).
@@ -88,9 +88,11 @@ contains
                 grid%region_held(dim, size(case%motions)), &
                 grid%region_impulse(dim, size(case%motions)), &
                 grid%body_velocity(dim, size(case%motions)), &
+                grid%body_start(dim, size(case%motions)), &
                 grid%region_rigid(size(case%motions)))
             grid%region_impulse = 0.0_wp
             grid%body_velocity = 0.0_wp
+            grid%body_start = 0.0_wp
             grid%region_rigid = case%motions%rigid
         end if
         if (.not. allocated(grid%region_mark)) then
@@ -125,14 +127,49 @@ contains
             call body_nodes(r, case%motions(r)%rigid)
             if (allocated(error)) return
         end do
+        if (any(case%motions%rigid > 0)) call body_conflicts()
     contains
+        !> A rigid body may not touch a velocity face (the lump would stop its nodes instead of
+        !> moving them with the face), a frictional face or the terrain (their contacts act on
+        !> the nodes one by one, which the lump undoes: the body sank through them).
+        subroutine body_conflicts()
+            integer :: n, id
+            character(len=:), allocatable :: what
+            real(wp) :: x(3)
+
+            what = ""
+            do n = 1, grid%nprescribed
+                id = grid%prescribed_node(n)
+                if (grid%region_mark(id) == 0) cycle
+                if (case%motions(grid%region_mark(id))%rigid == 0) cycle
+                what = "a velocity face"
+                exit
+            end do
+            if (len(what) == 0) then
+                do n = 1, grid%ncontacts
+                    id = grid%contact_node(n)
+                    if (grid%region_mark(id) == 0) cycle
+                    if (case%motions(grid%region_mark(id))%rigid == 0) cycle
+                    what = "a frictional face or the terrain of contact"
+                    exit
+                end do
+            end if
+            if (len(what) == 0) return
+            x = node_position(id)
+            call fatal_error(error, case%file//": at t = "//fmt_real(t, 6)//" s, " &
+                //region_text(grid%region_mark(id))//" reaches "//what//" at " &
+                //fmt_vector(x(1:dim), 6)//" m, which rigid bodies do not take yet; keep it " &
+                //"a cell away (a fixed or sliding face holds a rigid body)", exit_input)
+            call release_regions(grid)
+        end subroutine body_conflicts
+
         !> The nodes of rigid body r (material m).
         subroutine body_nodes(r, m)
             integer, intent(in) :: r, m
 
-            integer :: i, j, k, id, p, a(3), d, ntouched
+            integer :: i, j, k, id, p, a(3), d, ntouched, first
             integer, allocatable :: touched(:)
-            real(wp) :: weight
+            real(wp) :: weight, mass
 
             if (.not. allocated(grid%body_fill)) then
                 allocate (grid%body_fill(size(grid%mass)))
@@ -140,6 +177,16 @@ contains
             end if
             allocate (touched(256))
             ntouched = 0
+            ! its displacement: the mean of its particles' (all the same but for round-off)
+            grid%body_start(:, r) = 0.0_wp
+            mass = 0.0_wp
+            do p = 1, particles%n
+                if (particles%material(p) /= m) cycle
+                if (allocated(particles%u)) grid%body_start(:, r) = grid%body_start(:, r) &
+                    + particles%mass(p)*particles%u(1:dim, p)
+                mass = mass + particles%mass(p)
+            end do
+            if (mass > 0.0_wp) grid%body_start(:, r) = grid%body_start(:, r)/mass
             do p = 1, particles%n
                 if (particles%material(p) /= m) cycle
                 do k = 1, stc%nper(3)
@@ -168,6 +215,7 @@ contains
                     end do
                 end do
             end do
+            first = n
             do i = 1, ntouched
                 id = touched(i)
                 if (.not. allocated(error) .and. grid%body_fill(id) >= min_fill*grid%dx**dim) then
@@ -175,6 +223,12 @@ contains
                 end if
                 grid%body_fill(id) = 0.0_wp
             end do
+            if (allocated(error) .or. ntouched == 0 .or. n > first) return
+            call fatal_error(error, case%file//": at t = "//fmt_real(t, 6)//" s, " &
+                //region_text(r)//" fills no node's cell to a fifth (it is thinner than a " &
+                //"cell): the grid cannot move it as a rigid body; make it thicker or the " &
+                //"grid finer (domain.dx)", exit_input)
+            call release_regions(grid)
         end subroutine body_nodes
 
         !> Node id moves with region r: listed, marked, its held components constrained.

@@ -513,7 +513,7 @@ contains
                             sim%case%gravity, remap=.false., motion=motion, kinetic=kinetic, &
                             materials=sim%materials, strain_work=work, blend_loss=blend_loss, &
                             xpic=sim%case%solver%xpic)
-                        if (rigid) call rigid_velocities(sim, kinetic, nodal_work)
+                        if (rigid) call rigid_velocities(sim, kinetic, nodal_work, grid_energy)
                         call lap(sim, phase_g2p, clock)
                     end if
                 case (pass_g2p)
@@ -521,7 +521,7 @@ contains
                     call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, &
                         sim%case%gravity, remap=.false., motion=motion, kinetic=kinetic, &
                         blend_loss=blend_loss, xpic=sim%case%solver%xpic)
-                    if (rigid) call rigid_velocities(sim, kinetic, nodal_work)
+                    if (rigid) call rigid_velocities(sim, kinetic, nodal_work, grid_energy)
                     call lap(sim, phase_g2p, clock)
                 case (pass_g2p_remap)
                     ! MUSL: the same pass maps the updated particle momentum back to the nodes;
@@ -529,7 +529,7 @@ contains
                     call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, &
                         sim%case%gravity, remap=.true., motion=motion, kinetic=kinetic, &
                         blend_loss=blend_loss, xpic=sim%case%solver%xpic)
-                    if (rigid) call rigid_velocities(sim, kinetic, nodal_work)
+                    if (rigid) call rigid_velocities(sim, kinetic, nodal_work, grid_energy)
                     ! the remapped momentum of the shared nodes, then the velocities of the
                     ! remap
                     call halo_sum(grid, sim%shape%halo_width(), momentum=.true.)
@@ -576,7 +576,7 @@ contains
             end do
         end associate
         ! the rigid bodies' particles move together
-        if (rigid) call body_particle_positions(sim%grid, sim%particles)
+        if (rigid) call body_particle_positions(sim%grid, sim%particles, dt)
         call release_regions(sim%grid)
         ! sums over the images, in one reduction (the faces' and regions' impulses last)
         nregions = 0
@@ -619,21 +619,25 @@ contains
     end subroutine advance
 
     !> The particles of the rigid bodies at their bodies' velocities after G2P
-    !> (mpm_kernel_rigid): the kinetic energy that changes is theirs, and what it takes is
-    !> stopped by the rigid constraint (booked with the constraints).
-    subroutine rigid_velocities(sim, kinetic, nodal_work)
+    !> (mpm_kernel_rigid): the kinetic energy that changes is theirs; what it takes is stopped
+    !> by the rigid constraint (booked with the constraints) in a FLIP step, and the transfer
+    !> term's when G2P gives the particles the nodal velocities (it is the nodes' kinetic
+    !> energy that G2P did not give them).
+    subroutine rigid_velocities(sim, kinetic, nodal_work, grid_energy)
         type(simulation_type), intent(inout) :: sim
             !! the simulation
         real(wp), intent(inout) :: kinetic
             !! kinetic energy of the particles after G2P [J]
         real(wp), intent(inout) :: nodal_work(nnodal_sums)
             !! the nodal sums of the step
+        logical, intent(in) :: grid_energy
+            !! G2P gives the particles the nodal velocities (APIC, PIC)
 
         real(wp) :: change
 
         call body_particle_velocities(sim%grid, sim%particles, change)
         kinetic = kinetic + change
-        nodal_work(nodal_rigid) = nodal_work(nodal_rigid) - change
+        if (.not. grid_energy) nodal_work(nodal_rigid) = nodal_work(nodal_rigid) - change
     end subroutine rigid_velocities
 
     !> P2G of the step with the images' halo: with mass, the images first trade the parts of

@@ -83,9 +83,10 @@ contains
         ! (again after P2G's fold: it adds nothing more)
         call fold_light(grid, grid%momentum)
         call nodal_velocity(grid, step, friction_work)
-        call slave_light(grid, grid%velocity)
-        ! the rigid bodies' nodes at their bodies' velocities
+        ! the rigid bodies' nodes at their bodies' velocities (before the light nodes take
+        ! their masters')
         call move_bodies(grid, step, .false., lost)
+        call slave_light(grid, grid%velocity)
     end subroutine grid_velocity
 
     !> The nodal update (mpm_kernel_nodal::integrate_nodes) with the light nodes: their
@@ -121,11 +122,11 @@ contains
             call act_on_faces(grid, faces, time, dt, taken)
             dissipated(nodal_absorbed) = taken
         end if
-        call slave_light(grid, grid%velocity)
-        call slave_light(grid, grid%acceleration)
         ! each rigid body moves as one (what the lump takes is stopped by a constraint)
         call move_bodies(grid, dt, .true., taken)
         dissipated(nodal_rigid) = taken
+        call slave_light(grid, grid%velocity)
+        call slave_light(grid, grid%acceleration)
     end subroutine update_nodes
 
     !> Each face whose condition acts on its nodes (grid%acting_*) applies its `act` to the

@@ -16,6 +16,15 @@
 !> - A free rigid block rests on the column under gravity with local damping: the base
 !>   carries the weight of both within 1 %, the block settles by the column's elastic
 !>   shortening and comes to rest.
+!> - A free rigid block (0.3 m x 0.3 m, off the grid lines) at 2 m/s hits a free elastic
+!>   block, no gravity, no damping (MUSL FLIP with quadratic B-splines, APIC with cpGIMP): the
+!>   momentum of the particles stays the block's start momentum (to 1e-9: the lump and the
+!>   particles' mean keep it; resetting the particles to the nodes' lump gained 1500 J in a
+!>   review's run), and the kinetic and elastic energy never exceed the start kinetic energy
+!>   by more than 1 %. The energy residual is
+!>   printed, not checked: the one velocity field makes the impact inelastic, and how much of
+!>   the loss the balance books is open (FLIP: -9 % of the start energy, APIC: -2.4 %; a stiff
+!>   elastic block instead of the rigid one: +0.4 %, +40 %).
 !> - Two rigid blocks side by side (both moving the nodes of their common face) are refused
 !>   at the first step, with both named.
 program test_rigid_body
@@ -34,6 +43,9 @@ program test_rigid_body
     call pushed_plate()
     call falling_block()
     call resting_block()
+    call impact('"scheme": "MUSL", "shape_function": "bspline2"', "FLIP, bspline2")
+    call impact('"scheme": "MUSL", "shape_function": "cpgimp", "transfer": "apic"', &
+        "APIC, cpGIMP")
     call refused()
     call finish(suite)
 
@@ -224,6 +236,52 @@ contains
         call check(suite, abs(energy_residual(sim%energy)) < 5.0e-3_wp*abs(sim%energy%potential), &
             "resting block: energy closes to 0.5 % of the work of gravity")
     end subroutine resting_block
+
+    subroutine impact(solver, label)
+        character(len=*), intent(in) :: solver, label
+        type(case_type) :: case
+        type(simulation_type) :: sim
+        type(error_type), allocatable :: error
+        real(wp) :: start, most, momentum, after
+
+        call read_case_string('{"name": "impact", "domain": {"nx": 30, "ny": 10, "dx": 0.1}, ' &
+            //'"particles": {"ppc": 2}, "materials": [{"name": "m", "type": "linear_elastic", ' &
+            //'"E": 1e7, "nu": 0.3, "rho": 2000}, {"name": "steel", "type": "rigid", "rho": ' &
+            //'2000}], "bodies": [{"material": "steel", "min": [0.33, 0.33], "max": [0.63, ' &
+            //'0.63], "velocity": [2, 0]}, {"material": "m", "min": [1.0, 0.2], "max": [1.6, ' &
+            //'0.8]}], "solver": {'//solver//'}, "time": {"tend": 0.5, "cfl": 0.4}}', case, &
+            error, "impact")
+        if (.not. allocated(error)) call new_simulation(sim, case, error)
+        call check(suite, .not. allocated(error), label//": set-up")
+        if (allocated(error)) then
+            print '(a)', error%message
+            return
+        end if
+        start = sim%energy%kinetic
+        momentum = sum(sim%particles%mass(1:sim%particles%n)*sim%particles%v(1, 1:sim%particles%n))
+        most = 0.0_wp
+        do while (sim%time < 0.4_wp)
+            call advance(sim, stable_time_step(sim), error)
+            if (allocated(error)) exit
+            most = max(most, sim%energy%kinetic + sim%energy%elastic)
+        end do
+        call check(suite, .not. allocated(error), label//": impact runs")
+        if (allocated(error)) then
+            print '(a)', error%message
+            return
+        end if
+        print '(a, 4es12.4)', "  impact "//label//": start kinetic, largest kinetic + elastic, " &
+            //"boundary, residual [J/m]", start, most, sim%energy%boundary, &
+            energy_residual(sim%energy)
+        after = sum(sim%particles%mass(1:sim%particles%n)*sim%particles%v(1, 1:sim%particles%n))
+        print '(a, 2es16.8)', "  impact "//label//": momentum x at the start, at the end [N s/m]", &
+            momentum, after
+        call check(suite, sim%energy%kinetic < 0.9_wp*start, label//": the blocks met")
+        call check(suite, abs(after/momentum - 1.0_wp) < 1.0e-9_wp, &
+            label//": the momentum is kept")
+        call check(suite, most <= start*1.01_wp, &
+            label//": the rigid body gives no energy (1 %)")
+    end subroutine impact
 
     subroutine refused()
         type(case_type) :: case

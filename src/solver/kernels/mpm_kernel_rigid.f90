@@ -1,5 +1,5 @@
 !> The rigid bodies of a step (materials of type "rigid", mpm_material_rigid): one velocity
-!> for all the nodes a body's particles touch, and for its particles.
+!> for the nodes of a body, and for its particles.
 !>
 !> The nodes of each body are a region of grid%region_node (mpm_motion::hold_regions). Along
 !> the components a prescribed_motion entry holds, the nodal update moves them at the
@@ -11,11 +11,13 @@
 !> the momentum; the energy its impulse takes from the nodes is booked as stopped by the
 !> constraints (energy_type%boundary). A free component along which a face holds one of the
 !> body's nodes is held at zero: the body rests on the face. The particles of the body then
-!> take the body's velocity exactly (FLIP would add the noise of the nodes it shares with the
-!> material); the change of their kinetic energy is booked the same way. A body moves the
-!> nodes whose cell it fills to a fifth at least (mpm_motion::hold_regions), and its particles
-!> at its edges also reach nodes it does not move: after the moves they take the body's mean
-!> displacement (body_particle_positions), so the body stays rigid.
+!> take one velocity (FLIP would add the noise of the nodes it shares with the
+!> material, and at its edges the nodes it does not move), by the mean of theirs along its
+!> free components (the change of their kinetic energy, never a gain there, is booked the
+!> same way). A body moves the nodes whose cell it fills to a fifth at least
+!> (mpm_motion::hold_regions); after the moves its particles take its displacement, that of
+!> the step's start plus dt times its velocity (body_particle_positions), and stay
+!> undeformed, so the body stays rigid.
 module mpm_kernel_rigid
     use mpm_kinds, only: wp
     use mpm_grid, only: grid_type, node_owned
@@ -82,6 +84,8 @@ contains
                         grid%body_velocity(a, r) = grid%region_velocity(a, r)
                     else if (stopped(a, r) .or. mass(r) <= 0.0_wp) then
                         grid%body_velocity(a, r) = 0.0_wp
+                        ! the face that stops the body takes the impulse that does: its reaction
+                        if (update .and. stopped(a, r)) call stopping_face(r, a)
                     else
                         grid%body_velocity(a, r) = momentum(a, r)/mass(r)
                     end if
@@ -112,33 +116,74 @@ contains
             grid%velocity(:, id) = grid%body_velocity(:, r)
             grid%momentum(:, id) = grid%mass(id)*grid%body_velocity(:, r)
         end do
+    contains
+
+        !> Book the impulse that stops body r along axis a (its owned nodes' momentum, minus)
+        !> on the first face that holds a as a component of one of its nodes.
+        subroutine stopping_face(r, a)
+            integer, intent(in) :: r, a
+
+            integer :: k, node
+            real(wp) :: owned
+
+            owned = 0.0_wp
+            do k = 1, grid%nregion_nodes
+                if (grid%region_of(k) /= r) cycle
+                node = grid%region_node(k)
+                if (grid%mass(node) <= grid%small_mass .or. .not. node_owned(grid, node)) cycle
+                owned = owned - grid%momentum(a, node)
+            end do
+            do k = 1, grid%nheld
+                if (grid%region_mark(grid%held_node(k)) /= r) cycle
+                if (.not. grid%held_mask(a, k)) cycle
+                associate (side => grid%held_face(1, k), axis => grid%held_face(2, k))
+                    grid%face_impulse(a, side, axis) = grid%face_impulse(a, side, axis) + owned
+                end associate
+                return
+            end do
+            ! (no such face: the body's own reaction)
+            grid%region_impulse(a, r) = grid%region_impulse(a, r) + owned
+        end subroutine stopping_face
     end subroutine move_bodies
 
-    !> The particles of each rigid body take the body's velocity of the step; `change` is the
-    !> kinetic energy that gives them (the caller adds it to theirs and books it as stopped
-    !> by the constraints).
+    !> The particles of each rigid body take one velocity after G2P: along the held
+    !> components the prescribed one, along the others the mean of their G2P velocities by
+    !> mass (the momentum G2P gave them is kept, and the kinetic energy can only drop: the
+    !> particles at the body's edge also take the acceleration of nodes the body does not
+    !> move). That velocity becomes the body's for the rest of the step (MUSL's remap, the
+    !> moves: body_particle_positions); `change` is the kinetic energy it gives them.
     subroutine body_particle_velocities(grid, particles, change)
-        type(grid_type), intent(in) :: grid
+        type(grid_type), intent(inout) :: grid
             !! the grid after the step's nodal update
         type(particles_type), intent(inout) :: particles
             !! the particles after G2P
         real(wp), intent(out) :: change
             !! change of their kinetic energy [J]
 
-        integer :: p, r, dim
+        integer :: p, r, dim, nr
         integer, allocatable :: body_of(:)
+        real(wp), allocatable :: momentum(:, :), mass(:)
 
         change = 0.0_wp
         if (.not. has_bodies(grid)) return
         dim = grid%dim
-        allocate (body_of(maxval(grid%region_rigid)))
-        body_of = 0
-        do r = 1, size(grid%region_rigid)
-            if (grid%region_rigid(r) > 0) body_of(grid%region_rigid(r)) = r
+        nr = size(grid%region_rigid)
+        body_of = bodies_of_materials(grid)
+        allocate (momentum(dim, nr), mass(nr))
+        momentum = 0.0_wp
+        mass = 0.0_wp
+        do p = 1, particles%n
+            r = body_of_particle(p)
+            if (r == 0) cycle
+            momentum(:, r) = momentum(:, r) + particles%mass(p)*particles%v(1:dim, p)
+            mass(r) = mass(r) + particles%mass(p)
+        end do
+        do r = 1, nr
+            if (grid%region_rigid(r) == 0 .or. mass(r) <= 0.0_wp) cycle
+            where (.not. grid%region_held(:, r)) grid%body_velocity(:, r) = momentum(:, r)/mass(r)
         end do
         do p = 1, particles%n
-            if (particles%material(p) < 1 .or. particles%material(p) > size(body_of)) cycle
-            r = body_of(particles%material(p))
+            r = body_of_particle(p)
             if (r == 0) cycle
             change = change + 0.5_wp*particles%mass(p)*(sum(grid%body_velocity(:, r)**2) &
                 - sum(particles%v(1:dim, p)**2))
@@ -146,50 +191,64 @@ contains
             ! (APIC: a rigid body's velocity field is uniform)
             if (allocated(particles%affine)) particles%affine(:, :, p) = 0.0_wp
         end do
+    contains
+        !> The body of particle p, 0 for none.
+        pure integer function body_of_particle(p)
+            integer, intent(in) :: p
+
+            body_of_particle = 0
+            if (particles%material(p) >= 1 .and. particles%material(p) <= size(body_of)) then
+                body_of_particle = body_of(particles%material(p))
+            end if
+        end function body_of_particle
     end subroutine body_particle_velocities
 
-    !> After the particles moved: each rigid body's particles take the mean displacement of
-    !> the body (by mass). They move with the nodal velocities, and a particle at the body's
-    !> edge also reaches nodes the body does not move (mpm_motion::hold_regions: the nodes it
-    !> fills to a fifth); the mean keeps the body's motion, and the body stays rigid.
-    subroutine body_particle_positions(grid, particles)
+    !> The region of each rigid material's body (0: none), by material index.
+    pure function bodies_of_materials(grid) result(body_of)
+        type(grid_type), intent(in) :: grid
+            !! the grid of the step
+        integer, allocatable :: body_of(:)
+
+        integer :: r
+
+        allocate (body_of(maxval(grid%region_rigid)))
+        body_of = 0
+        do r = 1, size(grid%region_rigid)
+            if (grid%region_rigid(r) > 0) body_of(grid%region_rigid(r)) = r
+        end do
+    end function bodies_of_materials
+
+    !> After the particles moved: each rigid body's particles take the displacement of the
+    !> body, its displacement at the step's start (grid%body_start) plus dt times its velocity
+    !> (the particles at its edge moved with nodes it does not move too), and stay undeformed:
+    !> F = I, the volume of their start.
+    subroutine body_particle_positions(grid, particles, dt)
         type(grid_type), intent(in) :: grid
             !! the grid of the step
         type(particles_type), intent(inout) :: particles
             !! the particles after their moves (with their displacements u)
+        real(wp), intent(in) :: dt
+            !! time step [s]
 
-        integer :: p, r, dim, nr
+        integer :: p, r, dim, a
         integer, allocatable :: body_of(:)
-        real(wp), allocatable :: mean(:, :), mass(:)
-        real(wp) :: shift(3)
+        real(wp) :: target(3)
 
         if (.not. has_bodies(grid) .or. .not. allocated(particles%u)) return
         dim = grid%dim
-        nr = size(grid%region_rigid)
-        allocate (body_of(maxval(grid%region_rigid)), mean(dim, nr), mass(nr))
-        body_of = 0
-        do r = 1, nr
-            if (grid%region_rigid(r) > 0) body_of(grid%region_rigid(r)) = r
-        end do
-        mean = 0.0_wp
-        mass = 0.0_wp
+        body_of = bodies_of_materials(grid)
         do p = 1, particles%n
             if (particles%material(p) < 1 .or. particles%material(p) > size(body_of)) cycle
             r = body_of(particles%material(p))
             if (r == 0) cycle
-            mean(:, r) = mean(:, r) + particles%mass(p)*particles%u(1:dim, p)
-            mass(r) = mass(r) + particles%mass(p)
-        end do
-        do r = 1, nr
-            if (mass(r) > 0.0_wp) mean(:, r) = mean(:, r)/mass(r)
-        end do
-        do p = 1, particles%n
-            if (particles%material(p) < 1 .or. particles%material(p) > size(body_of)) cycle
-            r = body_of(particles%material(p))
-            if (r == 0) cycle
-            shift(1:dim) = mean(:, r) - particles%u(1:dim, p)
-            particles%x(1:dim, p) = particles%x(1:dim, p) + shift(1:dim)
-            particles%u(1:dim, p) = mean(:, r)
+            target(1:dim) = grid%body_start(:, r) + dt*grid%body_velocity(:, r)
+            particles%x(1:dim, p) = particles%x(1:dim, p) + target(1:dim) - particles%u(1:dim, p)
+            particles%u(1:dim, p) = target(1:dim)
+            particles%f(:, :, p) = 0.0_wp
+            do a = 1, dim
+                particles%f(a, a, p) = 1.0_wp
+            end do
+            particles%volume(p) = particles%volume0(p)
         end do
     end subroutine body_particle_positions
 
