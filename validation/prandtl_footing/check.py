@@ -17,7 +17,7 @@ particles fill to a fifth, its horizontal motion is held by the symmetry plane i
 (a rough footing: the same (2 + pi) Su on a weightless soil), and it keeps its shape while it
 sinks past the rows of nodes. Reported, not gating (the smooth footing the band is for is the
 region run): its limit pressure before it has sunk 0.8 of a cell (+5.2 %, just outside 5 %),
-and its pressure once past a cell (+9.2 %: when the footing's corner takes a second row of
+and its pressure once past a cell (+9.4 %: when the footing's corner takes a second row of
 nodes, the single velocity field moves the soil between its two bottom rows with it at the
 edge, which raises the pressure); gating: its energy balance.
 
