@@ -308,6 +308,16 @@ def cmd_plot_load_displacement(args, out):
     return 0
 
 
+def cmd_dem_to_stl(args, out):
+    from .dem import dem_to_stl
+
+    count, xr, yr, zr, left = dem_to_stl(args.dem, args.out)
+    print(f"wrote {args.out}: {count} triangles, x {xr[0]:.6g} .. {xr[1]:.6g} m, "
+          f"y {yr[0]:.6g} .. {yr[1]:.6g} m, z {zr[0]:.6g} .. {zr[1]:.6g} m"
+          + (f"; {left} squares without data left out" if left else ""), file=out)
+    return 0
+
+
 def cmd_plot_strength_reduction(args, out):
     from .plots import load_strength_reduction, factor_of_safety, plot_strength_reduction
 
@@ -431,6 +441,13 @@ def build_parser():
                        help="evaluate the exact field at the current positions, or at the "
                             "initial ones, position - displacement (default: current)")
     error.set_defaults(func=cmd_error)
+
+    dem = commands.add_parser(
+        "dem-to-stl", help="a DEM raster (ESRI ASCII grid) as an STL surface, for a layer's "
+                           "top or bottom or contact.file")
+    dem.add_argument("dem", metavar="DEM", help="ESRI ASCII grid (.asc), northern row first")
+    dem.add_argument("--out", required=True, help="STL file to write")
+    dem.set_defaults(func=cmd_dem_to_stl)
 
     plot = commands.add_parser("plot", help="write a standard figure (PNG)")
     plots = plot.add_subparsers(dest="figure", metavar="FIGURE")
