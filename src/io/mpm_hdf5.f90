@@ -34,7 +34,7 @@ module mpm_hdf5
     public :: hdf5_initialize, hdf5_is_hdf5_file
     public :: hdf5_create_file, hdf5_open_file, hdf5_create_group, hdf5_open_group, hdf5_close
     public :: hdf5_close_after
-    public :: hdf5_has_attribute, hdf5_has_link
+    public :: hdf5_has_attribute, hdf5_has_link, hdf5_dataset_shape
     public :: hdf5_write_dataset, hdf5_read_dataset, hdf5_write_column_view
     public :: hdf5_write_attribute, hdf5_read_attribute
 
@@ -370,6 +370,46 @@ contains
     end function hdf5_has_attribute
 
     !> True when the file or group has a member (dataset or group) of that name.
+    !> The dimensions of a dataset, in Fortran order (those of the array it reads into);
+    !> unallocated, with error set, when there is no such dataset or it cannot be read.
+    subroutine hdf5_dataset_shape(location, name, dims, error)
+        type(hdf5_location_type), intent(in) :: location
+            !! open file or group
+        character(len=*), intent(in) :: name
+            !! dataset name (no '/')
+        integer(i8), allocatable, intent(out) :: dims(:)
+            !! its dimensions
+        type(error_type), allocatable, intent(out) :: error
+            !! set (code exit_input) when there is no such dataset
+
+        integer(hid_t) :: dataset, space
+        integer(hsize_t) :: file_dims(8), max_dims(8)
+        integer :: hdferr, ignored, rank
+
+        if (.not. hdf5_has_link(location, name)) then
+            call fatal_error(error, "'"//location%file//"' has no dataset '" &
+                //join(location%path, name)//"'", exit_input)
+            return
+        end if
+        space = -1
+        call h5dopen_f(location%id, name, dataset, hdferr)
+        if (hdferr /= 0) dataset = -1
+        if (hdferr == 0) call h5dget_space_f(dataset, space, hdferr)
+        if (hdferr == 0) call h5sget_simple_extent_ndims_f(space, rank, hdferr)
+        if (hdferr == 0 .and. (rank < 1 .or. rank > 8)) hdferr = -1
+        if (hdferr == 0) then
+            call h5sget_simple_extent_dims_f(space, file_dims, max_dims, hdferr)
+            if (hdferr >= 0) then
+                hdferr = 0
+                dims = int(file_dims(1:rank), i8)
+            end if
+        end if
+        if (space >= 0) call h5sclose_f(space, ignored)
+        if (dataset >= 0) call h5dclose_f(dataset, ignored)
+        if (.not. allocated(dims)) call fatal_error(error, "cannot read the shape of the " &
+            //"dataset '"//join(location%path, name)//"' of '"//location%file//"'", exit_input)
+    end subroutine hdf5_dataset_shape
+
     logical function hdf5_has_link(location, name)
         type(hdf5_location_type), intent(in) :: location
             !! open file or group
