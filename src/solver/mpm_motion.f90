@@ -19,7 +19,7 @@ module mpm_motion
     implicit none
     private
     public :: hold_regions, release_regions, region_displacement, region_count, half_cell_notes, &
-        body_displacement
+        body_displacement, has_rigid_bodies
 
     character(len=*), parameter :: axis_names = "xyz"
     real(wp), parameter :: min_fill = 0.2_wp
@@ -40,6 +40,15 @@ contains
         region_count = 0
         if (allocated(case%motions)) region_count = size(case%motions)
     end function region_count
+
+    !> Whether a case has rigid bodies (materials of type "rigid").
+    pure logical function has_rigid_bodies(case)
+        type(case_type), intent(in) :: case
+            !! the case
+
+        has_rigid_bodies = .false.
+        if (region_count(case) > 0) has_rigid_bodies = any(case%motions%rigid > 0)
+    end function has_rigid_bodies
 
     !> The displacement of region r at time t: v F(t) along its held components [m].
     pure function region_displacement(case, r, t) result(d)

@@ -45,7 +45,7 @@ module mpm_solver
         phase_names, phase_stencils, phase_p2g, phase_nodal, phase_g2p, phase_stress, &
         phase_other, phase_output
     use mpm_loads, only: assign_loads, apply_loads
-    use mpm_motion, only: hold_regions, release_regions, region_count
+    use mpm_motion, only: hold_regions, release_regions, region_count, has_rigid_bodies
     use mpm_kernel_rigid, only: body_particle_velocities, body_particle_positions
     use mpm_solver_slabs, only: slab_grid, terrain_contact, rebalance, decompose_bodies, &
         decompose_loaded, migrate_particles
@@ -110,7 +110,7 @@ contains
         call new_shape(sim%shape, trim(case%solver%shape_function), error, &
             text_or(case%file, "?"))
         if (allocated(error)) return
-        if (image_count() > 1 .and. any(case%motions%rigid > 0)) then
+        if (image_count() > 1 .and. has_rigid_bodies(case)) then
             call fatal_error(error, case%file//": the rigid bodies of this case (materials of " &
                 //'type "rigid") run on one image: the motion of a body is summed over all its ' &
                 //"nodes in the middle of a step, which a run on "//int_text(image_count()) &
@@ -169,7 +169,7 @@ contains
             if (described%held /= held_written .or. has_text(case%save_state)) cycle
             if (any(case%output%fields .and. output_fields%source == described%name)) cycle
             ! the displacement of a rigid body (history.csv) is that of its particles
-            if (described%name == "u" .and. any(case%motions%rigid > 0)) cycle
+            if (described%name == "u" .and. has_rigid_bodies(case)) cycle
             call release_field(sim%particles, k)
         end do
         ! the particles that carry the tractions and point loads (a checkpoint keeps its own)
@@ -413,7 +413,7 @@ contains
         ! one pass: the last particle pass scatters the next step's P2G (a prescribed body
         ! force may change between the steps: its P2G stays in its own pass; the particles of
         ! a rigid body take its velocity after G2P)
-        rigid = any(sim%case%motions%rigid > 0)
+        rigid = has_rigid_bodies(sim%case)
         one_pass = sim%one_pass .and. .not. allocated(sim%particles%body_force) .and. &
             .not. rigid
         ready = one_pass .and. sim%scatter_ready
