@@ -142,26 +142,18 @@ contains
         !> moving them with the face), a frictional face or the terrain (their contacts act on
         !> the nodes one by one, which the lump undoes: the body sank through them).
         subroutine body_conflicts()
-            integer :: n, id
+            integer :: id
             character(len=:), allocatable :: what
             real(wp) :: x(3)
 
             what = ""
-            do n = 1, grid%nprescribed
-                id = grid%prescribed_node(n)
-                if (grid%region_mark(id) == 0) cycle
-                if (case%motions(grid%region_mark(id))%rigid == 0) cycle
+            id = 0
+            if (grid%nprescribed > 0) id = first_body_node(grid%prescribed_node(1:grid%nprescribed))
+            if (id > 0) then
                 what = "a velocity face"
-                exit
-            end do
-            if (len(what) == 0) then
-                do n = 1, grid%ncontacts
-                    id = grid%contact_node(n)
-                    if (grid%region_mark(id) == 0) cycle
-                    if (case%motions(grid%region_mark(id))%rigid == 0) cycle
-                    what = "a frictional face or the terrain of contact"
-                    exit
-                end do
+            else if (grid%ncontacts > 0) then
+                id = first_body_node(grid%contact_node(1:grid%ncontacts))
+                if (id > 0) what = "a frictional face or the terrain of contact"
             end if
             if (len(what) == 0) return
             x = node_position(id)
@@ -171,6 +163,21 @@ contains
                 //"a cell away (a fixed or sliding face holds a rigid body)", exit_input)
             call release_regions(grid)
         end subroutine body_conflicts
+
+        !> The first of the nodes ids that a rigid body moves in this step, 0 for none.
+        integer function first_body_node(ids)
+            integer, intent(in) :: ids(:)
+
+            integer :: k
+
+            first_body_node = 0
+            do k = 1, size(ids)
+                if (grid%region_mark(ids(k)) == 0) cycle
+                if (case%motions(grid%region_mark(ids(k)))%rigid == 0) cycle
+                first_body_node = ids(k)
+                return
+            end do
+        end function first_body_node
 
         !> The nodes of rigid body r (material m).
         subroutine body_nodes(r, m)
