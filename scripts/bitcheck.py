@@ -127,7 +127,9 @@ def compare_dirs(a, b):
             for key in sorted((set(ia) & set(ib)) - PROVENANCE):
                 if not same_array(ia[key], ib[key]):
                     problems.append(f"{rel}: {key} differs")
-        elif pa.read_bytes() != pb.read_bytes():
+        elif pa.read_bytes().replace(bytes(a), b"<out>") != \
+                pb.read_bytes().replace(bytes(b), b"<out>"):
+            # (a strength reduction's table names its trial folders, inside each run's own)
             problems.append(f"{rel} differs")
     return problems
 

@@ -26,7 +26,8 @@ module mpm_case
     use mpm_case_progress, only: progress_section_type
     use mpm_case_checkpoint, only: checkpoint_section_type
     use mpm_case_guard, only: guard_section_type
-    use mpm_case_loads, only: load_spec_type, time_function_type
+    use mpm_case_loads, only: load_spec_type
+    use mpm_time_function, only: time_function_type
     use mpm_case_motion, only: motion_spec_type
     use mpm_case_strength_reduction, only: strength_reduction_section_type
     implicit none

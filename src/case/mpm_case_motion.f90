@@ -19,8 +19,8 @@ module mpm_case_motion
     use mpm_strings, only: int_text, fmt_vector, fmt_real
     use mpm_case_cursor, only: cursor_type
     use mpm_case_domain, only: domain_section_type
-    use mpm_case_loads, only: time_function_type, read_time_function, time_function_text, &
-        read_box
+    use mpm_case_loads, only: read_box
+    use mpm_time_function, only: time_function_type, read_time_function, time_function_text
     use mpm_case_materials, only: material_spec_type, material_index, material_list
     implicit none
     private

@@ -29,7 +29,8 @@ submodule (mpm_case) mpm_case_reader
     use mpm_case_progress, only: read_progress, progress_keys
     use mpm_case_checkpoint, only: read_checkpoint, checkpoint_keys
     use mpm_case_guard, only: read_guard, guard_keys
-    use mpm_case_loads, only: read_loads, load_keys, time_function_keys
+    use mpm_case_loads, only: read_loads, load_keys
+    use mpm_time_function, only: time_function_keys
     use mpm_case_motion, only: read_motions, motion_keys
     use mpm_case_strength_reduction, only: read_strength_reduction, strength_reduction_keys
     implicit none
