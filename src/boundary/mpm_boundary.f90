@@ -31,6 +31,10 @@ module mpm_boundary
         logical :: prescribed = .false.
             !! the face moves its nodes at `velocity`: the impulse that takes (its reaction)
             !! is summed per face, and its work is work of the loads
+        logical :: varies = .false.
+            !! a prescribed velocity that changes in time (`velocity` is its value at t = 0):
+            !! the solver takes the condition's `velocity_at` at the start and the end of each
+            !! step, and the held components accelerate between the two
         logical :: contact = .false.
             !! the face's nodes are frictional contact pairs (no penetration, Coulomb friction,
             !! lift-off), applied by the contact kernel
@@ -66,6 +70,8 @@ module mpm_boundary
         !> Its action on the nodes of its face after each nodal update, when `nodes` says it
         !> `acts` (default: none).
         procedure :: act => boundary_act
+        !> The prescribed velocity at a time, when `nodes` says it `varies` (default: zero).
+        procedure :: velocity_at => boundary_velocity_at
         !> The name the summary writes: the first of names.
         procedure :: name => boundary_name
     end type boundary_type
@@ -136,11 +142,13 @@ contains
     !> components another face holds (those it must leave as they are), and the time at the
     !> start of the step. It changes them as its law says, keeping momentum = mass velocity,
     !> and returns the energy its impulses took from the nodes in this step (positive: taken),
-    !> which the energy balance books with the energy the faces stop (`boundary_work`). Its
-    !> law sees only these values and its own parameters: a law with a state of its own (a
-    !> spring's stretch) needs a place for that state first.
+    !> which the energy balance books with the energy the faces stop (`boundary_work`), and
+    !> the work of a motion it imposes from outside (a seismic record's incident wave), which
+    !> it books as work of the loads (`load_work`). Its law sees only these values and its
+    !> own parameters: a law with a state of its own (a spring's stretch) needs a place for
+    !> that state first.
     pure subroutine boundary_act(self, axis, dim, time, dt, dx, mass, held, momentum, velocity, &
-        acceleration, taken)
+        acceleration, taken, given)
         class(boundary_type), intent(in) :: self
             !! the condition
         integer, intent(in) :: axis
@@ -166,9 +174,26 @@ contains
             !! acceleration of the step (dim, n) [m/s2]
         real(wp), intent(out) :: taken
             !! energy the condition took from these nodes in this step [J]
+        real(wp), intent(out) :: given
+            !! work of the motion it imposes from outside on these nodes in this step [J]
 
         taken = 0.0_wp
+        given = 0.0_wp
     end subroutine boundary_act
+
+    !> Default: zero (a condition whose `nodes` says it `varies` gives its own).
+    pure function boundary_velocity_at(self, time, dim) result(velocity)
+        class(boundary_type), intent(in) :: self
+            !! the condition
+        real(wp), intent(in) :: time
+            !! time [s]
+        integer, intent(in) :: dim
+            !! space dimensions
+        real(wp) :: velocity(3)
+            !! velocity of the face's nodes (1..dim) [m/s]
+
+        velocity = 0.0_wp
+    end function boundary_velocity_at
 
     !> Default: nothing after the name.
     pure function boundary_summary(self) result(text)

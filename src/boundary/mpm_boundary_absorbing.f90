@@ -147,7 +147,7 @@ contains
     !> the face and vs along it, the held components left alone; the energy taken is the
     !> impulse at the mean velocity of the step.
     pure subroutine absorbing_act(self, axis, dim, time, dt, dx, mass, held, momentum, &
-        velocity, acceleration, taken)
+        velocity, acceleration, taken, given)
         class(absorbing_boundary_type), intent(in) :: self
             !! the condition
         integer, intent(in) :: axis
@@ -172,10 +172,13 @@ contains
             !! acceleration of the step (dim, n) [m/s2]
         real(wp), intent(out) :: taken
             !! energy the dashpots took in this step [J]
+        real(wp), intent(out) :: given
+            !! 0: nothing comes in from outside
 
         real(wp) :: factor(3), v(3), v0(3)
         integer :: i
 
+        given = 0.0_wp
         factor = 1.0_wp/(1.0_wp + 2.0_wp*self%vs*dt/dx)
         factor(axis) = 1.0_wp/(1.0_wp + 2.0_wp*self%vp*dt/dx)
         taken = 0.0_wp

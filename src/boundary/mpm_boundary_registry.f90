@@ -13,6 +13,7 @@ module mpm_boundary_registry
     use mpm_boundary_frictional, only: frictional_boundary_type
     use mpm_boundary_velocity, only: velocity_boundary_type
     use mpm_boundary_absorbing, only: absorbing_boundary_type
+    use mpm_boundary_seismic, only: seismic_boundary_type
     implicit none
     private
     public :: boundary_models, boundary_choices, boundary_choice_codes, all_boundary_keys
@@ -25,13 +26,14 @@ contains
         type(boundary_holder_type), allocatable :: models(:)
             !! the conditions
 
-        allocate (models(6))
+        allocate (models(7))
         allocate (free_boundary_type :: models(1)%b)
         allocate (sliding_boundary_type :: models(2)%b)
         allocate (fixed_boundary_type :: models(3)%b)
         allocate (frictional_boundary_type :: models(4)%b)
         allocate (velocity_boundary_type :: models(5)%b)
         allocate (absorbing_boundary_type :: models(6)%b)
+        allocate (seismic_boundary_type :: models(7)%b)
     end function boundary_models
 
     !> Every name a face accepts, in registry order.

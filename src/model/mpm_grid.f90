@@ -67,6 +67,17 @@ module mpm_grid
         logical, allocatable :: prescribed_mask(:, :)
             !! the components whose reaction the pair's face books: those no face before it
             !! holds (a corner's component goes to one face) (dim, nprescribed)
+        logical, allocatable :: prescribed_last(:)
+            !! the pair is the last of its node (the face whose velocity set_prescribed leaves
+            !! it with) (nprescribed)
+        logical :: prescribed_varies = .false.
+            !! a velocity face's velocity changes in time (a seismic base): the solver sets
+            !! prescribed_start and prescribed_velocity each step (face_varies)
+        logical :: face_varies(2, 3) = .false.
+            !! whether the prescribed velocity of face (side, axis) changes in time
+        real(wp), allocatable :: prescribed_start(:, :)
+            !! with prescribed_varies: the velocity the face gave the node at the start of the
+            !! step (dim, nprescribed) [m/s]
         integer :: nheld = 0
             !! number of (node, holding face) pairs: nodes of the faces that hold components
             !! at zero (sliding, fixed), for their reactions
@@ -288,8 +299,10 @@ contains
         grid%ncontacts = 0
         grid%nprescribed = 0
         grid%nacting = 0
+        grid%face_varies = .false.
         do a = 1, d
             do side = 1, 2
+                grid%face_varies(side, a) = nodes(side, a)%prescribed .and. nodes(side, a)%varies
                 if (nodes(side, a)%contact) grid%ncontacts = grid%ncontacts &
                     + grid%nnodes/grid%nn(a)
                 if (nodes(side, a)%prescribed) grid%nprescribed = grid%nprescribed &
@@ -314,6 +327,19 @@ contains
         if (stat /= 0) then
             call fatal_error(error, "cannot allocate the grid: "//trim(msg), exit_other)
             return
+        end if
+        allocate (grid%prescribed_last(grid%nprescribed), stat=stat, errmsg=msg)
+        if (stat /= 0) then
+            call fatal_error(error, "cannot allocate the grid: "//trim(msg), exit_other)
+            return
+        end if
+        grid%prescribed_varies = any(grid%face_varies)
+        if (grid%prescribed_varies) then
+            allocate (grid%prescribed_start(d, grid%nprescribed), stat=stat, errmsg=msg)
+            if (stat /= 0) then
+                call fatal_error(error, "cannot allocate the grid: "//trim(msg), exit_other)
+                return
+            end if
         end if
         grid%contact_load = 0.0_wp
         grid%contact_friction = 0.0_wp
@@ -351,6 +377,9 @@ contains
                                 grid%prescribed_node(n) = id
                                 grid%prescribed_face(:, n) = [side, a]
                                 grid%prescribed_velocity(:, n) = nodes(side, a)%velocity(1:d)
+                                if (grid%prescribed_varies) grid%prescribed_start(:, n) = &
+                                    nodes(side, a)%velocity(1:d)
+                                grid%prescribed_last(n) = .not. later_prescribed([i, j, k], a)
                                 grid%prescribed_mask(:, n) = .not. before(1:d)
                             end if
                             if (nodes(side, a)%acts) then
@@ -374,6 +403,22 @@ contains
         end do
 
     contains
+
+        !> Whether a face after the faces of axis `a` (in the order of the loop) prescribes
+        !> the velocity of the node at ijk too (an edge or corner of two velocity faces).
+        pure logical function later_prescribed(ijk, a)
+            integer, intent(in) :: ijk(3), a
+
+            integer :: a2, s2
+
+            later_prescribed = .false.
+            do a2 = a + 1, d
+                do s2 = 1, 2
+                    if (.not. nodes(s2, a2)%prescribed) cycle
+                    if (ijk(a2) == merge(0, grid%nn(a2) - 1, s2 == 1)) later_prescribed = .true.
+                end do
+            end do
+        end function later_prescribed
 
         !> A face whose nodes hold components at zero (not a velocity face, which books its
         !> reaction as prescribed).

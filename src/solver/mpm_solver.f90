@@ -35,6 +35,7 @@ module mpm_solver
     use mpm_kernel_contact, only: keep_contact_start, contact_particle_work
     use mpm_halo, only: halo_sum, halo_box, halo_contact_gaps, settle_light_nodes, fold_light
     use mpm_step_passes, only: step_passes, grid_velocity, update_nodes, xpic_field, pass_xpic, &
+        face_velocities, &
         pass_p2g, &
         pass_p2g_mass, pass_start_velocity, pass_p2g_force, pass_nodes, pass_g2p, &
         pass_g2p_stress, pass_g2p_remap, pass_stress, pass_stress_move
@@ -443,6 +444,10 @@ contains
         ! a contradiction is found on the image of its node: every image stops (collective)
         if (region_count(sim%case) > 0) call agree(error)
         if (allocated(error)) return
+        ! the faces whose velocity changes in time at their velocity of the step's start (the
+        ! start velocities of USF and USL; the nodal update takes them to the end's)
+        if (sim%grid%prescribed_varies) call face_velocities(sim%grid, sim%case%domain%face, &
+            sim%time, sim%time)
         call lap(sim, phase_stencils, clock)
         passes = step_passes(scheme, sim%case%solver%fbar, xpic=sim%case%solver%xpic)
         associate (grid => sim%grid, particles => sim%particles, stc => sim%stencils, &

@@ -13,11 +13,13 @@ module mpm_step_passes
     use mpm_stencil, only: stencils_type
     use mpm_transfer, only: map_through_particles
     use mpm_kernel_nodal, only: nodal_velocity, integrate_nodes, nnodal_sums, nodal_absorbed, &
+        nodal_faces, &
         nodal_rigid, box_middle, box_row
     use mpm_kernel_rigid, only: move_bodies
     implicit none
     private
-    public :: step_passes, grid_velocity, update_nodes, act_on_faces, xpic_field
+    public :: step_passes, grid_velocity, update_nodes, act_on_faces, xpic_field, &
+        face_velocities
     public :: pass_p2g, pass_p2g_mass, pass_start_velocity, pass_p2g_force, pass_nodes, &
         pass_g2p, pass_g2p_stress, pass_g2p_remap, pass_stress, pass_stress_move, pass_xpic
 
@@ -111,16 +113,20 @@ contains
         real(wp), intent(out) :: dissipated(nnodal_sums)
             !! the nodal sums of the step (mpm_kernel_nodal::nnodal_sums) [J]
 
-        real(wp) :: taken
+        real(wp) :: taken, given
 
         call fold_light(grid, grid%momentum)
         call fold_light(grid, grid%fint)
         call fold_light(grid, grid%fext)
+        ! the velocities of the faces whose motion changes in time, at the end of the step
+        if (grid%prescribed_varies) call face_velocities(grid, faces, time, time + dt)
         call integrate_nodes(grid, dt, gravity, local_damping, alpha, dissipated)
         if (grid%nacting > 0) then
-            ! what leaves through the faces, booked with what the faces stop (boundary_work)
-            call act_on_faces(grid, faces, time, dt, taken)
+            ! what leaves through the faces, booked with what the faces stop (boundary_work),
+            ! and what an outcrop motion brings in, with the work of the faces (load_work)
+            call act_on_faces(grid, faces, time, dt, taken, given)
             dissipated(nodal_absorbed) = taken
+            dissipated(nodal_faces) = dissipated(nodal_faces) + given
         end if
         ! each rigid body moves as one (what the lump takes is stopped by a constraint)
         call move_bodies(grid, dt, .true., taken)
@@ -129,12 +135,48 @@ contains
         call slave_light(grid, grid%acceleration)
     end subroutine update_nodes
 
+    !> The faces whose prescribed velocity changes in time (grid%face_varies, a seismic base):
+    !> each of their (node, face) pairs takes the face's velocity at t0 as the start velocity
+    !> of the step and the one at t1 as the velocity it holds.
+    subroutine face_velocities(grid, faces, t0, t1)
+        type(grid_type), intent(inout) :: grid
+            !! the grid
+        type(boundary_holder_type), intent(in) :: faces(2, 3)
+            !! the condition of each face
+        real(wp), intent(in) :: t0
+            !! time of the start velocity [s]
+        real(wp), intent(in) :: t1
+            !! time of the held velocity [s]
+
+        real(wp) :: v0(3, 2, 3), v1(3, 2, 3)
+        integer :: n, side, axis
+
+        v0 = 0.0_wp
+        v1 = 0.0_wp
+        do axis = 1, grid%dim
+            do side = 1, 2
+                if (.not. grid%face_varies(side, axis)) cycle
+                associate (condition => faces(side, axis)%b)
+                    v0(:, side, axis) = condition%velocity_at(t0, grid%dim)
+                    v1(:, side, axis) = condition%velocity_at(t1, grid%dim)
+                end associate
+            end do
+        end do
+        do n = 1, grid%nprescribed
+            side = grid%prescribed_face(1, n)
+            axis = grid%prescribed_face(2, n)
+            if (.not. grid%face_varies(side, axis)) cycle
+            grid%prescribed_start(:, n) = v0(1:grid%dim, side, axis)
+            grid%prescribed_velocity(:, n) = v1(1:grid%dim, side, axis)
+        end do
+    end subroutine face_velocities
+
     !> Each face whose condition acts on its nodes (grid%acting_*) applies its `act` to the
     !> nodes of the face that hold material (above grid%small_mass), on copies of their
     !> masses, momenta, velocities, accelerations and held components; the energy they take
     !> is summed over this image's nodes (node_owned). A node on two acting faces (an edge)
     !> takes both, in face order.
-    subroutine act_on_faces(grid, faces, time, dt, taken)
+    subroutine act_on_faces(grid, faces, time, dt, taken, given)
         type(grid_type), intent(inout) :: grid
             !! grid after the nodal update
         type(boundary_holder_type), intent(in) :: faces(2, 3)
@@ -145,13 +187,16 @@ contains
             !! time step [s]
         real(wp), intent(out) :: taken
             !! energy the conditions took from the nodes in this step [J]
+        real(wp), intent(out) :: given
+            !! work of the motions they impose from outside on the nodes in this step [J]
 
         integer, allocatable :: ids(:)
         logical, allocatable :: owned(:)
-        real(wp) :: shared_work, owned_work
+        real(wp) :: shared_work, owned_work, shared_given, owned_given
         integer :: first, last, side, axis, k
 
         taken = 0.0_wp
+        given = 0.0_wp
         first = 1
         do while (first <= grid%nacting)
             side = grid%acting_face(1, first)
@@ -166,29 +211,33 @@ contains
             first = last + 1
             owned = [(node_owned(grid, ids(k)), k = 1, size(ids))]
             ! the nodes shared with another image count on the image that owns them
-            call act_on(pack(ids, owned), owned_work)
-            call act_on(pack(ids, .not. owned), shared_work)
+            call act_on(pack(ids, owned), owned_work, owned_given)
+            call act_on(pack(ids, .not. owned), shared_work, shared_given)
             taken = taken + owned_work
+            given = given + owned_given
         end do
 
     contains
 
         !> The condition of face (side, axis) on the nodes `at`.
-        subroutine act_on(at, face_work)
+        subroutine act_on(at, face_work, face_given)
             integer, intent(in) :: at(:)
                 !! the nodes
             real(wp), intent(out) :: face_work
                 !! the energy the condition took from them [J]
+            real(wp), intent(out) :: face_given
+                !! the work of the motion it imposes on them [J]
 
             real(wp), allocatable :: momentum(:, :), velocity(:, :), acceleration(:, :)
 
             face_work = 0.0_wp
+            face_given = 0.0_wp
             if (size(at) == 0) return
             momentum = grid%momentum(:, at)
             velocity = grid%velocity(:, at)
             acceleration = grid%acceleration(:, at)
             call faces(side, axis)%b%act(axis, grid%dim, time, dt, grid%dx, grid%mass(at), &
-                grid%constrained(:, at), momentum, velocity, acceleration, face_work)
+                grid%constrained(:, at), momentum, velocity, acceleration, face_work, face_given)
             grid%momentum(:, at) = momentum
             grid%velocity(:, at) = velocity
             grid%acceleration(:, at) = acceleration

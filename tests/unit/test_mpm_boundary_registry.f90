@@ -49,11 +49,11 @@ contains
                 trim(choices(i))//": its code points at its condition")
         end do
         keys = all_boundary_keys()
-        unique = size(keys) == 5
+        unique = size(keys) == 8
         if (unique) unique = all(keys == [character(len=boundary_key_width) :: "type", "mu", &
-            "velocity", "vp", "vs"])
+            "velocity", "vp", "vs", "file", "record", "scale"])
         call check(suite, unique, "face keys: type, then mu (frictional), velocity, vp, vs " &
-            //"(absorbing)")
+            //"(absorbing), file, record, scale (seismic)")
         do m = 1, size(models)
             keys = keys_of(models(m)%b)
             call check(suite, (size(keys) > 0) .eqv. (len(models(m)%b%example()) > 0), &
@@ -67,7 +67,10 @@ contains
             //'object {"type": "frictional", "mu": 0.4} for a face with Coulomb friction, or ' &
             //'an object {"type": "velocity", "velocity": [0, -0.01]} for a face moving at a ' &
             //'prescribed velocity, or an object {"type": "absorbing", "vp": 300, "vs": 160} ' &
-            //"for a face through which waves leave the domain", "the allowed text of messages")
+            //"for a face through which waves leave the domain, or an object {" &
+            //'"type": "seismic", "file": "record.csv", "record": "acceleration", "scale": ' &
+            //'[9.81, 0]} (with "vp", "vs": a compliant base) for a face shaken by an ' &
+            //"earthquake record", "the allowed text of messages")
     end subroutine check_names_and_keys
 
     !> What each condition does to the nodes of a y face in 2D.
@@ -101,6 +104,12 @@ contains
                 call check(suite, nodes%acts .and. .not. any(nodes%held) .and. &
                     .not. nodes%contact .and. .not. nodes%prescribed .and. &
                     nodes%keeps_particles, "absorbing: acts on its nodes, nothing held, a wall")
+            case ("seismic")
+                ! (as the registry gives it: no vp, vs, a rigid base at rest)
+                call check(suite, all(nodes%held .eqv. [.true., .true., .false.]) &
+                    .and. nodes%prescribed .and. nodes%varies .and. nodes%keeps_particles &
+                    .and. all(nodes%velocity == 0.0_wp), &
+                    "seismic: a rigid base, every component prescribed and changing in time")
             case default
                 call check(suite, .false., models(m)%b%name()//": no nodal check here")
             end select
@@ -154,7 +163,7 @@ contains
         type(case_type) :: case
         type(error_type), allocatable :: error
         type(face_nodes_type) :: nodes
-        real(wp) :: momentum(2, 1), velocity(2, 1), acceleration(2, 1), taken, v(2), v0(2)
+        real(wp) :: momentum(2, 1), velocity(2, 1), acceleration(2, 1), taken, given, v(2), v0(2)
         real(wp), parameter :: dt = 1.0e-3_wp, dx = 0.5_wp, mass = 3.0_wp
 
         call read_case_string(face_case('{"type": "Absorbing", "vp": 300, "vs": 160}'), &
@@ -172,7 +181,8 @@ contains
         acceleration(:, 1) = [10.0_wp, -20.0_wp]
         momentum = mass*velocity
         call case%domain%face(2, 2)%b%act(2, 2, 0.0_wp, dt, dx, [mass], &
-            reshape([.false., .false.], [2, 1]), momentum, velocity, acceleration, taken)
+            reshape([.false., .false.], [2, 1]), momentum, velocity, acceleration, taken, &
+            given)
         v = [0.2_wp/(1 + 2*160*dt/dx), -0.4_wp/(1 + 2*300*dt/dx)]
         v0 = [0.2_wp, -0.4_wp] - dt*[10.0_wp, -20.0_wp]
         call check(suite, all(abs(velocity(:, 1) - v) <= 1.0e-15_wp) .and. &
@@ -187,7 +197,8 @@ contains
         acceleration(:, 1) = [0.0_wp, -20.0_wp]
         momentum = mass*velocity
         call case%domain%face(2, 2)%b%act(2, 2, 0.0_wp, dt, dx, [mass], &
-            reshape([.true., .false.], [2, 1]), momentum, velocity, acceleration, taken)
+            reshape([.true., .false.], [2, 1]), momentum, velocity, acceleration, taken, &
+            given)
         call check(suite, velocity(1, 1) == 0.2_wp .and. acceleration(1, 1) == 0.0_wp .and. &
             momentum(1, 1) == mass*0.2_wp .and. abs(velocity(2, 1) - v(2)) <= 1.0e-15_wp, &
             "absorbing face: a held component is left alone")
