@@ -124,6 +124,8 @@ contains
                 call start_time_step(case%dim, case%domain%dx, case%materials, case%bodies, critical, viscous)
                 line = line//", critical time step "//fmt_real(critical, 6)//" s at t = 0"
                 if (viscous) line = line//" (viscous limit)"
+                if (stiffens(case%materials)) line = line//" at the least stiffness (it " &
+                    //"follows the stress in the run)"
             end if
         end if
         if (case%time%allow_unstable) line = line//", allow_unstable (no stability check)"
@@ -220,6 +222,19 @@ contains
         call start_time_step(case%dim, case%domain%dx, case%materials, case%bodies, critical, viscous)
         case_step = case%time%cfl*critical
     end function case_step
+
+    !> Whether a material stiffens with its stress (its critical step follows it in the run).
+    pure logical function stiffens(materials)
+        type(material_spec_type), intent(in) :: materials(:)
+            !! the materials
+
+        integer :: m
+
+        stiffens = .false.
+        do m = 1, size(materials)
+            if (allocated(materials(m)%law)) stiffens = stiffens .or. materials(m)%law%speed_varies()
+        end do
+    end function stiffens
 
     !> Number of grid nodes of the case.
     pure integer(i8) function node_count(case)

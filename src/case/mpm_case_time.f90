@@ -54,6 +54,7 @@ contains
         character(len=:), allocatable :: rule
         logical :: viscous
         real(wp) :: critical, step
+        integer :: m
 
         call root%get_section("time", time_keys, cur, error, required=.true.)
         if (allocated(error)) return
@@ -74,6 +75,15 @@ contains
             end if
             call cur%get_real("dt", time%dt, error, above=0.0_wp, unit="s")
             if (allocated(error)) return
+            do m = 1, size(materials)
+                if (.not. allocated(materials(m)%law) .or. time%allow_unstable) cycle
+                if (.not. materials(m)%law%speed_varies()) cycle
+                call cur%fail(error, "time.dt: material '"//materials(m)%name//"' stiffens " &
+                    //"as it is loaded (its wave speed follows the stress), so no fixed step " &
+                    //"is known to stay stable; use time.cfl, which follows it " &
+                    //"(time.allow_unstable = true forces dt)")
+                return
+            end do
             if (time%dt > critical .and. .not. time%allow_unstable) then
                 call cur%fail(error, "time.dt = "//fmt_real(time%dt)//" s is above the " &
                     //"critical time step "//fmt_below(critical, time%dt)//" s of this case " &

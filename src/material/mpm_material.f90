@@ -48,6 +48,10 @@ module mpm_material
         procedure(read_interface), deferred :: read
         !> P-wave speed [m/s].
         procedure(speed_interface), deferred :: wave_speed
+        !> P-wave speed at a particle's stress and state [m/s] (default wave_speed()).
+        procedure :: wave_speed_at => material_wave_speed_at
+        !> Whether the wave speed follows the stress (default no: wave_speed() holds).
+        procedure :: speed_varies => material_speed_varies
         !> Stable time step besides the CFL condition [s] (default huge: none).
         procedure :: time_step_limit => material_time_step_limit
         !> Whether the material writes the plastic strain (default no).
@@ -155,6 +159,26 @@ contains
 
         allocate (list(0))
     end subroutine material_section_keys
+
+    !> Default: the wave speed of the parameters, whatever the stress.
+    pure real(wp) function material_wave_speed_at(self, stress, state)
+        class(material_type), intent(in) :: self
+            !! the material
+        real(wp), intent(in) :: stress(:)
+            !! the particle's stress [Pa]
+        real(wp), intent(in) :: state(:)
+            !! its state variables
+
+        material_wave_speed_at = self%wave_speed()
+    end function material_wave_speed_at
+
+    !> Default: the stiffness does not follow the stress.
+    pure logical function material_speed_varies(self)
+        class(material_type), intent(in) :: self
+            !! the material
+
+        material_speed_varies = .false.
+    end function material_speed_varies
 
     !> Default: no time-step limit besides the CFL condition, huge [s].
     pure real(wp) function material_time_step_limit(self, dx, dim)

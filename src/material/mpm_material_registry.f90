@@ -16,6 +16,7 @@ module mpm_material_registry
     use mpm_material_mu_i, only: mu_i_material_type
     use mpm_material_tresca, only: tresca_material_type
     use mpm_material_rigid, only: rigid_material_type
+    use mpm_material_cam_clay, only: cam_clay_material_type
     implicit none
     private
     public :: material_models, material_choices, material_choice_codes, all_material_keys
@@ -28,7 +29,7 @@ contains
         type(material_holder_type), allocatable :: models(:)
             !! the materials
 
-        allocate (models(8))
+        allocate (models(9))
         allocate (elastic_material_type :: models(1)%m)
         allocate (mohr_coulomb_material_type :: models(2)%m)
         allocate (drucker_prager_material_type :: models(3)%m)
@@ -37,6 +38,7 @@ contains
         allocate (mu_i_material_type :: models(6)%m)
         allocate (tresca_material_type :: models(7)%m)
         allocate (rigid_material_type :: models(8)%m)
+        allocate (cam_clay_material_type :: models(9)%m)
     end function material_models
 
     !> Every name `materials[i].type` accepts (aliases included), in registry order.

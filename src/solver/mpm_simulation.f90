@@ -43,7 +43,10 @@ module mpm_simulation
         class(shape_type), allocatable :: shape
             !! shape function
         real(wp), allocatable :: wave_speed(:)
-            !! P-wave speed of each material [m/s]
+            !! P-wave speed of each material [m/s] (its least, when it follows the stress)
+        logical, allocatable :: speed_varies(:)
+            !! whether the P-wave speed of each material follows the particle's stress
+            !! (material_type%wave_speed_at)
         real(wp) :: face_reaction(3, 2, 3) = 0.0_wp
             !! force each face (side, axis) applied on the material over the last step, over
             !! the whole grid: the impulse of a velocity face / dt, zero for the others [N; N/m

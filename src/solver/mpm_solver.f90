@@ -103,10 +103,12 @@ contains
         sim%case = case
         call material_laws(case%materials, sim%materials)
         allocate (sim%wave_speed(size(sim%materials)), sim%time_step_limit(size(sim%materials)))
+        allocate (sim%speed_varies(size(sim%materials)))
         nstate = state_variable_count(case%materials)
         do i = 1, size(sim%materials)
             sim%wave_speed(i) = p_wave_speed(case%materials(i))
             sim%time_step_limit(i) = viscous_time_step(case%materials(i), case%domain%dx, case%dim)
+            sim%speed_varies(i) = sim%materials(i)%m%speed_varies()
         end do
         call new_shape(sim%shape, trim(case%solver%shape_function), error, &
             text_or(case%file, "?"))
@@ -361,12 +363,13 @@ contains
 
 
 
-    !> Time step: the fixed dt of the case, or C dx / max_p (c_p + |v_p|).
+    !> Time step: the fixed dt of the case, or C dx / max_p (c_p + |v_p|), c_p at the
+    !> particle's stress for a material whose stiffness follows it.
     real(wp) function stable_time_step(sim)
         type(simulation_type), intent(in) :: sim
             !! the simulation
 
-        integer :: p
+        integer :: p, mat
         real(wp) :: speed
 
         if (sim%case%time%dt > 0.0_wp) then
@@ -374,13 +377,29 @@ contains
             return
         end if
         speed = 0.0_wp
-        !$omp parallel do default(none) schedule(static) shared(sim) private(p) &
-        !$omp reduction(max: speed)
-        do p = 1, sim%particles%n
-            speed = max(speed, sim%wave_speed(sim%particles%material(p)) &
-                + norm2(sim%particles%v(:, p)))
-        end do
-        !$omp end parallel do
+        if (any(sim%speed_varies)) then
+            !$omp parallel do default(none) schedule(static) shared(sim) private(p, mat) &
+            !$omp reduction(max: speed)
+            do p = 1, sim%particles%n
+                mat = sim%particles%material(p)
+                if (sim%speed_varies(mat)) then
+                    speed = max(speed, sim%materials(mat)%m%wave_speed_at( &
+                        sim%particles%stress(:, p), sim%particles%state(:, p)) &
+                        + norm2(sim%particles%v(:, p)))
+                else
+                    speed = max(speed, sim%wave_speed(mat) + norm2(sim%particles%v(:, p)))
+                end if
+            end do
+            !$omp end parallel do
+        else
+            !$omp parallel do default(none) schedule(static) shared(sim) private(p) &
+            !$omp reduction(max: speed)
+            do p = 1, sim%particles%n
+                speed = max(speed, sim%wave_speed(sim%particles%material(p)) &
+                    + norm2(sim%particles%v(:, p)))
+            end do
+            !$omp end parallel do
+        end if
         call max_over_images(speed)
         stable_time_step = sim%case%time%cfl*min(sim%case%domain%dx/max(speed, tiny(1.0_wp)), &
             minval(sim%time_step_limit))

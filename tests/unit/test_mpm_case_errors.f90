@@ -808,7 +808,7 @@ contains
         call expect_error(suite, soil_case(elastic_part), [character(len=200) :: "missing required " &
             //"key 'materials[1].type' (one of ""linear_elastic"", ""elastic"", " &
             //"""mohr_coulomb"", ""drucker_prager"", ""newtonian"", ""neo_hookean"", ""mu_i"", ""tresca"", " &
-            //"""rigid"")"], &
+            //"""rigid"", ""cam_clay"", ""mcc"")"], &
             "type missing")
         call expect_error(suite, soil_case('"type": "mohr-coulomb", '//elastic_part//', "phi": 30'), &
             [character(len=200) :: 'materials[1].type = "mohr-coulomb" is not allowed'], &

@@ -93,6 +93,9 @@ contains
                     //'"strain": 0.2}}'
             case ("rigid")
                 example = '{"rho": 1000}'
+            case ("cam_clay")
+                example = '{"M": 1.2, "lambda": 0.2, "kappa": 0.04, "e0": 1.0, "nu": 0.3, ' &
+                    //'"rho": 1000, "OCR": 2, "p_min": 500}'
             case ("mu_i")
                 example = '{"K": 1e6, "G": 5e5, "rho": 1000, "mu_s": 0.38, "mu_2": 0.64, ' &
                     //'"I_0": 0.279, "grain_diameter": 5e-4, "grain_density": 2450}'
