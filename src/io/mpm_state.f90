@@ -179,6 +179,8 @@ contains
             if (allocated(error)) exit steps
             call hdf5_write_attribute(file, "materials", material_names(case), error)
             if (allocated(error)) exit steps
+            call hdf5_write_attribute(file, "material_types", material_types(case), error)
+            if (allocated(error)) exit steps
 
             call hdf5_create_group(file, "particles", group, error)
             if (allocated(error)) exit steps
@@ -565,7 +567,7 @@ contains
 
         type(hdf5_location_type) :: group
         character(len=:), allocatable :: format
-        type(text_type), allocatable :: names(:)
+        type(text_type), allocatable :: names(:), types(:)
         integer, allocatable :: remap(:)
         integer :: dim, n, nstress, file_nstate, case_nstate
 
@@ -609,10 +611,46 @@ contains
         call hdf5_close_after(group, error)
         if (allocated(error)) return
 
+        if (hdf5_has_attribute(file, "material_types") .and. particles%nstate > 0) then
+            call hdf5_read_attribute(file, "material_types", types, error)
+            if (allocated(error)) return
+            call forget_other_laws(types, remap, case, particles)
+        end if
         call apply_remap(path, remap, particles, error)
         if (allocated(error)) return
         call check_inside(path, case, particles, error)
     end subroutine read_state_file
+
+    !> The material state of a particle whose material has another type in the loading case
+    !> (a Mohr-Coulomb stage, then a Cam Clay one of the same name) means something else to the
+    !> new law: it starts afresh, zero (the plastic strains of the earlier law are not the
+    !> new one's; a Cam Clay preconsolidation pressure of zero is set from the stress at the
+    !> first update). Material indices are still the file's.
+    subroutine forget_other_laws(types, remap, case, particles)
+        type(text_type), intent(in) :: types(:)
+            !! material types of the state, in the saving case's order
+        integer, intent(in) :: remap(:)
+            !! index in the case of each material of the state
+        type(case_type), intent(in) :: case
+            !! the loading case
+        type(particles_type), intent(inout) :: particles
+            !! particles read, material indices as in the file
+
+        logical :: changed(size(remap))
+        integer :: k, p
+
+        do k = 1, size(remap)
+            changed(k) = .false.
+            if (k > size(types)) cycle
+            if (.not. allocated(case%materials(remap(k))%type) .or. types(k)%text == "") cycle
+            changed(k) = types(k)%text /= case%materials(remap(k))%type
+        end do
+        if (.not. any(changed)) return
+        do p = 1, particles%n
+            if (particles%material(p) < 1 .or. particles%material(p) > size(remap)) cycle
+            if (changed(particles%material(p))) particles%state(:, p) = 0.0_wp
+        end do
+    end subroutine forget_other_laws
 
     !> The saved arrays of the field table, in table order. A field the particles do not hold
     !> by default (APIC affine velocities) is allocated when the file has it; one held always
@@ -809,6 +847,23 @@ contains
             end do
         end do
     end subroutine check_inside
+
+    !> Material types of a case ("mohr_coulomb", ...), in case order ("" for a material made
+    !> in code without one).
+    function material_types(case) result(types)
+        type(case_type), intent(in) :: case
+        type(text_type), allocatable :: types(:)
+
+        integer :: m, nmat
+
+        nmat = 0
+        if (allocated(case%materials)) nmat = size(case%materials)
+        allocate (types(nmat))
+        do m = 1, nmat
+            types(m)%text = ""
+            if (allocated(case%materials(m)%type)) types(m)%text = case%materials(m)%type
+        end do
+    end function material_types
 
     !> Material names of a case, in case order.
     function material_names(case) result(names)

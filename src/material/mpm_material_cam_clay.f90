@@ -27,18 +27,21 @@
 !> has then (the initial stress of the case): pc = OCR (p + q^2 / (M^2 p)), the ellipse
 !> through that stress, times the overconsolidation ratio (at least OCR p_min).
 !>
-!> Closed forms the element tests check (tests/verification/test_cam_clay.f90), for a
+!> Closed forms the element tests check (tests/unit/test_mpm_material_cam_clay.f90), for a
 !> normally consolidated clay from an isotropic p0: undrained, p / p0 = (M^2 / (M^2 +
 !> eta^2))^(1 - kappa / lambda), eta = q / p, failing at q = M p; drained triaxial
 !> compression (p = p0 + q / 3), eps_v = lambda* ln(p / p0) + (lambda* - kappa*) ln(1 +
 !> eta^2 / M^2), failing at p = 3 p0 / (3 - M).
 !>
-!> The stored energy is kappa* p (the integral of p d eps_v^e, from p = 0) plus q^2 / (6 G)
+!> The stored energy is kappa* p (the integral of p d eps_v^e; below p_min that of the held
+!> modulus) plus q^2 / (6 G)
 !> at the current shear modulus: the law is hypoelastic in shear (G grows with p), so a
 !> closed elastic cycle that changes p books a small share of its shear work as dissipated.
 !>
-!> State of a particle: state(1) = pc [Pa] (0 before the first update), state(2) = the
-!> accumulated plastic shear strain eps_q^p = sum dl 2 q / M^2 [-].
+!> State of a particle: state(1) = the accumulated plastic shear strain eps_q^p = sum dl 2 q /
+!> M^2 [-] (first, as in the other plastic materials: the `plastic_strain` output field),
+!> state(2) = pc [Pa] (0 before the first update; a state file of a stage whose material had
+!> another type gives zeros, mpm_state).
 !>
 !> `materials[i].type = "cam_clay"` (alias "mcc"): keys `M`, `lambda`,
 !> `kappa`, `e0`, `nu`, `rho`, `OCR`, `p_min`.
@@ -275,7 +278,8 @@ contains
         cam_clay_at_rest_ratio = 1.0_wp - 3.0_wp*self%m/(6.0_wp + self%m)
     end function cam_clay_at_rest_ratio
 
-    !> Stored energy per unit volume: kappa* p + q^2 / (6 G(p)).
+    !> Stored energy per unit volume: kappa* p + q^2 / (6 G(p)) (below p_min, where K is
+    !> held, kappa* (p^2 + p_min^2) / (2 p_min), the integral of p dp / K continued).
     pure subroutine cam_clay_energy_block(self, n, stress, state, density)
         class(cam_clay_material_type), intent(in) :: self
             !! the material
@@ -295,7 +299,13 @@ contains
         do j = 1, n
             call mean_and_deviator(stress(:, j), mean, dev(1:nc), radius)
             p = -mean
-            density(j) = self%kappa_star()*p + 3.0_wp*radius**2/(6.0_wp*self%shear_at(p))
+            if (p >= self%p_min) then
+                density(j) = self%kappa_star()*p
+            else
+                ! the bulk modulus p_min / kappa* below p_min: the same integral, continuous
+                density(j) = self%kappa_star()*(p**2 + self%p_min**2)/(2.0_wp*self%p_min)
+            end if
+            density(j) = density(j) + 3.0_wp*radius**2/(6.0_wp*self%shear_at(p))
         end do
     end subroutine cam_clay_energy_block
 
@@ -313,20 +323,20 @@ contains
         real(wp), intent(in) :: dt
             !! time step [s] (unused: rate independent)
         real(wp), intent(inout) :: state(:)
-            !! state(1) pc [Pa], state(2) plastic shear strain [-]
+            !! state(1) plastic shear strain [-], state(2) pc [Pa]
 
         real(wp) :: start(size(stress)), start_state(2), mean, dev(6), radius, p
         integer :: parts, part, halving
         logical :: ok
 
         call add_jaumann_rotation(stress, omega)
-        if (state(1) <= 0.0_wp) then
+        if (state(2) <= 0.0_wp) then
             call mean_and_deviator(stress, mean, dev(1:size(stress)), radius)
             p = -mean
             if (p > self%p_min) then
-                state(1) = self%ocr*(p + 3.0_wp*radius**2/(self%m**2*p))
+                state(2) = self%ocr*(p + 3.0_wp*radius**2/(self%m**2*p))
             else
-                state(1) = self%ocr*self%p_min
+                state(2) = self%ocr*self%p_min
             end if
         end if
         start = stress
@@ -342,9 +352,12 @@ contains
             stress = start
             state(1:2) = start_state
         end do
-        ! not reached in practice: the last split is taken as it came (its residual small)
+        ! not reached in practice (a step of 2^8 parts whose returns do not converge): the
+        ! parts whose Newton iterations failed keep their elastic trial, outside the surface by
+        ! what one part's strain moves it; the next step's return brings the stress back
         do part = 1, parts
             call return_part(self, stress, dstrain/real(parts, wp), state, ok)
+            if (.not. ok) call elastic_part(self, stress, dstrain/real(parts, wp))
         end do
     end subroutine cam_clay_update_stress
 
@@ -357,7 +370,7 @@ contains
         real(wp), intent(in) :: de(:)
             !! strain increment of the part [-]
         real(wp), intent(inout) :: state(:)
-            !! pc, plastic shear strain
+            !! plastic shear strain, pc
         logical, intent(out) :: ok
             !! whether the return converged
 
@@ -381,7 +394,7 @@ contains
         dev_trial(1:n) = dev(1:n) + 2.0_wp*g*de
         dev_trial(1:3) = dev_trial(1:3) + 2.0_wp*g*dev_e/3.0_wp
         q_trial = sqrt(1.5_wp*(sum(dev_trial(1:3)**2) + 2.0_wp*sum(dev_trial(4:n)**2)))
-        pc_n = state(1)
+        pc_n = state(2)
         p = pbase*exp(dev_e/kstar) - shift
         if (q_trial**2/m2 + p*(p - pc_n) <= 0.0_wp) then
             call set_stress(stress, dev_trial(1:n), p)
@@ -423,9 +436,33 @@ contains
         pc = pc_n*exp(e/theta)
         q = q_trial/(1.0_wp + 6.0_wp*g*dl/m2)
         call set_stress(stress, dev_trial(1:n)/(1.0_wp + 6.0_wp*g*dl/m2), p)
-        state(1) = pc
-        state(2) = state(2) + dl*2.0_wp*q/m2
+        state(2) = pc
+        state(1) = state(1) + dl*2.0_wp*q/m2
     end subroutine return_part
+
+    !> The elastic trial of a part, whatever the yield surface (the fallback of a part whose
+    !> return did not converge).
+    pure subroutine elastic_part(self, stress, de)
+        class(cam_clay_material_type), intent(in) :: self
+            !! the material
+        real(wp), intent(inout) :: stress(:)
+            !! stress [Pa]
+        real(wp), intent(in) :: de(:)
+            !! strain increment of the part [-]
+
+        real(wp) :: mean, dev(6), radius, pn, pbase, g, dev_e
+        integer :: n
+
+        n = size(stress)
+        call mean_and_deviator(stress, mean, dev(1:n), radius)
+        pn = -mean
+        pbase = max(pn, self%p_min)
+        g = self%shear_at(pn)
+        dev_e = -(de(1) + de(2) + de(3))
+        dev(1:n) = dev(1:n) + 2.0_wp*g*de
+        dev(1:3) = dev(1:3) + 2.0_wp*g*dev_e/3.0_wp
+        call set_stress(stress, dev(1:n), pbase*exp(dev_e/self%kappa_star()) - (pbase - pn))
+    end subroutine elastic_part
 
     !> sigma = s - p I.
     pure subroutine set_stress(stress, dev, p)

@@ -43,7 +43,8 @@ module mpm_simulation
         class(shape_type), allocatable :: shape
             !! shape function
         real(wp), allocatable :: wave_speed(:)
-            !! P-wave speed of each material [m/s] (its least, when it follows the stress)
+            !! P-wave speed of each material [m/s] (the largest of its particles' at the start,
+            !! when it follows the stress: `speed_varies`)
         logical, allocatable :: speed_varies(:)
             !! whether the P-wave speed of each material follows the particle's stress
             !! (material_type%wave_speed_at)

@@ -158,6 +158,10 @@ contains
             call create_particles(case, sim%particles, error, nstate)
             if (allocated(error)) return
         end if
+        ! a material whose stiffness follows the stress: its wave speed for the contact
+        ! window, the guard's energy floor and messages is the largest of its particles' at the
+        ! start (the time step follows each particle's, stable_time_step)
+        if (any(sim%speed_varies)) call starting_wave_speeds(sim)
         ! this image's grid: the whole grid, or its slab with the ghost cells
         call slab_grid(sim, error)
         if (allocated(error)) return
@@ -362,6 +366,28 @@ contains
     end subroutine contact_loads
 
 
+
+    !> sim%wave_speed of each material whose stiffness follows the stress: the largest
+    !> wave_speed_at of its particles as they start, at least its wave_speed().
+    subroutine starting_wave_speeds(sim)
+        type(simulation_type), intent(inout) :: sim
+            !! the simulation, its particles created or loaded
+
+        integer :: p, mat
+        real(wp) :: speed
+
+        do mat = 1, size(sim%materials)
+            if (.not. sim%speed_varies(mat)) cycle
+            speed = sim%wave_speed(mat)
+            do p = 1, sim%particles%n
+                if (sim%particles%material(p) /= mat) cycle
+                speed = max(speed, sim%materials(mat)%m%wave_speed_at(sim%particles%stress(:, p), &
+                    sim%particles%state(:, p)))
+            end do
+            call max_over_images(speed)
+            sim%wave_speed(mat) = speed
+        end do
+    end subroutine starting_wave_speeds
 
     !> Time step: the fixed dt of the case, or C dx / max_p (c_p + |v_p|), c_p at the
     !> particle's stress for a material whose stiffness follows it.

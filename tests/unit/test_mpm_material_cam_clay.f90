@@ -85,7 +85,7 @@ contains
         call invariants(stress, p, q)
         call check_close(suite, p/p0, exp(eps/mat%kappa_star()), 1.0e-12_wp, &
             "isotropic, elastic: p = p0 exp(eps_v / kappa*)")
-        call check_close(suite, state(1), 4.0_wp*p0, 1.0e-9_wp*p0, "elastic: pc unchanged")
+        call check_close(suite, state(2), 4.0_wp*p0, 1.0e-9_wp*p0, "elastic: pc unchanged")
         call check_close(suite, q, 0.0_wp, 1.0e-9_wp*p0, "isotropic: q = 0")
         ! OCR 1: along the normal compression line
         mat = clay(1.0_wp)
@@ -98,7 +98,7 @@ contains
         call invariants(stress, p, q)
         call check_close(suite, p/p0, exp(eps/mat%lambda_star()), 1.0e-9_wp, &
             "isotropic, normally consolidated: p = p0 exp(eps_v / lambda*)")
-        call check_close(suite, state(1)/p, 1.0_wp, 1.0e-9_wp, "on the NCL: pc = p")
+        call check_close(suite, state(2)/p, 1.0_wp, 1.0e-9_wp, "on the NCL: pc = p")
     end subroutine isotropic_compression
 
     subroutine undrained_normally_consolidated()
@@ -124,7 +124,7 @@ contains
         call check_close(suite, q/p, m_csl, 1.0e-4_wp, "undrained NC: reaches q = M p")
         call check_close(suite, p/p0, 0.5_wp**big_lambda, 1.0e-4_wp, &
             "undrained NC: at the critical state p = p0 2^-Lambda")
-        call check_close(suite, state(1)/p, 2.0_wp, 1.0e-4_wp, "critical state: pc = 2 p")
+        call check_close(suite, state(2)/p, 2.0_wp, 1.0e-4_wp, "critical state: pc = 2 p")
     end subroutine undrained_normally_consolidated
 
     subroutine undrained_overconsolidated()
@@ -144,7 +144,7 @@ contains
         do i = 1, nsteps
             call mat%update_stress(stress, de, no_spin, 1.0_wp, state)
             call invariants(stress, p, q)
-            if (.not. yielded .and. state(2) > 0.0_wp) then
+            if (.not. yielded .and. state(1) > 0.0_wp) then
                 yielded = .true.
                 ! the step that yields goes from inside to beyond the first yield
                 call check(suite, q_prev <= q_yield .and. q >= q_yield*(1.0_wp - 1.0e-9_wp), &
@@ -219,11 +219,11 @@ contains
                 *log(1.0_wp + eta**2/m_csl**2)
             worst = max(worst, abs(eps_v - expected))
             ! the plastic shear strain by the trapezoidal rule in the plastic volumetric strain
-            eps_vp = (mat%lambda_star() - mat%kappa_star())*log(state(1)/p0)
+            eps_vp = (mat%lambda_star() - mat%kappa_star())*log(state(2)/p0)
             if (eta < 0.9_wp*m_csl) then
                 eps_q_ref = eps_q_ref + 0.5_wp*(eps_vp - eps_vp_prev) &
                     *(flow_ratio(eta_prev) + flow_ratio(eta))
-                if (eta > 0.3_wp*m_csl) worst_q = max(worst_q, abs(state(2)/eps_q_ref - 1.0_wp))
+                if (eta > 0.3_wp*m_csl) worst_q = max(worst_q, abs(state(1)/eps_q_ref - 1.0_wp))
             end if
             eps_vp_prev = eps_vp
             eta_prev = eta
@@ -269,7 +269,7 @@ contains
         state = 0.0_wp
         call mat%update_stress(stress, [-1.0e-6_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], &
             no_spin, 1.0_wp, state)
-        call check_close(suite, state(1), 1.0e3_wp, 1.0e-6_wp, "stress-free start: pc = p_min")
+        call check_close(suite, state(2), 1.0e3_wp, 1.0e-6_wp, "stress-free start: pc = p_min")
         call check(suite, all(stress(1:3) < 0.0_wp), "stress-free start: compression gives " &
             //"compression (stiffness of p_min)")
         call check_close(suite, mat%at_rest_ratio(), 1.0_wp - 3.0_wp*m_csl/(6.0_wp + m_csl), &

@@ -47,6 +47,7 @@ program test_mpm_state
     call test_round_trip(3)
     call test_dropped_fields()
     call test_more_state_variables()
+    call test_type_change()
     call test_refusals()
     do i = 1, nwritten
         call remove_file(trim(written(i)), error)
@@ -274,6 +275,42 @@ contains
         call check(suite, all(loaded%state(1, :) == saved%state(1, :)), "the file's first")
         call check(suite, all(loaded%state(2:3, :) == 0.0_wp), "then zeros")
     end subroutine test_more_state_variables
+
+    !> A material whose type changed between the saving and the loading case starts its
+    !> state afresh (zeros); one of the same type keeps it.
+    subroutine test_type_change()
+        type(case_type) :: case, other
+        type(particles_type) :: saved, loaded
+        type(error_type), allocatable :: error
+        character(len=:), allocatable :: path
+        real(wp) :: time
+        integer :: step, p
+
+        call small_case(case, 2)
+        case%materials(1)%type = "mohr_coulomb"
+        case%materials(2)%type = "mohr_coulomb"
+        call filled_particles(case, 6, 2, saved)
+        path = root//"/state_types.h5"
+        call save_state(path, case, saved, 0.0_wp, 0, error)
+        call check(suite, .not. allocated(error), "save_state with material types")
+        if (allocated(error)) return
+        call note(path)
+        other = case
+        other%materials(2)%type = "cam_clay"
+        call load_state(path, other, loaded, time, step, error, 2)
+        call check(suite, .not. allocated(error), "load_state, clay now cam_clay")
+        if (allocated(error)) return
+        call check(suite, any(loaded%material(1:loaded%n) == 1) .and. &
+            any(loaded%material(1:loaded%n) == 2), "particles of both materials")
+        do p = 1, loaded%n
+            if (loaded%material(p) == 2) then
+                call check(suite, all(loaded%state(:, p) == 0.0_wp), "another type: state zero")
+            else
+                call check(suite, all(loaded%state(:, p) == saved%state(:, p)), &
+                    "same type: state kept")
+            end if
+        end do
+    end subroutine test_type_change
 
     subroutine test_refusals()
         type(case_type) :: case, other

@@ -79,8 +79,8 @@ program test_cam_clay_oedometer
         q = sqrt(3.0_wp)*radius
         eps_v = -log(sim%particles%volume(i)/sim%particles%volume0(i))
         worst_volume = max(worst_volume, abs(eps_v - kappa_s*log(p/p0) &
-            - (lambda_s - kappa_s)*log(sim%particles%state(1, i)/p0)))
-        on_surface = sim%particles%state(1, i)/(p*(1.0_wp + (q/p)**2/m_csl**2)) - 1.0_wp
+            - (lambda_s - kappa_s)*log(sim%particles%state(2, i)/p0)))
+        on_surface = sim%particles%state(2, i)/(p*(1.0_wp + (q/p)**2/m_csl**2)) - 1.0_wp
         if (abs(on_surface) < 1.0e-6_wp) n_on = n_on + 1
     end do
     call check(suite, maxval(-log(sim%particles%volume(1:sim%particles%n) &

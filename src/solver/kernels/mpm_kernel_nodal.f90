@@ -250,7 +250,8 @@ contains
 
         do n = 1, grid%nprescribed
             id = grid%prescribed_node(n)
-            if (grid%mass(id) <= grid%small_mass) cycle
+            ! (a node on two velocity faces moves with the later one, prescribed_last)
+            if (grid%mass(id) <= grid%small_mass .or. .not. grid%prescribed_last(n)) cycle
             associate (face => grid%prescribed_face(:, n))
                 if (.not. grid%face_varies(face(1), face(2))) cycle
             end associate
