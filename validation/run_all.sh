@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs every validation case (validation/*/check.py), collects their results/*.json and writes
-# docs/validation.md. Called by `make validate` (after make build). About 12 minutes on 2 cores
-# (700 s on 2026-12-03, idle: the Bui ladder 7.5 min of it, its 1.25 mm rung 6.5 min).
+# docs/validation.md. Called by `make validate` (after make build). About 19 minutes on 2 cores
+# (1118 s on 2026-12-07: the Bui ladder 6.5 min of it, the Prandtl footing, the slope's factor
+# of safety and the strip load about 3 min each).
 # Usage: validation/run_all.sh [--no-run] [path/to/mpm_geo]
 #   --no-run  analyse the outputs of the last runs again (no wall times) and rewrite the page
 # Exit code: 0 when every case meets its targets, 1 when one misses a target or fails to run
