@@ -256,7 +256,7 @@ contains
             //fmt_real(self%wave_speed(), 4)//" m/s at p_min" //new_line("a")
     end subroutine cam_clay_summary
 
-    !> Two state values: pc and the plastic shear strain.
+    !> Two state values: the plastic shear strain and pc.
     pure integer function cam_clay_nstate(self)
         class(cam_clay_material_type), intent(in) :: self
             !! the material
