@@ -173,7 +173,7 @@ contains
         real(wp), intent(out) :: taken
             !! energy the dashpots took in this step [J]
         real(wp), intent(out) :: given
-            !! 0: nothing comes in from outside
+            !! the work brought in from outside, which is none here (zero) [J]
 
         real(wp) :: factor(3), v(3), v0(3)
         integer :: i
