@@ -374,7 +374,7 @@ contains
         logical, intent(out) :: ok
             !! whether the return converged
 
-        real(wp) :: mean, dev(6), radius, pn, pbase, shift, g, dev_trial(6), q_trial, dev_e
+        real(wp) :: pbase, shift, g, dev_trial(6), q_trial, dev_e
         real(wp) :: kstar, theta, m2, pc_n, e, dl, p, pc, q, r1, r2, j11, j12, j21, j22, det
         real(wp) :: de_step, dl_step, dp, dpc, scale, dq
         integer :: n, it
@@ -384,15 +384,7 @@ contains
         kstar = self%kappa_star()
         theta = self%lambda_star() - kstar
         m2 = self%m**2
-        call mean_and_deviator(stress, mean, dev(1:n), radius)
-        pn = -mean
-        pbase = max(pn, self%p_min)
-        shift = pbase - pn
-        g = self%shear_at(pn)
-        ! compression positive volumetric strain increment, and the deviatoric trial
-        dev_e = -(de(1) + de(2) + de(3))
-        dev_trial(1:n) = dev(1:n) + 2.0_wp*g*de
-        dev_trial(1:3) = dev_trial(1:3) + 2.0_wp*g*dev_e/3.0_wp
+        call elastic_trial(self, stress, de, dev_trial(1:n), pbase, shift, g, dev_e)
         q_trial = sqrt(1.5_wp*(sum(dev_trial(1:3)**2) + 2.0_wp*sum(dev_trial(4:n)**2)))
         pc_n = state(2)
         p = pbase*exp(dev_e/kstar) - shift
@@ -450,19 +442,46 @@ contains
         real(wp), intent(in) :: de(:)
             !! strain increment of the part [-]
 
-        real(wp) :: mean, dev(6), radius, pn, pbase, g, dev_e
+        real(wp) :: dev_trial(6), pbase, shift, g, dev_e
+        integer :: n
+
+        n = size(stress)
+        call elastic_trial(self, stress, de, dev_trial(1:n), pbase, shift, g, dev_e)
+        call set_stress(stress, dev_trial(1:n), pbase*exp(dev_e/self%kappa_star()) - shift)
+    end subroutine elastic_part
+
+    !> The pieces of the elastic trial of a part: the deviator s + 2 G de_dev, the base of the
+    !> exact volumetric law p = pbase exp(d eps_v / kappa*) - shift (pbase = max(p, p_min),
+    !> shift = pbase - p), G at the start of the part and d eps_v (compression positive).
+    pure subroutine elastic_trial(self, stress, de, dev_trial, pbase, shift, g, dev_e)
+        class(cam_clay_material_type), intent(in) :: self
+            !! the material
+        real(wp), intent(in) :: stress(:)
+            !! stress at the start of the part [Pa]
+        real(wp), intent(in) :: de(:)
+            !! strain increment of the part [-]
+        real(wp), intent(out) :: dev_trial(:)
+            !! trial deviator, as many components as stress [Pa]
+        real(wp), intent(out) :: pbase, shift
+            !! base and shift of the volumetric law [Pa]
+        real(wp), intent(out) :: g
+            !! shear modulus of the part [Pa]
+        real(wp), intent(out) :: dev_e
+            !! volumetric strain increment, compression positive [-]
+
+        real(wp) :: mean, dev(6), radius, pn
         integer :: n
 
         n = size(stress)
         call mean_and_deviator(stress, mean, dev(1:n), radius)
         pn = -mean
         pbase = max(pn, self%p_min)
+        shift = pbase - pn
         g = self%shear_at(pn)
         dev_e = -(de(1) + de(2) + de(3))
-        dev(1:n) = dev(1:n) + 2.0_wp*g*de
-        dev(1:3) = dev(1:3) + 2.0_wp*g*dev_e/3.0_wp
-        call set_stress(stress, dev(1:n), pbase*exp(dev_e/self%kappa_star()) - (pbase - pn))
-    end subroutine elastic_part
+        dev_trial = dev(1:n) + 2.0_wp*g*de
+        dev_trial(1:3) = dev_trial(1:3) + 2.0_wp*g*dev_e/3.0_wp
+    end subroutine elastic_trial
 
     !> sigma = s - p I.
     pure subroutine set_stress(stress, dev, p)
