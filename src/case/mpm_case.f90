@@ -26,6 +26,7 @@ module mpm_case
     use mpm_case_progress, only: progress_section_type
     use mpm_case_checkpoint, only: checkpoint_section_type
     use mpm_case_guard, only: guard_section_type
+    use mpm_case_pore_water, only: pore_water_section_type
     use mpm_case_loads, only: load_spec_type
     use mpm_time_function, only: time_function_type
     use mpm_case_motion, only: motion_spec_type
@@ -62,6 +63,8 @@ module mpm_case
             !! `bodies`, in file order
         real(wp) :: gravity(3) = 0.0_wp
             !! gravitational acceleration [m/s2]
+        type(pore_water_section_type) :: pore_water
+            !! `pore_water`: the saturated soils, their water, its initial level and drainage
         type(solver_section_type) :: solver
             !! `solver`: update scheme, shape function, transfer
         type(time_section_type) :: time

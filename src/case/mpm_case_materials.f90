@@ -25,7 +25,16 @@ module mpm_case_materials
             !! its type name as stored: "linear_elastic", "mohr_coulomb", ... (the first
             !! name of its law)
         real(wp) :: density = 0.0_wp
-            !! mass density rho [kg/m3] (the law's)
+            !! mass density rho [kg/m3] (the law's; of the saturated soil when it holds
+            !! pore water)
+        real(wp) :: porosity = 0.0_wp
+            !! porosity n of a soil saturated with pore water (`pore_water.materials`); 0: dry
+        real(wp) :: permeability = 0.0_wp
+            !! hydraulic conductivity k of the saturated soil [m/s] (0: undrained)
+        real(wp) :: water_bulk_modulus = 0.0_wp
+            !! bulk modulus of its pore water K_w [Pa] (`pore_water.bulk_modulus`)
+        real(wp) :: water_density = 0.0_wp
+            !! density of its pore water rho_w [kg/m3] (`pore_water.density`)
         class(material_type), allocatable :: law
             !! the constitutive law with its parameters, as read and checked by it
             !! (unallocated for a material made in code without a type)

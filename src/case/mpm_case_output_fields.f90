@@ -38,6 +38,8 @@ module mpm_case_output_fields
             !! the positions: always written, as the XDMF geometry, not as an attribute
         logical :: plastic = .false.
             !! written only when a material of the case writes the plastic strain
+        logical :: water = .false.
+            !! written only when the case has pore water (`pore_water`)
     end type output_field_type
 
     !> The fields in the order of the files, the index and the `--check` line; the names are
@@ -51,7 +53,10 @@ module mpm_case_output_fields
         output_field_type("material", "material", 0, layout_scalar), &
         output_field_type("mass", "mass", 0, layout_scalar), &
         output_field_type("volume", "volume", 0, layout_scalar), &
-        output_field_type("plastic_strain", "state", 1, layout_scalar, plastic=.true.)]
+        output_field_type("plastic_strain", "state", 1, layout_scalar, plastic=.true.), &
+        output_field_type("pore_pressure", "pore_p", 0, layout_scalar, water=.true.), &
+        output_field_type("eff_stress", "effective", 0, layout_voigt, water=.true.), &
+        output_field_type("water_velocity", "water_v", 0, layout_vector, water=.true.)]
 
     integer, parameter :: nfields = size(output_fields)
         !! number of output fields

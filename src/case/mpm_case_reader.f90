@@ -28,6 +28,8 @@ submodule (mpm_case) mpm_case_reader
     use mpm_case_output, only: read_output, output_keys
     use mpm_case_progress, only: read_progress, progress_keys
     use mpm_case_checkpoint, only: read_checkpoint, checkpoint_keys
+    use mpm_case_pore_water, only: read_pore_water, pore_water_keys, pore_material_keys, &
+        pore_face_pressure_keys
     use mpm_case_guard, only: read_guard, guard_keys
     use mpm_case_loads, only: read_loads, load_keys
     use mpm_time_function, only: time_function_keys
@@ -38,7 +40,7 @@ submodule (mpm_case) mpm_case_reader
     character(len=*), parameter :: top_keys(*) = [character(len=18) :: "name", "dimension", &
         "domain", "particles", "materials", "bodies", "gravity", "solver", "time", "damping", &
         "contact", "output", "progress", "save_state", "load_state", "checkpoint", "guard", &
-        "initial_stress", "loads", "prescribed_motion", "strength_reduction"]
+        "initial_stress", "loads", "prescribed_motion", "strength_reduction", "pore_water"]
         !! keys of the top level
     integer, parameter :: case_path_width = 80
         !! longest key path case_key_paths can list ("materials[type=...].softening.strain")
@@ -126,6 +128,13 @@ contains
         call add_key_paths(list, "progress", progress_keys)
         call add_key_paths(list, "checkpoint", checkpoint_keys)
         call add_key_paths(list, "guard", guard_keys)
+        call add_key_paths(list, "pore_water", pore_water_keys)
+        call add_key_paths(list, "pore_water.materials[]", pore_material_keys)
+        call add_key_paths(list, "pore_water.faces", face_keys)
+        do i = 1, size(face_keys)
+            call add_key_paths(list, "pore_water.faces."//trim(face_keys(i)), &
+                pore_face_pressure_keys)
+        end do
         longest = 0
         do i = 1, size(list)
             longest = max(longest, len_trim(list(i)))
@@ -207,6 +216,9 @@ contains
             case%load_state, body_site_count, body_shared_sites, case%bodies, error)
         if (allocated(error)) return
         call root%get_vector("gravity", case%dim, case%gravity, error, unit="m/s2")
+        if (allocated(error)) return
+        call read_pore_water(root, case%dim, case%gravity, case%materials, case%pore_water, &
+            error)
         if (allocated(error)) return
         call read_solver(root, case%solver, error)
         if (allocated(error)) return

@@ -9,22 +9,54 @@ module mpm_case_stability
     use mpm_case_bodies, only: body_spec_type
     implicit none
     private
-    public :: p_wave_speed, viscous_time_step, critical_time_step, start_time_step
+    public :: p_wave_speed, viscous_time_step, critical_time_step, start_time_step, &
+        water_wave_term, mobility, standard_gravity
+
+    real(wp), parameter :: standard_gravity = 9.80665_wp
+        !! g_n [m/s2]: the unit weight of water in the hydraulic conductivity, gamma_w =
+        !! rho_w g_n, whatever the gravity of the case
 
 contains
 
     !> P-wave speed of a material [m/s], from its law: sqrt((K + 4G/3)/rho) for a solid,
-    !> sqrt(K/rho) for a fluid; 0 for a material without a law (made in code).
+    !> sqrt(K/rho) for a fluid; 0 for a material without a law (made in code). A soil
+    !> saturated with pore water: the undrained speed, sqrt(c^2 + K_w/(n rho)).
     pure real(wp) function p_wave_speed(mat)
         type(material_spec_type), intent(in) :: mat
             !! material
 
         p_wave_speed = 0.0_wp
         if (allocated(mat%law)) p_wave_speed = mat%law%wave_speed()
+        if (mat%porosity > 0.0_wp) p_wave_speed = sqrt(p_wave_speed**2 + water_wave_term(mat))
     end function p_wave_speed
 
+    !> K_w / (n rho) of a saturated soil, 0 of a dry material [m2/s2]: what its pore water
+    !> adds to the square of its P-wave speed (undrained).
+    pure real(wp) function water_wave_term(mat)
+        type(material_spec_type), intent(in) :: mat
+            !! material
+
+        water_wave_term = 0.0_wp
+        if (mat%porosity > 0.0_wp .and. mat%density > 0.0_wp) water_wave_term = &
+            mat%water_bulk_modulus/(mat%porosity*mat%density)
+    end function water_wave_term
+
+    !> k / gamma_w of a saturated soil [m2/(Pa s)]: Darcy's flux per pressure gradient, from
+    !> its hydraulic conductivity k and gamma_w = rho_w g_n; 0 of a dry material.
+    pure real(wp) function mobility(mat)
+        type(material_spec_type), intent(in) :: mat
+            !! material
+
+        mobility = 0.0_wp
+        if (mat%porosity > 0.0_wp) mobility = mat%permeability &
+            /(mat%water_density*standard_gravity)
+    end function mobility
+
     !> Time-step limit of a material besides the CFL condition [s], from its law: the
-    !> viscous limit rho dx^2 / (2 dim mu) of a fluid, huge for the others.
+    !> viscous limit rho dx^2 / (2 dim mu) of a fluid, huge for the others. A saturated soil
+    !> also has the diffusion limit of its pore pressure, dx^2 / (2 dim D) with D = (k /
+    !> gamma_w) K_w / n (the explicit update of the pressure, with the volume of the skeleton
+    !> held).
     pure real(wp) function viscous_time_step(mat, dx, dim)
         type(material_spec_type), intent(in) :: mat
             !! material
@@ -33,8 +65,15 @@ contains
         integer, intent(in) :: dim
             !! space dimensions
 
+        real(wp) :: diffusivity
+
         viscous_time_step = huge(1.0_wp)
         if (allocated(mat%law)) viscous_time_step = mat%law%time_step_limit(dx, dim)
+        diffusivity = 0.0_wp
+        if (mat%porosity > 0.0_wp) diffusivity = mobility(mat)*mat%water_bulk_modulus &
+            /mat%porosity
+        if (diffusivity > 0.0_wp) viscous_time_step = min(viscous_time_step, &
+            dx**2/(2.0_wp*dim*diffusivity))
     end function viscous_time_step
 
     !> Critical time step at t = 0 [s]: dx / max over bodies (c_p + |v0|), and the viscous

@@ -11,6 +11,7 @@ submodule (mpm_case) mpm_case_summary
     use mpm_case_loads, only: load_line
     use mpm_case_motion, only: motion_line
     use mpm_case_strength_reduction, only: strength_reduction_line
+    use mpm_case_pore_water, only: pore_water_summary
     implicit none
 
 contains
@@ -133,6 +134,8 @@ contains
         line = "damping     "//trim(damping_names(case%damping%type))
         if (case%damping%type == damping_local) line = line//", alpha = "//fmt_real(case%damping%value)
         text = text//line//nl
+        if (case%pore_water%on) text = text//pore_water_summary(case%pore_water, &
+            case%materials)//nl
         if (case%initial_stress%type == initial_k0) then
             line = "initial     geostatic stress,"
             do m = 1, size(case%materials)

@@ -65,7 +65,8 @@ contains
         call start_time_step(dim, dx, materials, bodies, critical, viscous)
         rule = "dx / max(c_p + |v|)"
         if (viscous) rule = "the viscous limit rho dx^2 / (2 dim viscosity) of a newtonian " &
-            //"material"
+            //"material, or the diffusion limit dx^2 / (2 dim D) of the pore pressure of a " &
+            //"saturated soil (D = k K_w / (gamma_w n))"
         if (cur%has("dt")) then
             if (cur%has("cfl")) then
                 call cur%fail(error, "time.dt and time.cfl are alternatives, give only " &

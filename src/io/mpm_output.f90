@@ -208,6 +208,8 @@ contains
             plastic = plastic .or. writes_plastic_strain(case%materials(m))
         end do
         where (output_fields%plastic) writer%fields = writer%fields .and. plastic
+        ! the pore pressure, effective stress and water velocity of saturated soils
+        where (output_fields%water) writer%fields = writer%fields .and. case%pore_water%on
         writer%grid = case%output%grid
         if (allocated(case%materials)) then
             allocate (writer%materials(size(case%materials)))

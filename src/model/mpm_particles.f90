@@ -24,7 +24,8 @@ module mpm_particles
         put_field, put_field_integers, hold_field, release_field, created_particle_bytes, &
         move_particles
     public :: per_particle, per_axis, per_stress, per_tensor, per_state
-    public :: held_always, held_written, held_apic, held_driver, held_images, held_loads
+    public :: held_always, held_written, held_apic, held_driver, held_images, held_loads, &
+        held_water
 
     ! Values a field keeps per particle
     integer, parameter :: per_particle = 1
@@ -53,6 +54,9 @@ module mpm_particles
     integer, parameter :: held_loads = 6
         !! when the case has traction or point loads (mpm_loads); not in the byte counts of
         !! created_particle_bytes
+    integer, parameter :: held_water = 7
+        !! when the case has pore water (mpm_pore_water; the effective stress and the water
+        !! velocity only when written); not in the byte counts of created_particle_bytes
 
     !> What the field table says of one per-particle array.
     type :: particle_field_type
@@ -66,7 +70,7 @@ module mpm_particles
             !! units in 2D when they differ (per metre of thickness), else ""
         integer :: held = held_always
             !! when the array is allocated: held_always, held_written, held_apic, held_driver
-            !! held_images or held_loads
+            !! held_images, held_loads or held_water
         logical :: whole = .false.
             !! integer values (material index, id), else real(wp)
         logical :: saved = .true.
@@ -195,6 +199,15 @@ module mpm_particles
             !! the particle's share of that load (n): its force is load_share times the
             !! load's vector at its time factor (traction: the loaded area it carries [m2; m in
             !! 2D]; point load: 1)
+        real(wp), allocatable :: pore_pressure(:)
+            !! pore pressure p of a particle of a saturated soil, compression positive (n)
+            !! [Pa]; zero for the dry ones. `stress` is the total stress, sigma' - p I;
+            !! allocated only when the case has pore water
+        real(wp), allocatable :: effective(:, :)
+            !! effective stress sigma' = sigma + p I (nstress, n) [Pa]; only when written
+        real(wp), allocatable :: water_v(:, :)
+            !! velocity of the pore water v + q / n (dim, n), q Darcy's flux [m/s]; only when
+            !! written
         integer, allocatable :: id(:)
             !! index of each particle in the whole run (n), allocated only when the particles
             !! are spread over images (mpm_parallel); otherwise the index is the id

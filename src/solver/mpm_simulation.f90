@@ -14,6 +14,7 @@ module mpm_simulation
     use mpm_material, only: material_holder_type
     use mpm_stencil, only: stencils_type
     use mpm_energy, only: energies_type
+    use mpm_pore_water, only: seepage_type
     implicit none
     private
     public :: simulation_type, start_type, agree, has_text
@@ -59,6 +60,8 @@ module mpm_simulation
             !! other stable-step limit of each material (viscosity), huge when none [s]
         type(stencils_type) :: stencils
             !! shape functions of the step, particle order and scatter chunks
+        type(seepage_type) :: seepage
+            !! the pore water of saturated soils (`on` false in a dry case)
         type(decomposition_type) :: dec
             !! this image's part of the grid (the whole grid on one image)
         real(wp) :: phase_time(nphases) = 0.0_wp

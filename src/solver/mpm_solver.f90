@@ -13,7 +13,7 @@ module mpm_solver
     use mpm_error, only: error_type, fatal_error, exit_numerical, exit_input, exit_other
     use mpm_case, only: case_type, scheme_usl, scheme_musl, damping_kinetic, damping_local
     use mpm_case_output_fields, only: output_fields
-    use mpm_case_stability, only: p_wave_speed, viscous_time_step
+    use mpm_case_stability, only: p_wave_speed, viscous_time_step, water_wave_term
     use mpm_particles, only: particles_type, particle_number, move_particles, &
         particle_field_type, particle_field_count, particle_field, held_written, &
         release_field
@@ -22,7 +22,9 @@ module mpm_solver
     use mpm_parallel, only: image_count, sum_over_images, max_over_images, min_over_images
     use mpm_shape, only: full_shape_type
     use mpm_shape_factory, only: new_shape
-    use mpm_material, only: nwork_kinds
+    use mpm_material, only: nwork_kinds, work_viscous
+    use mpm_pore_water, only: new_seepage, seepage_start, seepage_step, to_effective, to_total, &
+        water_energy
     use mpm_case_materials, only: material_laws, state_variable_count
     use mpm_state, only: run_record_type
     use mpm_contact_loads, only: face_loads, take_face_loads, face_node_count, terrain_loads, &
@@ -165,6 +167,9 @@ contains
         ! this image's grid: the whole grid, or its slab with the ghost cells
         call slab_grid(sim, error)
         if (allocated(error)) return
+        ! the pore pressures of saturated soils (pore_water), and their total stresses
+        call new_seepage(sim%seepage, case, sim%grid, sim%particles, error)
+        if (allocated(error)) return
         if (case%contact%type == "terrain_stl") then
             call terrain_contact(sim, error, start)
             if (allocated(error)) return
@@ -217,10 +222,11 @@ contains
         ! one pass over the particles per step where the scheme allows it: the P2G of the
         ! next step needs no more than the particle itself once it has moved (not F-bar's
         ! cell means, not USF's two scatters), stencils that are tensor products (CPDI
-        ! evaluates all particles at once), and no halo to trade before the scatter
+        ! evaluates all particles at once), no halo to trade before the scatter, and no pore
+        ! water (its pressures change after the stress pass, with the step's stencils)
         sim%one_pass = case%solver%one_pass .and. .not. case%solver%fbar .and. &
             (case%solver%scheme == scheme_usl .or. case%solver%scheme == scheme_musl) .and. &
-            image_count() == 1
+            image_count() == 1 .and. .not. sim%seepage%on
         select type (shape => sim%shape)
         class is (full_shape_type)
             sim%one_pass = .false.
@@ -238,7 +244,7 @@ contains
             !! the simulation
 
         integer :: p, b, nb, k, mat
-        real(wp) :: density(1), none(0, 1), floor
+        real(wp) :: density(1), none(0, 1), floor, s(6, 1)
         real(wp), allocatable :: partial(:, :)
 
         sim%energy = energies_type()
@@ -250,12 +256,18 @@ contains
                 partial(:, b) = 0.0_wp
                 do p = (b - 1)*sum_block + 1, min(b*sum_block, particles%n)
                     mat = particles%material(p)
+                    ! the effective stress of a saturated soil
+                    s(1:particles%nstress, 1) = particles%stress(:, p)
+                    if (sim%seepage%on) then
+                        if (sim%seepage%porosity(mat) > 0.0_wp) s(1:3, 1) = s(1:3, 1) &
+                            + particles%pore_pressure(p)
+                    end if
                     if (particles%nstate > 0) then
                         call sim%materials(mat)%m%elastic_energy_block(1, &
-                            particles%stress(:, p:p), particles%state(:, p:p), density)
+                            s(1:particles%nstress, :), particles%state(:, p:p), density)
                     else
                         call sim%materials(mat)%m%elastic_energy_block(1, &
-                            particles%stress(:, p:p), none, density)
+                            s(1:particles%nstress, :), none, density)
                     end if
                     k = sim%materials(mat)%m%work_kind()
                     partial(k, b) = partial(k, b) + density(1)*particles%volume(p)
@@ -269,6 +281,9 @@ contains
             sim%energy%stored = sim%energy%stored + partial(1:nwork_kinds, b)
             floor = floor + partial(nwork_kinds + 1, b)
         end do
+        ! the compressed pore water's, with the viscous terms (mpm_pore_water)
+        sim%energy%stored(work_viscous) = sim%energy%stored(work_viscous) &
+            + water_energy(sim%seepage, sim%particles)
         call sum_over_images(sim%energy%kinetic)
         call sum_over_images(sim%energy%stored)
         call sum_over_images(floor)
@@ -381,13 +396,36 @@ contains
             speed = sim%wave_speed(mat)
             do p = 1, sim%particles%n
                 if (sim%particles%material(p) /= mat) cycle
-                speed = max(speed, sim%materials(mat)%m%wave_speed_at(sim%particles%stress(:, p), &
-                    sim%particles%state(:, p)))
+                speed = max(speed, speed_at(sim, p))
             end do
             call max_over_images(speed)
             sim%wave_speed(mat) = speed
         end do
     end subroutine starting_wave_speeds
+
+    !> The P-wave speed of particle p of a material whose stiffness follows the stress, at its
+    !> effective stress and state; undrained in a saturated soil, sqrt(c^2 + K_w / (n rho)).
+    real(wp) function speed_at(sim, p)
+        type(simulation_type), intent(in) :: sim
+            !! the simulation
+        integer, intent(in) :: p
+            !! the particle
+
+        integer :: mat
+        real(wp) :: s(6)
+
+        mat = sim%particles%material(p)
+        if (.not. allocated(sim%particles%pore_pressure)) then
+            speed_at = sim%materials(mat)%m%wave_speed_at(sim%particles%stress(:, p), &
+                sim%particles%state(:, p))
+            return
+        end if
+        s(1:sim%particles%nstress) = sim%particles%stress(:, p)
+        s(1:3) = s(1:3) + sim%particles%pore_pressure(p)
+        speed_at = sim%materials(mat)%m%wave_speed_at(s(1:sim%particles%nstress), &
+            sim%particles%state(:, p))
+        speed_at = sqrt(speed_at**2 + water_wave_term(sim%case%materials(mat)))
+    end function speed_at
 
     !> Time step: the fixed dt of the case, or C dx / max_p (c_p + |v_p|), c_p at the
     !> particle's stress for a material whose stiffness follows it.
@@ -409,9 +447,7 @@ contains
             do p = 1, sim%particles%n
                 mat = sim%particles%material(p)
                 if (sim%speed_varies(mat)) then
-                    speed = max(speed, sim%materials(mat)%m%wave_speed_at( &
-                        sim%particles%stress(:, p), sim%particles%state(:, p)) &
-                        + norm2(sim%particles%v(:, p)))
+                    speed = max(speed, speed_at(sim, p) + norm2(sim%particles%v(:, p)))
                 else
                     speed = max(speed, sim%wave_speed(mat) + norm2(sim%particles%v(:, p)))
                 end if
@@ -445,7 +481,7 @@ contains
             !! energy sums of a step (the grid's kinetic energies and the blend's loss last);
             !! the faces' impulses follow them
         real(wp) :: work(nstress_sums), nodal_work(nnodal_sums), clock, kinetic, stopped, &
-            grid_kinetic(2), blend_loss
+            grid_kinetic(2), blend_loss, water_work, water_stored
         real(wp), allocatable :: sums(:)
         integer :: scheme, k, nregions
         integer, allocatable :: passes(:)
@@ -456,6 +492,8 @@ contains
         scheme = sim%case%solver%scheme
         ! the loads at the step's start: the particles' extra body force
         call apply_loads(sim%case, sim%particles, sim%time)
+        ! the particles' volumes at the start (pore water: the skeleton's volume change)
+        call seepage_start(sim%seepage, sim%particles)
         ! one pass: the last particle pass scatters the next step's P2G (a prescribed body
         ! force may change between the steps: its P2G stays in its own pass; the particles of
         ! a rigid body take its velocity after G2P)
@@ -550,6 +588,7 @@ contains
                 case (pass_g2p_stress)
                     ! USL without F-bar: the stress update needs the nodal velocities of the
                     ! moves, in the same pass
+                    call to_effective(sim%seepage, particles)
                     if (one_pass) then
                         call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, &
                             sim%case%gravity, remap=.false., motion=motion, kinetic=kinetic, &
@@ -566,6 +605,7 @@ contains
                         if (rigid) call rigid_velocities(sim, kinetic, nodal_work, grid_energy)
                         call lap(sim, phase_g2p, clock)
                     end if
+                    call to_total(sim%seepage, particles)
                 case (pass_g2p)
                     ! USL with F-bar, USF: the particles move here
                     call g2p(grid, particles, stc, dt, sim%case%solver%flip_fraction, &
@@ -597,8 +637,10 @@ contains
                     call lap(sim, phase_g2p, clock)
                 case (pass_stress)
                     ! USF before the momentum; USL with F-bar after the moves (its own pass)
+                    call to_effective(sim%seepage, particles)
                     call update_stress(grid, particles, stc, sim%materials, dt, fbar=fbar, &
                         strain_work=work, gravity=sim%case%gravity)
+                    call to_total(sim%seepage, particles)
                     call lap(sim, phase_stress, clock)
                 case (pass_stress_move)
                     ! MUSL: the particles move with the remapped velocities that strain them:
@@ -606,6 +648,7 @@ contains
                     ! times the nodal acceleration) feeds particle noise under tension that
                     ! FLIP never damps (growth ~ sigma dt / (rho dx^2), see
                     ! docs/accuracy-vs-cost.md)
+                    call to_effective(sim%seepage, particles)
                     if (one_pass) then
                         call update_stress(grid, particles, stc, sim%materials, dt, fbar=fbar, &
                             strain_work=work, gravity=sim%case%gravity, motion=motion, &
@@ -618,6 +661,7 @@ contains
                             strain_work=work, gravity=sim%case%gravity, motion=motion)
                         call lap(sim, phase_stress, clock)
                     end if
+                    call to_total(sim%seepage, particles)
                 case default
                     call fatal_error(error, "advance: pass "//int_text(passes(k))// &
                         " of step_passes has no branch (a defect of mpm-geo)", exit_other)
@@ -625,6 +669,15 @@ contains
                 end select
             end do
         end associate
+        ! the pore pressures: the water's flow and the skeleton's volume change of the step;
+        ! its work and stored energy go with the viscous terms (mpm_pore_water)
+        if (sim%seepage%on) then
+            call seepage_step(sim%seepage, sim%grid, sim%particles, sim%stencils, dt, &
+                sim%case%gravity, water_work, water_stored)
+            work(work_viscous) = work(work_viscous) + water_work
+            work(nwork_kinds + work_viscous) = work(nwork_kinds + work_viscous) + water_stored
+            call lap(sim, phase_stress, clock)
+        end if
         ! the rigid bodies' particles move together
         if (rigid) call body_particle_positions(sim%grid, sim%particles, dt)
         call release_regions(sim%grid)
