@@ -124,7 +124,11 @@ contains
             if (size(case%materials) > 0) then
                 call start_time_step(case%dim, case%domain%dx, case%materials, case%bodies, critical, viscous)
                 line = line//", critical time step "//fmt_real(critical, 6)//" s at t = 0"
-                if (viscous) line = line//" (viscous limit)"
+                if (viscous .and. case%pore_water%on) then
+                    line = line//" (viscous or pore-pressure diffusion limit)"
+                else if (viscous) then
+                    line = line//" (viscous limit)"
+                end if
                 if (stiffens(case%materials)) line = line//" at the least stiffness (it " &
                     //"follows the stress in the run)"
             end if
