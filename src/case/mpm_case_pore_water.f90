@@ -254,6 +254,8 @@ contains
             case (drain_pressure)
                 faces = faces//" "//trim(face_keys(k))//" p = "// &
                     fmt_real(water%face_pressure(side, axis))//" Pa"
+            case default
+                continue   ! impermeable: not listed
             end select
         end do
         if (len(faces) == 0) faces = " none (all impermeable)"
