@@ -12,6 +12,7 @@ from .energy import describe_drift, energy_balance, plot_energy, plot_run_energy
 from .errors import (ErrorNorms, ExpressionError, compile_expression, error_norms,
                      exact_values, field_component, particle_error)
 from .io import list_outputs, load_grid, load_history, load_particles, output_at
+from .pore import load_pore_pressure
 from .profiles import (failure_surface, free_surface, height_at_wall, load_reference_profile,
                        max_height, rms_height_difference, slip_angle, toe_position)
 
@@ -31,6 +32,7 @@ __all__ = [
     "load_grid",
     "load_history",
     "load_particles",
+    "load_pore_pressure",
     "load_reference_profile",
     "max_height",
     "output_at",

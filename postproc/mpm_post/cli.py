@@ -1,11 +1,13 @@
-"""Command line: python -m mpm_post {summary,energy,field,profile,error,plot} ...
+"""Command line: python -m mpm_post {summary,energy,field,profile,error,pore,plot} ...
 
 Run from the repository root with ``PYTHONPATH=postproc .venv/bin/python -m mpm_post ...``;
 docs/postproc.md describes every command.
 Exit codes: 0 success; 1 the run or a file cannot answer (missing or unreadable, a field or
 component it does not hold, no output at the requested time, an exact field that is not finite
 there); 2 bad command line (unknown command or option, an invalid --exact expression, a --time
-before the first or after the last output of the run).
+before the first or after the last output of the run; for ``pore``, also a folder that does not
+exist or holds no output, an output without pore_pressure, a --vertical-axis the run does not
+have).
 """
 
 import argparse
@@ -20,6 +22,8 @@ from .errors import (FIELD_UNITS, NORMS, WEIGHTS, ExpressionError, compile_expre
                      particle_error)
 from .io import (TimeOutsideRunError, component_names, list_outputs, load_history,
                  load_particles, load_terrain, output_at)
+from .pore import (AXES, PoreInputError, default_heights, load_pore_pressure, nearest_particles,
+                   plot_pore_pressure)
 from .profiles import (height_at_wall, load_reference_profile, max_height, particle_half_size,
                        particle_size, rms_height_difference, surface_profile, terrain_height,
                        toe_position)
@@ -235,6 +239,32 @@ def cmd_error(args, out):
     return 0
 
 
+def cmd_pore(args, out):
+    """``pore``: pore pressure profiles at every output and at a few heights against time."""
+    history = load_pore_pressure(args.run_dir, args.vertical_axis)
+    axis, first = history.axis, history.height[0]
+    if args.depths:
+        targets, chosen = list(args.depths), "--depths"
+    else:
+        targets = default_heights(first)
+        chosen = (f"1/4, 1/2 and 3/4 of the particles' extent {axis} = {first.min():.6g} .. "
+                  f"{first.max():.6g} m at t = {history.time[0]:g} s")
+    particles = nearest_particles(first, targets)
+    path = plot_pore_pressure(args.out, history, particles, targets,
+                              title=f"{history.case_name}: pore pressure (compression "
+                                    "positive)")
+    t0, t1 = history.time[0], history.time[-1]
+    print(f"wrote {path}", file=out)
+    print(f"pore pressure of {first.size} particles at {history.time.size} outputs, t = "
+          f"{t0:g} .. {t1:g} s; heights along {axis}: {chosen}", file=out)
+    for target, index in zip(targets, particles):
+        pressure = history.pressure[:, index] / 1.0e3
+        print(f"{axis} = {target:.6g} m: particle {index} (at {axis} = {first[index]:.6g} m), "
+              f"pore pressure {pressure[0]:.6g} kPa at t = {t0:g} s, {pressure[-1]:.6g} kPa "
+              f"at t = {t1:g} s", file=out)
+    return 0
+
+
 def cmd_plot_profile(args, out):
     from .plots import plot_profile
 
@@ -354,6 +384,17 @@ def _positive(text):
     return value
 
 
+def _finite(text):
+    """argparse type: a finite number."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: '{text}'") from None
+    if not np.isfinite(value):
+        raise argparse.ArgumentTypeError(f"must be finite, got {text}")
+    return value
+
+
 def _profile_options(parser):
     parser.add_argument("run_dir", metavar="RUN_DIR", help="run directory or particles_*.h5 file")
     parser.add_argument("--time", type=float, default=None,
@@ -389,8 +430,8 @@ def build_parser():
     parser = argparse.ArgumentParser(
         prog="python -m mpm_post", description="Summarise and plot mpm-geo run outputs.",
         epilog="Exit codes: 0 success, 1 the run or a file cannot answer, 2 bad command line, "
-               "--exact expression or a --time outside the run's outputs. 'COMMAND --help' "
-               "for each command; docs/postproc.md.")
+               "--exact expression, a --time outside the run's outputs or (pore) a run without "
+               "pore pressure. 'COMMAND --help' for each command; docs/postproc.md.")
     parser.add_argument("--version", action="version", version=f"mpm_post {__version__}")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
     commands.required = True
@@ -441,6 +482,21 @@ def build_parser():
                        help="evaluate the exact field at the current positions, or at the "
                             "initial ones, position - displacement (default: current)")
     error.set_defaults(func=cmd_error)
+
+    pore = commands.add_parser(
+        "pore", help="pore pressure against height at every output and against time at a few "
+                     "heights (cases with pore_water)")
+    pore.add_argument("run_dir", metavar="OUTPUT_DIR", help="run directory, e.g. outputs/<case>")
+    pore.add_argument("--out", default="figs/pore_pressure.png",
+                      help="image file to write (default: figs/pore_pressure.png)")
+    pore.add_argument("--vertical-axis", choices=list(AXES), default=None,
+                      help="the vertical coordinate, the heights (default: y in 2D, z in 3D)")
+    pore.add_argument("--depths", type=_finite, nargs="+", default=None, metavar="H",
+                      help="heights [m] (values of the vertical coordinate) to follow in time: "
+                           "the particle nearest to each at the first output (default: 1/4, 1/2 "
+                           "and 3/4 of the particles' vertical extent then). The profiles "
+                           "average the particles of one height (rounded to 1e-9 m).")
+    pore.set_defaults(func=cmd_pore)
 
     dem = commands.add_parser(
         "dem-to-stl", help="a DEM raster (ESRI ASCII grid) as an STL surface, for a layer's "
@@ -530,7 +586,7 @@ def main(argv=None, out=None):
     args = build_parser().parse_args(_join_expression_values(argv))
     try:
         return args.func(args, out)
-    except (ExpressionError, TimeOutsideRunError) as exc:
+    except (ExpressionError, TimeOutsideRunError, PoreInputError) as exc:
         print(f"mpm_post: error: {exc}", file=sys.stderr)
         return 2
     except (OSError, ValueError, KeyError) as exc:

@@ -5,7 +5,9 @@ particles_NNNNNN.h5
     group ``/particles``: ``position`` (n, 3) [m] (z = 0 in 2D) and optionally ``displacement``
     (n, 3) [m], ``velocity`` (n, 3) [m/s], ``stress`` and ``strain`` (n, 4 in 2D: xx yy zz xy;
     n, 6 in 3D: xx yy zz xy yz zx; tension positive) [Pa, -], ``material`` (n), ``mass`` (n) [kg],
-    ``volume`` (n) [m^3]; optional group ``/grid`` with ``position``, ``mass``, ``velocity``.
+    ``volume`` (n) [m^3]; in cases with ``pore_water`` also ``pore_pressure`` (n) [Pa,
+    compression positive], ``eff_stress`` (as stress) [Pa] and ``water_velocity`` (n, 3) [m/s];
+    optional group ``/grid`` with ``position``, ``mass``, ``velocity``.
 history.csv
     header ``time,step,kinetic_energy,elastic_energy,potential_energy,plastic_work,viscous_work,
     damping_work,friction_work,load_work,boundary_work,transfer_loss,total,residual`` (without

@@ -258,15 +258,7 @@ contains
         type(particles_type), intent(inout) :: particles
             !! the particles
 
-        integer :: p
-
-        if (.not. seep%on) return
-        !$omp parallel do default(none) schedule(static) shared(seep, particles) private(p)
-        do p = 1, particles%n
-            if (seep%porosity(particles%material(p)) <= 0.0_wp) cycle
-            particles%stress(1:3, p) = particles%stress(1:3, p) + particles%pore_pressure(p)
-        end do
-        !$omp end parallel do
+        call add_pressure(seep, particles, 1.0_wp)
     end subroutine to_effective
 
     !> The total stress after the stress pass: sigma' - p I of every saturated particle.
@@ -276,16 +268,28 @@ contains
         type(particles_type), intent(inout) :: particles
             !! the particles
 
+        call add_pressure(seep, particles, -1.0_wp)
+    end subroutine to_total
+
+    !> sigma + sign p I of every saturated particle (nothing in a dry case).
+    subroutine add_pressure(seep, particles, sign)
+        type(seepage_type), intent(in) :: seep
+            !! the pore water
+        type(particles_type), intent(inout) :: particles
+            !! the particles
+        real(wp), intent(in) :: sign
+            !! 1 or -1
+
         integer :: p
 
         if (.not. seep%on) return
-        !$omp parallel do default(none) schedule(static) shared(seep, particles) private(p)
+        !$omp parallel do default(none) schedule(static) shared(seep, particles, sign) private(p)
         do p = 1, particles%n
             if (seep%porosity(particles%material(p)) <= 0.0_wp) cycle
-            particles%stress(1:3, p) = particles%stress(1:3, p) - particles%pore_pressure(p)
+            particles%stress(1:3, p) = particles%stress(1:3, p) + sign*particles%pore_pressure(p)
         end do
         !$omp end parallel do
-    end subroutine to_total
+    end subroutine add_pressure
 
     !> The pore pressures after the stress pass of a step (see the module): the water's work
     !> over the step and its stored energy at the end, for the energy balance. Serial sums in

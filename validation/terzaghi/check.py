@@ -79,31 +79,29 @@ def parameters(case):
     return case["loads"][0]["pressure"], p0, cv, case["loads"][0]["time_function"]["duration"]
 
 
+def factor(mm, t, cv, ramp):
+    """The time factor of mode M_m of the ramped load at time t."""
+    tv, tr = cv * t / H**2, cv * ramp / H**2
+    if tv <= tr:
+        return (1 - np.exp(-mm**2 * tv)) / (mm**2 * tr)
+    return (np.exp(-mm**2 * (tv - tr)) - np.exp(-mm**2 * tv)) / (mm**2 * tr)
+
+
 def series(z, t, p0, cv, ramp):
     """Terzaghi's series for the ramped load: pore pressure at depth z, time t [Pa]."""
-    tv, tr = cv * t / H**2, cv * ramp / H**2
     p = np.zeros_like(z, dtype=float)
     for m in range(400):
         mm = np.pi * (2 * m + 1) / 2
-        if tv <= tr:
-            f = (1 - np.exp(-mm**2 * tv)) / (mm**2 * tr)
-        else:
-            f = (np.exp(-mm**2 * (tv - tr)) - np.exp(-mm**2 * tv)) / (mm**2 * tr)
-        p += 2 * p0 / mm * np.sin(mm * z / H) * f
+        p += 2 * p0 / mm * np.sin(mm * z / H) * factor(mm, t, cv, ramp)
     return p
 
 
 def degree(t, p0, cv, ramp):
     """Degree of consolidation U = 1 - mean p / p0 of the closed form."""
-    tv, tr = cv * t / H**2, cv * ramp / H**2
     mean = 0.0
     for m in range(400):
         mm = np.pi * (2 * m + 1) / 2
-        if tv <= tr:
-            f = (1 - np.exp(-mm**2 * tv)) / (mm**2 * tr)
-        else:
-            f = (np.exp(-mm**2 * (tv - tr)) - np.exp(-mm**2 * tv)) / (mm**2 * tr)
-        mean += 2 * p0 / mm**2 * f
+        mean += 2 * p0 / mm**2 * factor(mm, t, cv, ramp)
     return 1 - mean / p0
 
 
