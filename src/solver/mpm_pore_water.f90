@@ -39,6 +39,7 @@ module mpm_pore_water
     use mpm_case, only: case_type, initial_k0
     use mpm_case_pore_water, only: drain_none, drain_pressure, hydrostatic_pressure
     use mpm_case_stability, only: mobility
+    use mpm_case_output_fields, only: output_fields
     use mpm_grid, only: grid_type
     use mpm_particles, only: particles_type, particle_field_count, particle_field, &
         particle_field_type, hold_field, field_held, held_water
@@ -158,7 +159,7 @@ contains
                 cycle
             end if
             if (trim(described%name) /= "pore_p" .and. .not. &
-                any(case%output%fields .and. written_source(described%name))) cycle
+                any(case%output%fields .and. output_fields%source == described%name)) cycle
             call hold_field(particles, k, error)
             if (allocated(error)) return
         end do
@@ -229,12 +230,6 @@ contains
         from_state = .false.
         if (allocated(case%load_state)) from_state = len(case%load_state) > 0
     end function from_state
-
-    !> Whether a particle field is the source of a water output field.
-    pure logical function written_source(name)
-        character(len=*), intent(in) :: name
-        written_source = trim(name) == "effective" .or. trim(name) == "water_v"
-    end function written_source
 
     !> The start of a step: the particles' volumes.
     subroutine seepage_start(seep, particles)
