@@ -99,6 +99,8 @@ contains
         call check(suite, .not. allocated(error), "hold_field load")
         call hold_field(particles, field_index("load_share"), error)
         call check(suite, .not. allocated(error), "hold_field load_share")
+        call hold_field(particles, field_index("pore_p"), error)
+        call check(suite, .not. allocated(error), "hold_field pore_p")
         do k = 1, particle_field_count()
             if (.not. field_held(particles, k)) cycle
             field = particle_field(k)
