@@ -42,6 +42,9 @@ module mpm_boundary
             !! Coulomb friction coefficient of the contact pairs [-]
         logical :: keeps_particles = .false.
             !! a particle moved past the face is put back on it (a wall)
+        logical :: periodic = .false.
+            !! the face is tied to the opposite one (both periodic): its nodes are that
+            !! face's nodes, and a particle leaving through it comes back through the other
         logical :: acts = .false.
             !! the condition's `act` changes the velocities of the face's nodes after each
             !! nodal update (a dashpot)

@@ -14,6 +14,7 @@ module mpm_boundary_registry
     use mpm_boundary_velocity, only: velocity_boundary_type
     use mpm_boundary_absorbing, only: absorbing_boundary_type
     use mpm_boundary_seismic, only: seismic_boundary_type
+    use mpm_boundary_periodic, only: periodic_boundary_type
     implicit none
     private
     public :: boundary_models, boundary_choices, boundary_choice_codes, all_boundary_keys
@@ -26,7 +27,7 @@ contains
         type(boundary_holder_type), allocatable :: models(:)
             !! the conditions
 
-        allocate (models(7))
+        allocate (models(8))
         allocate (free_boundary_type :: models(1)%b)
         allocate (sliding_boundary_type :: models(2)%b)
         allocate (fixed_boundary_type :: models(3)%b)
@@ -34,6 +35,7 @@ contains
         allocate (velocity_boundary_type :: models(5)%b)
         allocate (absorbing_boundary_type :: models(6)%b)
         allocate (seismic_boundary_type :: models(7)%b)
+        allocate (periodic_boundary_type :: models(8)%b)
     end function boundary_models
 
     !> Every name a face accepts, in registry order.

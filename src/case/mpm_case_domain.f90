@@ -107,6 +107,7 @@ contains
             !! first error found
 
         type(cursor_type) :: faces
+        type(face_nodes_type) :: lower, upper
         logical :: found
         integer :: k, axis, side
 
@@ -125,6 +126,18 @@ contains
             end if
             call read_face(faces%child(trim(face_keys(k))), dim, domain%face(side, axis), error)
             if (allocated(error)) return
+        end do
+        ! a periodic face is tied to the opposite one: both or neither
+        do axis = 1, dim
+            lower = domain%nodes(1, axis, dim)
+            upper = domain%nodes(2, axis, dim)
+            if (lower%periodic .eqv. upper%periodic) cycle
+            side = merge(1, 2, lower%periodic)
+            k = 2*axis - 2 + side
+            call faces%fail(error, faces%key_path(trim(face_keys(k)))//' = "periodic" ties ' &
+                //"the face to the opposite one, "//trim(face_keys(2*axis + 1 - side)) &
+                //', which must be "periodic" too (here "'//domain%face_text(3 - side, axis)//'")')
+            return
         end do
     end subroutine read_boundaries
 

@@ -10,8 +10,9 @@ submodule (mpm_case) mpm_case_reader
     use mpm_json, only: json_document_type, json_value_type, json_parse_file, &
         json_parse_string, json_free, json_root, json_is_object
     use mpm_case_cursor, only: cursor_type, new_cursor, input_error, describe
-    use mpm_case_domain, only: read_domain, domain_keys, face_keys
+    use mpm_case_domain, only: read_domain, domain_keys, face_keys, axis_names
     use mpm_boundary_registry, only: all_boundary_keys
+    use mpm_boundary, only: face_nodes_type
     use mpm_case_particles, only: read_particles, particle_keys
     use mpm_case_materials, only: read_materials
     use mpm_material, only: material_holder_type, material_key_width, key_path_width
@@ -222,6 +223,8 @@ contains
         if (allocated(error)) return
         call read_solver(root, case%solver, error)
         if (allocated(error)) return
+        call check_periodic(root, case, error)
+        if (allocated(error)) return
         call read_time(root, case%dim, case%domain%dx, case%materials, case%bodies, case%time, &
             error)
         if (allocated(error)) return
@@ -257,6 +260,56 @@ contains
         if (allocated(error)) return
         call read_guard(root, case%guard, error)
     end subroutine resolve_case
+
+    !> Periodic faces tie the nodes of two faces, which the shape functions with a boundary
+    !> modification (B-splines) or with corners anywhere (CPDI) and the XPIC projection do not
+    !> follow: refused with them.
+    subroutine check_periodic(root, case, error)
+        type(cursor_type), intent(in) :: root
+            !! top-level object
+        type(case_type), intent(in) :: case
+            !! the case, read up to its solver
+        type(error_type), allocatable, intent(out) :: error
+            !! set when the combination is refused
+
+        integer :: axis, wide
+        logical :: periodic
+        type(face_nodes_type) :: lower
+
+        periodic = .false.
+        wide = 0
+        do axis = 1, case%dim
+            lower = case%domain%nodes(1, axis, case%dim)
+            periodic = periodic .or. lower%periodic
+            if (lower%periodic .and. case%domain%ncells(axis) > 1) wide = axis
+        end do
+        if (.not. periodic) return
+        select case (trim(case%solver%shape_function))
+        case ("linear")
+            continue
+        case ("cpgimp", "gimp", "ugimp")
+            ! a particle's domain is cut at a face, not carried across it: exact only where
+            ! every node of the axis is tied (one cell across)
+            if (wide > 0) then
+                call root%fail(error, 'solver.shape_function = "' &
+                    //trim(case%solver%shape_function)//'" with "periodic" faces '// &
+                    axis_names(wide:wide)//"min/"//axis_names(wide:wide)//"max over " &
+                    //int_text(case%domain%ncells(wide))//" cells: a GIMP domain is cut " &
+                    //'at the face, not carried across it; use "linear", or one cell ' &
+                    //"across (a 1D column)")
+                return
+            end if
+        case default
+            call root%fail(error, 'solver.shape_function = "'//trim(case%solver%shape_function) &
+                //'" with "periodic" faces: the tied faces work with "linear" (and "cpgimp", ' &
+                //'"ugimp" one cell across) only (the B-splines change near a face, CPDI ' &
+                //"reaches past it)")
+            return
+        end select
+        if (case%solver%xpic) call root%fail(error, 'solver.transfer = "xpic" with ' &
+            //'"periodic" faces: the XPIC projection does not tie the faces yet; use "flip", ' &
+            //'"apic" or a FLIP-PIC blend')
+    end subroutine check_periodic
 
     !> Whether some body holds particles of each material (its own or a list's).
     pure function materials_used(materials, bodies) result(used)

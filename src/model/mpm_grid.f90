@@ -12,6 +12,7 @@ module mpm_grid
     use mpm_terrain, only: terrain_type, new_terrain, terrain_distance
     implicit none
     private
+    public :: fold_periodic, slave_periodic
     public :: grid_type, new_grid, add_terrain, node_index, node_position, contact_index, &
         grid_bytes, node_owned, &
         node_layer
@@ -36,6 +37,14 @@ module mpm_grid
         logical :: clamped(2, 3) = .false.
             !! a particle moved past the face (side, axis) is put back on it: the face is a
             !! wall (its condition's keeps_particles)
+        logical :: periodic(3) = .false.
+            !! the two faces of the axis are tied (periodic): a particle leaving through one
+            !! comes back through the other
+        integer :: nperiodic = 0
+            !! pairs of tied nodes (a node on two periodic axes, an edge, is tied once per
+            !! axis, in axis order, to the node of the lowest faces)
+        integer, allocatable :: periodic_slave(:), periodic_master(:)
+            !! each pair's node on the upper face and its node on the lower face (nperiodic)
         real(wp), allocatable :: mass(:)
             !! nodal mass (nnodes) [kg]
         real(wp), allocatable :: momentum(:, :)
@@ -270,7 +279,9 @@ contains
                 nodes(side, a) = case%domain%nodes(side, a, d)
                 grid%clamped(side, a) = nodes(side, a)%keeps_particles
             end do
+            grid%periodic(a) = nodes(1, a)%periodic .and. nodes(2, a)%periodic
         end do
+        call periodic_pairs(grid)
         allocate (grid%mass(grid%nnodes), grid%momentum(d, grid%nnodes), &
             grid%fint(d, grid%nnodes), grid%fext(d, grid%nnodes), &
             grid%velocity(d, grid%nnodes), grid%acceleration(d, grid%nnodes), &
@@ -429,6 +440,79 @@ contains
         end function holds
 
     end subroutine new_grid
+
+    !> The pairs of tied nodes of the periodic axes: each node of an upper face with the
+    !> node of the lower face across, axis by axis (an edge node of two periodic axes is
+    !> tied along the first to a node that the second then ties: folds in pair order reach
+    !> the corner of the lowest faces, and copies in reverse order come back).
+    pure subroutine periodic_pairs(grid)
+        type(grid_type), intent(inout) :: grid
+            !! the grid (nn, periodic set)
+
+        integer :: a, i, j, k, n, ijk(3), stride(3)
+
+        stride = [1, grid%nn(1), grid%nn(1)*grid%nn(2)]
+        n = 0
+        do a = 1, grid%dim
+            if (grid%periodic(a)) n = n + grid%nnodes/grid%nn(a)
+        end do
+        grid%nperiodic = n
+        allocate (grid%periodic_slave(n), grid%periodic_master(n))
+        n = 0
+        do a = 1, grid%dim
+            if (.not. grid%periodic(a)) cycle
+            do k = 0, grid%nn(3) - 1
+                do j = 0, grid%nn(2) - 1
+                    do i = 0, grid%nn(1) - 1
+                        ijk = [i, j, k]
+                        if (ijk(a) /= grid%nn(a) - 1) cycle
+                        n = n + 1
+                        grid%periodic_slave(n) = 1 + dot_product(ijk, stride)
+                        ijk(a) = 0
+                        grid%periodic_master(n) = 1 + dot_product(ijk, stride)
+                    end do
+                end do
+            end do
+        end do
+    end subroutine periodic_pairs
+
+    !> The sums of the tied nodes of periodic faces on the lower face's nodes: each pair's
+    !> upper node gives its mass, momentum and forces to its lower node and keeps none
+    !> (after every scatter; nothing without periodic faces).
+    pure subroutine fold_periodic(grid)
+        type(grid_type), intent(inout) :: grid
+            !! the grid after a scatter
+
+        integer :: n, s, m
+
+        do n = 1, grid%nperiodic
+            s = grid%periodic_slave(n)
+            m = grid%periodic_master(n)
+            grid%mass(m) = grid%mass(m) + grid%mass(s)
+            grid%momentum(:, m) = grid%momentum(:, m) + grid%momentum(:, s)
+            grid%fint(:, m) = grid%fint(:, m) + grid%fint(:, s)
+            grid%fext(:, m) = grid%fext(:, m) + grid%fext(:, s)
+            grid%mass(s) = 0.0_wp
+            grid%momentum(:, s) = 0.0_wp
+            grid%fint(:, s) = 0.0_wp
+            grid%fext(:, s) = 0.0_wp
+        end do
+    end subroutine fold_periodic
+
+    !> The upper nodes of periodic faces at the velocity and acceleration of their lower
+    !> nodes (after every nodal update), in the reverse order of the folds.
+    pure subroutine slave_periodic(grid)
+        type(grid_type), intent(inout) :: grid
+            !! the grid after a nodal update
+
+        integer :: n
+
+        do n = grid%nperiodic, 1, -1
+            grid%velocity(:, grid%periodic_slave(n)) = grid%velocity(:, grid%periodic_master(n))
+            grid%acceleration(:, grid%periodic_slave(n)) = &
+                grid%acceleration(:, grid%periodic_master(n))
+        end do
+    end subroutine slave_periodic
 
     !> Frictional contact with a rigid terrain surface: every node within two cells of the
     !> surface becomes a contact pair (after the pairs of the frictional faces) whose normal

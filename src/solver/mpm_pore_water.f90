@@ -337,12 +337,19 @@ contains
                 seep%swell(i) = seep%swell(i) + w(c)*dv
             end do
         end do
+        ! the tied nodes of periodic faces: the sums on the lower face's node
+        do c = 1, grid%nperiodic
+            call fold_node(grid%periodic_slave(c), grid%periodic_master(c))
+        end do
         do i = 1, grid%nnodes
             if (seep%storage(i) <= 0.0_wp) cycle
             seep%pressure(i) = seep%pressure(i)/seep%storage(i)
             ! a drained node holds the face's pressure
             seep%change(i) = 0.0_wp
             if (seep%drained(i)) seep%pressure(i) = seep%drained_p(i) - seep%node_weight(i)
+        end do
+        do c = grid%nperiodic, 1, -1
+            seep%pressure(grid%periodic_slave(c)) = seep%pressure(grid%periodic_master(c))
         end do
         ! Darcy's flux of each particle, and the nodes' inflow
         do p = 1, particles%n
@@ -366,9 +373,17 @@ contains
                     + seep%volume_start(p)*dot_product(dw(1:dim, c), q(1:dim))
             end do
         end do
+        do c = 1, grid%nperiodic
+            i = grid%periodic_master(c)
+            seep%inflow(i) = seep%inflow(i) + seep%inflow(grid%periodic_slave(c))
+            seep%inflow(grid%periodic_slave(c)) = 0.0_wp
+        end do
         do i = 1, grid%nnodes
             if (seep%storage(i) <= 0.0_wp .or. seep%drained(i)) cycle
             seep%change(i) = (dt*seep%inflow(i) - seep%swell(i))/seep%storage(i)
+        end do
+        do c = grid%nperiodic, 1, -1
+            seep%change(grid%periodic_slave(c)) = seep%change(grid%periodic_master(c))
         end do
         ! each particle's pressure and total stress
         do p = 1, particles%n
@@ -410,6 +425,20 @@ contains
             stored = stored + 0.5_wp*particles%volume(p)*seep%porosity(m)/seep%modulus(m) &
                 *particles%pore_pressure(p)**2
         end do
+
+    contains
+
+        !> The storage, pressure and volume change of node `from` added to node `to`.
+        subroutine fold_node(from, to)
+            integer, intent(in) :: from, to
+
+            seep%storage(to) = seep%storage(to) + seep%storage(from)
+            seep%pressure(to) = seep%pressure(to) + seep%pressure(from)
+            seep%swell(to) = seep%swell(to) + seep%swell(from)
+            seep%storage(from) = 0.0_wp
+            seep%pressure(from) = 0.0_wp
+            seep%swell(from) = 0.0_wp
+        end subroutine fold_node
     end subroutine seepage_step
 
     !> The energy stored in the compressed pore water of the particles, V n p^2 / (2 K_w) [J].

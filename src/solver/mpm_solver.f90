@@ -30,6 +30,9 @@ module mpm_solver
     use mpm_contact_loads, only: face_loads, take_face_loads, face_node_count, terrain_loads, &
         take_terrain_loads
     use mpm_stencil, only: compute_stencils, sort_stencils
+    use mpm_grid, only: fold_periodic
+    use mpm_boundary, only: face_nodes_type
+    use mpm_case_domain, only: axis_names
     use mpm_transfer, only: p2g, p2g_options_type, g2p, motion_type, report_lost, update_stress, &
         nstress_sums
     use mpm_kernel_nodal, only: nnodal_sums, nodal_friction, &
@@ -100,6 +103,7 @@ contains
         integer :: i, k, stat, nstate
         logical :: loaded, restart
         type(particle_field_type) :: described
+        type(face_nodes_type) :: lower
         character(len=256) :: msg
 
         sim%case = case
@@ -167,6 +171,17 @@ contains
         ! this image's grid: the whole grid, or its slab with the ghost cells
         call slab_grid(sim, error)
         if (allocated(error)) return
+        if (sim%dec%axis > 0) then
+            lower = case%domain%nodes(1, sim%dec%axis, case%dim)
+            if (lower%periodic) then
+                call fatal_error(error, case%file//': the "periodic" faces of axis '// &
+                    axis_names(sim%dec%axis:sim%dec%axis)//" are cut among the "// &
+                    int_text(image_count())//" images, which do not tie the faces across " &
+                    //"them yet; run it on one image (threads: OMP_NUM_THREADS) or make " &
+                    //"another axis the longest", exit_input)
+                return
+            end if
+        end if
         ! the pore pressures of saturated soils (pore_water), and their total stresses
         call new_seepage(sim%seepage, case, sim%grid, sim%particles, error)
         if (allocated(error)) return
@@ -762,6 +777,8 @@ contains
         call p2g(sim%grid, sim%particles, sim%stencils, opts, box_lo, box_hi)
         call halo_sum(sim%grid, layers, mass=opts%mass, momentum=opts%mass, fint=opts%fint, &
             fext=opts%mass .and. allocated(sim%particles%body_force))
+        ! the upper nodes of periodic faces to their lower ones
+        call fold_periodic(sim%grid)
         if (opts%mass) call halo_contact_gaps(sim%grid, layers)
         if (opts%mass) call settle_light_nodes(sim%grid, layers)
     end subroutine scatter_to_nodes
@@ -783,6 +800,7 @@ contains
         if (lost) return
         layers = sim%shape%halo_width()
         call halo_sum(sim%grid, layers, mass=.true., momentum=.true., fint=.true., fext=.false.)
+        call fold_periodic(sim%grid)
         call halo_contact_gaps(sim%grid, layers)
         call settle_light_nodes(sim%grid, layers)
         if (grid_energy) sim%next_grid_kinetic = nodal_kinetic(sim%grid)

@@ -6,7 +6,7 @@
 module mpm_step_passes
     use mpm_kinds, only: wp
     use mpm_case, only: scheme_usf, scheme_usl
-    use mpm_grid, only: grid_type, node_owned
+    use mpm_grid, only: grid_type, node_owned, fold_periodic, slave_periodic
     use mpm_boundary, only: boundary_holder_type
     use mpm_halo, only: fold_light, slave_light, halo_sum
     use mpm_particles, only: particles_type
@@ -82,6 +82,9 @@ contains
 
         real(wp) :: lost
 
+        ! the upper nodes of periodic faces to their lower ones (the MUSL remap scattered
+        ! momentum to them again)
+        call fold_periodic(grid)
         ! (again after P2G's fold: it adds nothing more)
         call fold_light(grid, grid%momentum)
         call nodal_velocity(grid, step, friction_work)
@@ -89,6 +92,7 @@ contains
         ! their masters')
         call move_bodies(grid, step, .false., lost)
         call slave_light(grid, grid%velocity)
+        call slave_periodic(grid)
     end subroutine grid_velocity
 
     !> The nodal update (mpm_kernel_nodal::integrate_nodes) with the light nodes: their
@@ -133,6 +137,8 @@ contains
         dissipated(nodal_rigid) = taken
         call slave_light(grid, grid%velocity)
         call slave_light(grid, grid%acceleration)
+        ! the upper nodes of periodic faces move with their lower ones
+        call slave_periodic(grid)
     end subroutine update_nodes
 
     !> The faces whose prescribed velocity changes in time (grid%face_varies, a seismic base):

@@ -63,7 +63,8 @@ contains
                     models(m)%b%name()//": its example gives "//trim(keys(k)))
             end do
         end do
-        call check(suite, boundary_allowed() == 'one of "free", "sliding", "fixed", or an ' &
+        call check(suite, boundary_allowed() == 'one of "free", "sliding", "fixed", ' &
+            //'"periodic", or an ' &
             //'object {"type": "frictional", "mu": 0.4} for a face with Coulomb friction, or ' &
             //'an object {"type": "velocity", "velocity": [0, -0.01]} for a face moving at a ' &
             //'prescribed velocity, or an object {"type": "absorbing", "vp": 300, "vs": 160} ' &
@@ -110,6 +111,11 @@ contains
                     .and. nodes%prescribed .and. nodes%varies .and. nodes%keeps_particles &
                     .and. all(nodes%velocity == 0.0_wp), &
                     "seismic: a rigid base, every component prescribed and changing in time")
+            case ("periodic")
+                call check(suite, nodes%periodic .and. .not. any(nodes%held) .and. &
+                    .not. nodes%contact .and. .not. nodes%prescribed .and. .not. nodes%acts &
+                    .and. .not. nodes%keeps_particles, "periodic: tied, nothing held, not a " &
+                    //"wall (particles pass to the other face)")
             case default
                 call check(suite, .false., models(m)%b%name()//": no nodal check here")
             end select

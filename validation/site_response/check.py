@@ -34,9 +34,16 @@ Gating too: the energy residual within 2 % of the work the base did. The error c
 with 0.25 m cells the amplifications were 2.000, 2.003, 2.008 and the resonances 1.254,
 3.766, 6.276 Hz (2026-12-07); at CFL 0.25 instead of 0.5, 2.001, 2.015, 2.038.
 
+S waves (site_response_s.json): the same column with periodic side faces (a laterally
+infinite layer: the nodes of the two sides are tied, domain.boundaries "periodic") shaken
+horizontally (scale [1, 0]) by the same record: vs = sqrt(G / rho) = 53.71 m/s, the rock's vs
+twice it (alpha = 0.5), resonances at f_n = (2n - 1) vs / (4 H) = 0.671, 2.014, 3.357 Hz; the
+same closed form with vs, the same bands.
+
     .venv/bin/python validation/site_response/check.py [--exe build/mpm_geo] [--no-run]
 
-Writes results/metrics.json and results/site_response.png.
+Writes results/metrics.json and results/site_response.png (P waves), results/metrics_s.json
+and results/site_response_s.png (S waves).
 Exit codes: 0 every target met, 1 a target missed, 2 a run or the analysis failed.
 """
 
@@ -60,20 +67,30 @@ from mpm_post.validation import (  # noqa: E402
 
 RESULTS = HERE / "results"
 CASE = HERE / "site_response.json"
+CASE_S = HERE / "site_response_s.json"
 PADDED = 64.0          # s: length of the zero-padded series
 AMPLITUDE_BAND = 0.05
 FREQUENCY_BAND = 0.01
 SAMPLE = 0.01          # s: the uniform grid of the series
 
 
+def shear(case):
+    """Whether the case shakes its base horizontally (S waves)."""
+    return case["domain"]["boundaries"]["ymin"]["scale"][0] != 0
+
+
 def column(case):
-    """(H, vp of the soil, alpha) of the case."""
+    """(H, wave speed of the soil, alpha) of the case: vp and the rock's vp for a vertical
+    record, vs and the rock's vs for a horizontal one."""
     soil = case["materials"][0]
     young, nu, rho = soil["E"], soil["nu"], soil["rho"]
-    modulus = young * (1 - nu) / ((1 + nu) * (1 - 2 * nu))
-    vp = float(np.sqrt(modulus / rho))
     base = case["domain"]["boundaries"]["ymin"]
     height = case["bodies"][0]["max"][1] - case["bodies"][0]["min"][1]
+    if shear(case):
+        vs = float(np.sqrt(young / (2 * (1 + nu)) / rho))
+        return height, vs, vs / base["vs"]
+    modulus = young * (1 - nu) / ((1 + nu) * (1 - 2 * nu))
+    vp = float(np.sqrt(modulus / rho))
     return height, vp, vp / base["vp"]
 
 
@@ -81,12 +98,13 @@ def outcrop(case, t):
     """The record's velocity at times t (linear between its rows, as the face takes it)."""
     record = np.loadtxt(REPO / case["domain"]["boundaries"]["ymin"]["file"], delimiter=",",
                         skiprows=1)
-    scale = case["domain"]["boundaries"]["ymin"]["scale"][1]
+    scale = case["domain"]["boundaries"]["ymin"]["scale"][0 if shear(case) else 1]
     return scale * np.interp(t, record[:, 0], record[:, 1])
 
 
-def top_velocity(output):
-    """(times, mean vertical velocity of the top layer of particles) of every output."""
+def top_velocity(output, component=1):
+    """(times, mean velocity of the top layer of particles along `component`) of every
+    output."""
     times, velocity = [], []
     top = None
     for time, path in list_outputs(output):
@@ -96,7 +114,7 @@ def top_velocity(output):
         if top is None:
             top = position[:, 1] > position[:, 1].max() - 1e-6
         times.append(time)
-        velocity.append(float(np.mean(v[top, 1])))
+        velocity.append(float(np.mean(v[top, component])))
     return np.array(times), np.array(velocity)
 
 
@@ -118,20 +136,27 @@ def crossing(f, phase, level):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     common_arguments(parser, RESULTS,
-                     output_help="output folder (default: outputs/site_response, overwritten);"
-                                 " a folder given here must not exist",
-                     no_run_help="analyse the existing output")
+                     output_help="parent of the output folders (default: outputs/, the runs "
+                                 "overwrite outputs/site_response and outputs/site_response_s)",
+                     no_run_help="analyse the existing outputs")
     args = parser.parse_args(argv)
-    case = load_json(CASE)
-    output = Path(args.output) if args.output else REPO / "outputs" / case["name"]
+    codes = [check_case(args, CASE, ""), check_case(args, CASE_S, "_s")]
+    return max(codes)
+
+
+def check_case(args, case_path, suffix):
+    """Run and compare one column (P waves: suffix "", S waves: "_s"); the exit code."""
+    case = load_json(case_path)
+    waves = "S" if shear(case) else "P"
+    output = (Path(args.output) if args.output else REPO / "outputs") / case["name"]
     wall = None
     try:
         if not args.no_run:
             if exe_missing(args.exe):
                 return 2
-            wall = run_mpm_geo(args.exe, CASE, output, overwrite=args.output is None,
+            wall = run_mpm_geo(args.exe, case_path, output, overwrite=True,
                                quiet=args.quiet, cwd=REPO)
-        t, v = top_velocity(output)
+        t, v = top_velocity(output, 0 if shear(case) else 1)
         history = load_history(output)
     except (OSError, ValueError, KeyError, RuntimeError) as exc:
         print(f"check.py: error: {exc}", file=sys.stderr)
@@ -201,11 +226,11 @@ def main(argv=None):
         axes.axvline(fp, color="tab:red", lw=0.7, ls=":")
     axes.set_xlabel("frequency [Hz]")
     axes.set_ylabel("amplification |H(f)|")
-    axes.set_title("Site response of a 20 m elastic column on elastic rock (P waves)",
+    axes.set_title(f"Site response of a 20 m elastic column on elastic rock ({waves} waves)",
                    fontsize=10)
     axes.grid(alpha=0.3)
     axes.legend(fontsize=8)
-    png = Path(args.results) / "site_response.png"
+    png = Path(args.results) / f"site_response{suffix}.png"
     png.parent.mkdir(parents=True, exist_ok=True)
     figure.savefig(png, dpi=110)
 
@@ -214,8 +239,8 @@ def main(argv=None):
         "case": "site_response",
         "title": "1D site response on a compliant seismic base (transfer function)",
         "resolution": "full",
-        "heading": "H / dx = 40 (0.5 m cells), P waves",
-        "case_files": [relative(CASE)],
+        "heading": f"H / dx = 40 (0.5 m cells), {waves} waves",
+        "case_files": [relative(case_path)],
         "headline": f"The amplification at the first three resonances is "
                     f"{', '.join(f'{p[2]:.3f}' for p in peaks)} against 1 / alpha = "
                     f"{1 / alpha:.0f} (worst {worst:.1%}); the resonances (phase) at "
@@ -223,12 +248,15 @@ def main(argv=None):
                     f"{', '.join(f'{p[0]:.3f}' for p in peaks)} Hz; energy residual "
                     f"{residual / work:+.2%} of the base's work.",
         "setup": {"rows": [
-            ["column", "20 m, 1 cell wide, sliding walls, free top; no gravity, no damping"],
-            ["soil", "linear_elastic E 15 MPa, nu 0.3, rho 2000: vp = 100.48 m/s"],
+            ["column", "20 m, 1 cell wide, " + ("periodic side faces (a laterally infinite "
+                       "layer)" if shear(case) else "sliding walls") + ", free top; no "
+                       "gravity, no damping"],
+            ["soil", f"linear_elastic E 15 MPa, nu 0.3, rho 2000: "
+                     f"{'vs' if shear(case) else 'vp'} = {vp:.2f} m/s"],
             ["base", "seismic, compliant: vp, vs of the rock twice the soil's (alpha = 0.5); "
-                     "outcrop velocity a 3.5 Hz Ricker wavelet"],
+                     f"outcrop velocity a 3.5 Hz Ricker wavelet, "
+                     f"{'horizontal' if shear(case) else 'vertical'}"],
             ["grid", "dx = 0.5 m, 2 x 2 particles per cell, cpGIMP, MUSL, FLIP, 8 s"],
-            ["not yet", "S waves: a 1D shear column needs periodic side faces (issue 22)"],
         ]},
         "metrics": metrics,
         "targets": results,
@@ -237,11 +265,11 @@ def main(argv=None):
         "threads": os.environ.get("OMP_NUM_THREADS", str(os.cpu_count())),
         "plots": [png.name],
     }
-    write_json(Path(args.results) / "metrics.json", report)
+    write_json(Path(args.results) / f"metrics{suffix}.json", report)
     for r in results:
         print(f"{r['name']:<52} {r['value']!s:<24} {r['band']:<10} {verdict(r)}")
     print(report["headline"])
-    print(f"site_response: {'PASS' if passed else 'FAIL'}")
+    print(f"site_response ({waves} waves): {'PASS' if passed else 'FAIL'}")
     return 0 if passed else 1
 
 
