@@ -45,6 +45,9 @@ module mpm_boundary
         logical :: periodic = .false.
             !! the face is tied to the opposite one (both periodic): its nodes are that
             !! face's nodes, and a particle leaving through it comes back through the other
+        logical :: springs = .false.
+            !! the condition's `act` keeps a displacement per node (springs: a Kelvin-Voigt
+            !! face), which the grid holds and checkpoints keep
         logical :: acts = .false.
             !! the condition's `act` changes the velocities of the face's nodes after each
             !! nodal update (a dashpot)
@@ -147,11 +150,11 @@ contains
     !> and returns the energy its impulses took from the nodes in this step (positive: taken),
     !> which the energy balance books with the energy the faces stop (`boundary_work`), and
     !> the work of a motion it imposes from outside (a seismic record's incident wave), which
-    !> it books as work of the loads (`load_work`). Its law sees only these values and its
-    !> own parameters: a law with a state of its own (a spring's stretch) needs a place for
-    !> that state first.
-    pure subroutine boundary_act(self, axis, dim, time, dt, dx, mass, held, momentum, velocity, &
-        acceleration, taken, given)
+    !> it books as work of the loads (`load_work`). Its law sees only these values, the face
+    !> area of each node, its own parameters and a displacement per node that the grid keeps
+    !> for it (a spring's stretch: the Kelvin-Voigt face).
+    pure subroutine boundary_act(self, axis, dim, time, dt, dx, mass, area, held, momentum, &
+        velocity, acceleration, displacement, taken, given)
         class(boundary_type), intent(in) :: self
             !! the condition
         integer, intent(in) :: axis
@@ -166,6 +169,8 @@ contains
             !! grid spacing [m]
         real(wp), intent(in) :: mass(:)
             !! mass of each node of the face (n) [kg]
+        real(wp), intent(in) :: area(:)
+            !! face area each node stands for (n) [m2; m in 2D]
         logical, intent(in) :: held(:, :)
             !! components held by a condition (fixed, sliding, velocity faces; dim, n): left
             !! as they are
@@ -175,6 +180,9 @@ contains
             !! velocity (dim, n) [m/s]
         real(wp), intent(inout) :: acceleration(:, :)
             !! acceleration of the step (dim, n) [m/s2]
+        real(wp), intent(inout) :: displacement(:, :)
+            !! displacement of each node since the start (dim, n) [m]: the state of a law
+            !! with springs, which updates it; the others leave it alone
         real(wp), intent(out) :: taken
             !! energy the condition took from these nodes in this step [J]
         real(wp), intent(out) :: given

@@ -22,8 +22,13 @@
 !>
 !> A plain dashpot holds no static load: under gravity the material on an absorbing base
 !> sinks at the speed the dashpot needs to carry its weight (a known limit of viscous
-!> boundaries; a Kelvin-Voigt face adds a spring, issue 22). Particles moved past the face
-!> are put back on it.
+!> boundaries). A Kelvin-Voigt face (`kn`, `kt`) adds springs per unit area beside the
+!> dashpots, -k A u with u the node's displacement since the start (kept by the grid,
+!> `grid%acting_disp`, and by checkpoints) and A the face area the node stands for (from the
+!> grid: the springs do not take the area from the nodal mass, which grows when the loaded
+!> material's particles settle past the face); implicit in v and u together, v = (v* - (k A
+!> dt^2 / m) u / dt) / (1 + c dt / m + k A dt^2 / m), u += dt v. It holds a static load q
+!> after settling by q / kn. Particles moved past the face are put back on it.
 module mpm_boundary_absorbing
     use mpm_kinds, only: wp
     use mpm_error, only: error_type
@@ -40,6 +45,11 @@ module mpm_boundary_absorbing
             !! P-wave speed of the material beyond the face, sqrt((K + 4 G / 3) / rho) [m/s]
         real(wp) :: vs = 0.0_wp
             !! S-wave speed, sqrt(G / rho) [m/s]
+        real(wp) :: kn = 0.0_wp
+            !! stiffness per unit area of the springs normal to the face [Pa/m]: with kt, a
+            !! Kelvin-Voigt face (springs beside the dashpots); 0: none
+        real(wp) :: kt = 0.0_wp
+            !! stiffness per unit area of the springs along the face [Pa/m]
     contains
         procedure, nopass :: names => absorbing_names
         procedure, nopass :: keys => absorbing_keys
@@ -62,12 +72,12 @@ contains
         list = [character(len=boundary_key_width) :: "absorbing"]
     end subroutine absorbing_names
 
-    !> "vp", "vs"
+    !> "vp", "vs", "kn", "kt"
     pure subroutine absorbing_keys(list)
         character(len=boundary_key_width), allocatable, intent(out) :: list(:)
             !! the keys
 
-        list = [character(len=boundary_key_width) :: "vp", "vs"]
+        list = [character(len=boundary_key_width) :: "vp", "vs", "kn", "kt"]
     end subroutine absorbing_keys
 
     !> The object form, for messages.
@@ -75,7 +85,8 @@ contains
         character(len=:), allocatable :: text
             !! an example face object
 
-        text = '{"type": "absorbing", "vp": 300, "vs": 160}'
+        text = '{"type": "absorbing", "vp": 300, "vs": 160} (with "kn", "kt": a ' &
+            //"Kelvin-Voigt face)"
     end function absorbing_example
 
     !> What it is for, for messages.
@@ -115,7 +126,19 @@ contains
                 "below sqrt(3)/2 vp = "//fmt_real(sqrt(0.75_wp)*self%vp)//" m/s: the S-wave "// &
                 "speed of a material of positive bulk modulus is below that (vs / vp = "// &
                 "sqrt((1 - 2 nu) / (2 (1 - nu))) < sqrt(3)/2 for nu > -1)")
+            return
         end if
+        if (face%has("kn") .neqv. face%has("kt")) then
+            call face%fail(error, face%key_path(trim(merge("kn", "kt", face%has("kn")))) &
+                //" is given without "//trim(merge("kt", "kn", face%has("kn")))//": a " &
+                //"Kelvin-Voigt face has springs normal (kn) and along (kt) the face, both " &
+                //"stiffnesses per unit area [Pa/m], e.g. alpha G / R with R the distance to " &
+                //"the source, alpha 1 and 1/2 in 2D, 4/3 and 2/3 in 3D")
+            return
+        end if
+        call face%get_real("kn", self%kn, error, above=0.0_wp, unit="Pa/m")
+        if (allocated(error)) return
+        call face%get_real("kt", self%kt, error, above=0.0_wp, unit="Pa/m")
     end subroutine absorbing_read
 
     !> " (vp = 300 m/s, vs = 160 m/s)"
@@ -125,7 +148,13 @@ contains
         character(len=:), allocatable :: text
             !! the words after the name
 
-        text = " (vp = "//fmt_real(self%vp)//" m/s, vs = "//fmt_real(self%vs)//" m/s)"
+        text = " (vp = "//fmt_real(self%vp)//" m/s, vs = "//fmt_real(self%vs)//" m/s"
+        if (self%kn > 0.0_wp) then
+            text = text//"; Kelvin-Voigt springs kn = "//fmt_real(self%kn)//" Pa/m, kt = " &
+                //fmt_real(self%kt)//" Pa/m)"
+        else
+            text = text//")"
+        end if
     end function absorbing_summary
 
     !> Nothing held: the face acts on its nodes after the nodal update; a wall.
@@ -141,13 +170,14 @@ contains
 
         nodes%acts = .true.
         nodes%keeps_particles = .true.
+        nodes%springs = self%kn > 0.0_wp
     end function absorbing_nodes
 
     !> The dashpots, implicit: v = v* / (1 + 2 v_wave dt / dx) per component, vp normal to
     !> the face and vs along it, the held components left alone; the energy taken is the
     !> impulse at the mean velocity of the step.
-    pure subroutine absorbing_act(self, axis, dim, time, dt, dx, mass, held, momentum, &
-        velocity, acceleration, taken, given)
+    pure subroutine absorbing_act(self, axis, dim, time, dt, dx, mass, area, held, momentum, &
+        velocity, acceleration, displacement, taken, given)
         class(absorbing_boundary_type), intent(in) :: self
             !! the condition
         integer, intent(in) :: axis
@@ -162,6 +192,8 @@ contains
             !! grid spacing [m]
         real(wp), intent(in) :: mass(:)
             !! mass of each node of the face (n) [kg]
+        real(wp), intent(in) :: area(:)
+            !! face area each node stands for (n) [m2; m in 2D]
         logical, intent(in) :: held(:, :)
             !! components another face holds (dim, n)
         real(wp), intent(inout) :: momentum(:, :)
@@ -170,18 +202,42 @@ contains
             !! velocity (dim, n) [m/s]
         real(wp), intent(inout) :: acceleration(:, :)
             !! acceleration of the step (dim, n) [m/s2]
+        real(wp), intent(inout) :: displacement(:, :)
+            !! displacement of each node since the start (dim, n) [m]: the state of a law
+            !! with springs, which updates it; the others leave it alone
         real(wp), intent(out) :: taken
             !! energy the dashpots took in this step [J]
         real(wp), intent(out) :: given
             !! the work brought in from outside, which is none here (zero) [J]
 
-        real(wp) :: factor(3), v(3), v0(3)
+        real(wp) :: factor(3), v(3), v0(3), damper(3), spring(3)
         integer :: i
 
         given = 0.0_wp
         factor = 1.0_wp/(1.0_wp + 2.0_wp*self%vs*dt/dx)
         factor(axis) = 1.0_wp/(1.0_wp + 2.0_wp*self%vp*dt/dx)
         taken = 0.0_wp
+        if (self%kn > 0.0_wp) then
+            ! Kelvin-Voigt: c / m = 2 v / dx (the dashpots, as below) and k dt^2 / m = k A
+            ! dt^2 / m per component (the springs, of the node's face area A), implicit in v
+            ! and u
+            damper = 2.0_wp*self%vs*dt/dx
+            damper(axis) = 2.0_wp*self%vp*dt/dx
+            do i = 1, size(mass)
+                spring = self%kt*area(i)*dt**2/mass(i)
+                spring(axis) = self%kn*area(i)*dt**2/mass(i)
+                v(1:dim) = merge(velocity(:, i), (velocity(:, i) - spring(1:dim)/dt &
+                    *displacement(:, i))/(1.0_wp + damper(1:dim) + spring(1:dim)), held(:, i))
+                v0(1:dim) = velocity(:, i) - dt*acceleration(:, i)
+                taken = taken - 0.5_wp*mass(i)*dot_product(v(1:dim) - velocity(:, i), &
+                    v0(1:dim) + v(1:dim))
+                acceleration(:, i) = acceleration(:, i) + (v(1:dim) - velocity(:, i))/dt
+                velocity(:, i) = v(1:dim)
+                momentum(:, i) = mass(i)*v(1:dim)
+                displacement(:, i) = displacement(:, i) + dt*v(1:dim)
+            end do
+            return
+        end if
         do i = 1, size(mass)
             v(1:dim) = merge(velocity(:, i), factor(1:dim)*velocity(:, i), held(:, i))
             v0(1:dim) = velocity(:, i) - dt*acceleration(:, i)

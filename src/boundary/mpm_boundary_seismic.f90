@@ -280,8 +280,8 @@ contains
     !> the step, per component (vp normal to the face, vs along it), the held components left
     !> alone. What comes in is booked as given, what leaves as taken, each at the mean
     !> velocity of the step.
-    pure subroutine seismic_act(self, axis, dim, time, dt, dx, mass, held, momentum, &
-        velocity, acceleration, taken, given)
+    pure subroutine seismic_act(self, axis, dim, time, dt, dx, mass, area, held, momentum, &
+        velocity, acceleration, displacement, taken, given)
         class(seismic_boundary_type), intent(in) :: self
             !! the condition
         integer, intent(in) :: axis
@@ -296,6 +296,8 @@ contains
             !! grid spacing [m]
         real(wp), intent(in) :: mass(:)
             !! mass of each node of the face (n) [kg]
+        real(wp), intent(in) :: area(:)
+            !! face area each node stands for (n) [m2; m in 2D]
         logical, intent(in) :: held(:, :)
             !! components another face holds (dim, n)
         real(wp), intent(inout) :: momentum(:, :)
@@ -304,6 +306,9 @@ contains
             !! velocity (dim, n) [m/s]
         real(wp), intent(inout) :: acceleration(:, :)
             !! acceleration of the step (dim, n) [m/s2]
+        real(wp), intent(inout) :: displacement(:, :)
+            !! displacement of each node since the start (dim, n) [m]: the state of a law
+            !! with springs, which updates it; the others leave it alone
         real(wp), intent(out) :: taken
             !! energy the dashpots took in this step [J]
         real(wp), intent(out) :: given

@@ -82,6 +82,9 @@ module mpm_state
         integer, allocatable :: scatter_order(:)
             !! a one-pass run: the particle order of the P2G its last step did for the next one
             !! (the restart does that P2G again in that order: the same sums)
+        real(wp), allocatable :: acting_disp(:)
+            !! a run with Kelvin-Voigt faces: the displacement of every (node, acting face)
+            !! pair of the grid, dim per pair, in the grid's order (one image) [m]
     end type run_record_type
 
 contains
@@ -301,6 +304,14 @@ contains
             call hdf5_write_dataset(group, "terrain_load", run%terrain_load, error, units="N s")
             if (allocated(error)) return
         end if
+        if (allocated(run%acting_disp)) then
+            call hdf5_write_attribute(group, "acting_values", size(run%acting_disp), error)
+            if (allocated(error)) return
+            if (size(run%acting_disp) > 0) then
+                call hdf5_write_dataset(group, "acting_disp", run%acting_disp, error, units="m")
+                if (allocated(error)) return
+            end if
+        end if
         if (allocated(run%scatter_order)) then
             call hdf5_write_attribute(group, "scatter_particles", size(run%scatter_order), error)
             if (allocated(error)) return
@@ -452,6 +463,20 @@ contains
             if (allocated(error)) return
             call hdf5_read_dataset(group, "terrain_load", run%terrain_load, error)
             if (allocated(error)) return
+        end if
+        if (hdf5_has_attribute(group, "acting_values")) then
+            call hdf5_read_attribute(group, "acting_values", nbytes, error)
+            if (allocated(error)) return
+            if (nbytes < 0) then
+                call fatal_error(error, "the run record is damaged (acting_values "// &
+                    int_text(nbytes)//")", exit_input)
+                return
+            end if
+            allocate (run%acting_disp(nbytes))
+            if (nbytes > 0) then
+                call hdf5_read_dataset(group, "acting_disp", run%acting_disp, error)
+                if (allocated(error)) return
+            end if
         end if
         if (hdf5_has_attribute(group, "scatter_particles")) then
             call hdf5_read_attribute(group, "scatter_particles", nbytes, error)

@@ -143,6 +143,12 @@ module mpm_grid
             !! node of each pair, face by face (nacting)
         integer, allocatable :: acting_face(:, :)
             !! face (side, axis) of each pair (2, nacting)
+        real(wp), allocatable :: acting_disp(:, :)
+            !! displacement of each pair's node since the start, kept by the conditions with
+            !! springs (a Kelvin-Voigt face) (dim, nacting) [m]
+        real(wp), allocatable :: acting_area(:)
+            !! the face area each pair's node stands for: dx^(dim - 1), halved per edge of
+            !! the face it lies on (not across a periodic axis) (nacting) [m2; m in 2D]
         real(wp) :: face_impulse(3, 2, 3) = 0.0_wp
             !! impulse each face (side, axis) gave the material in the last nodal update, over
             !! this image's nodes (node_owned): the velocity faces' and the holding faces' (the
@@ -325,6 +331,7 @@ contains
         allocate (grid%prescribed_node(grid%nprescribed), &
             grid%prescribed_face(2, grid%nprescribed), &
             grid%acting_node(grid%nacting), grid%acting_face(2, grid%nacting), &
+            grid%acting_disp(d, grid%nacting), grid%acting_area(grid%nacting), &
             grid%held_node(grid%nheld), grid%held_face(2, grid%nheld), &
             grid%held_mask(d, grid%nheld), &
             grid%prescribed_velocity(d, grid%nprescribed), &
@@ -353,6 +360,7 @@ contains
             end if
         end if
         grid%contact_load = 0.0_wp
+        grid%acting_disp = 0.0_wp
         grid%contact_friction = 0.0_wp
         grid%contact_impulse = 0.0_wp
         grid%contact_start = 0.0_wp
@@ -397,6 +405,7 @@ contains
                                 m = m + 1
                                 grid%acting_node(m) = id
                                 grid%acting_face(:, m) = [side, a]
+                                grid%acting_area(m) = face_area([i, j, k], a)
                             end if
                             if (nodes(side, a)%contact) then
                                 c = c + 1
@@ -430,6 +439,21 @@ contains
                 end do
             end do
         end function later_prescribed
+
+        !> The face area of node ijk of a face normal to axis a: dx^(d - 1), halved for each
+        !> other axis on whose first or last node it lies (unless that axis is periodic, whose
+        !> lower node stands for both).
+        pure real(wp) function face_area(ijk, a)
+            integer, intent(in) :: ijk(3), a
+
+            integer :: b
+
+            face_area = grid%dx**(d - 1)
+            do b = 1, d
+                if (b == a .or. grid%periodic(b)) cycle
+                if (ijk(b) == 0 .or. ijk(b) == grid%nn(b) - 1) face_area = 0.5_wp*face_area
+            end do
+        end function face_area
 
         !> A face whose nodes hold components at zero (not a velocity face, which books its
         !> reaction as prescribed).

@@ -58,7 +58,7 @@ module mpm_solver
     implicit none
     private
     public :: simulation_type, new_simulation, advance, stable_time_step, energies_type
-    public :: start_type
+    public :: start_type, has_springs
     public :: compute_energies, has_text, agree, contact_loads, resume_simulation
     public :: start_energy_balance, energy_residual, energy_total, energy_scale, &
         energy_record, energies_from_record, nenergy_record
@@ -119,6 +119,14 @@ contains
         call new_shape(sim%shape, trim(case%solver%shape_function), error, &
             text_or(case%file, "?"))
         if (allocated(error)) return
+        if (image_count() > 1 .and. has_springs(case)) then
+            call fatal_error(error, case%file//": the Kelvin-Voigt faces of this case (an " &
+                //"absorbing face with kn and kt) run on one image: their springs' stretch is " &
+                //"kept per node of this image's grid, which a run on "//int_text(image_count()) &
+                //" images does not trade yet; run it without cafrun (threads: " &
+                //"OMP_NUM_THREADS)", exit_input)
+            return
+        end if
         if (image_count() > 1 .and. has_rigid_bodies(case)) then
             call fatal_error(error, case%file//": the rigid bodies of this case (materials of " &
                 //'type "rigid") run on one image: the motion of a body is summed over all its ' &
@@ -338,6 +346,20 @@ contains
         call take_face_loads(sim%case, sim%grid, sim%dec, run%face_load)
         call take_terrain_loads(sim%case, sim%grid, sim%dec, run%terrain_node, &
             run%terrain_load, complete)
+        ! the springs' stretch of the Kelvin-Voigt faces
+        if (has_springs(sim%case)) then
+            if (.not. allocated(run%acting_disp)) then
+                call fatal_error(error, "the checkpoint has no stretch of the Kelvin-Voigt " &
+                    //"faces' springs (written before the case had them?)", exit_input)
+                return
+            end if
+            if (size(run%acting_disp) /= size(sim%grid%acting_disp)) then
+                call fatal_error(error, "the springs' stretch of the checkpoint does not fit " &
+                    //"the faces of the case (the boundaries changed?)", exit_input)
+                return
+            end if
+            sim%grid%acting_disp = reshape(run%acting_disp, shape(sim%grid%acting_disp))
+        end if
         ! the order of the P2G the checkpoint's last step did for the next one (a one-pass run
         ! on one image); without it the first step sorts, and the sums differ in round-off
         if (allocated(run%scatter_order) .and. sim%one_pass) then
@@ -350,6 +372,23 @@ contains
             sim%scatter_order = run%scatter_order
         end if
     end subroutine resume_simulation
+
+    !> Whether a face of the case keeps springs (a Kelvin-Voigt face).
+    pure logical function has_springs(case)
+        type(case_type), intent(in) :: case
+            !! resolved case
+
+        integer :: axis, side
+        type(face_nodes_type) :: nodes
+
+        has_springs = .false.
+        do axis = 1, case%dim
+            do side = 1, 2
+                nodes = case%domain%nodes(side, axis, case%dim)
+                has_springs = has_springs .or. nodes%springs
+            end do
+        end do
+    end function has_springs
 
     !> Whether `order` holds each of 1 .. n once.
     pure logical function is_permutation(order, n)

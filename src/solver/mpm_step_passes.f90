@@ -212,10 +212,11 @@ contains
                 if (any(grid%acting_face(:, last + 1) /= [side, axis])) exit
                 last = last + 1
             end do
-            ids = pack(grid%acting_node(first:last), &
+            ! the pairs (positions in the acting list) whose nodes hold material
+            ids = pack([(k, k = first, last)], &
                 grid%mass(grid%acting_node(first:last)) > grid%small_mass)
             first = last + 1
-            owned = [(node_owned(grid, ids(k)), k = 1, size(ids))]
+            owned = [(node_owned(grid, grid%acting_node(ids(k))), k = 1, size(ids))]
             ! the nodes shared with another image count on the image that owns them
             call act_on(pack(ids, owned), owned_work, owned_given)
             call act_on(pack(ids, .not. owned), shared_work, shared_given)
@@ -225,28 +226,34 @@ contains
 
     contains
 
-        !> The condition of face (side, axis) on the nodes `at`.
-        subroutine act_on(at, face_work, face_given)
-            integer, intent(in) :: at(:)
-                !! the nodes
+        !> The condition of face (side, axis) on the nodes of the acting pairs `pairs`.
+        subroutine act_on(pairs, face_work, face_given)
+            integer, intent(in) :: pairs(:)
+                !! positions in the acting list
             real(wp), intent(out) :: face_work
                 !! the energy the condition took from them [J]
             real(wp), intent(out) :: face_given
                 !! the work of the motion it imposes on them [J]
 
-            real(wp), allocatable :: momentum(:, :), velocity(:, :), acceleration(:, :)
+            real(wp), allocatable :: momentum(:, :), velocity(:, :), acceleration(:, :), &
+                displacement(:, :)
+            integer, allocatable :: at(:)
 
             face_work = 0.0_wp
             face_given = 0.0_wp
-            if (size(at) == 0) return
+            if (size(pairs) == 0) return
+            at = grid%acting_node(pairs)
             momentum = grid%momentum(:, at)
             velocity = grid%velocity(:, at)
             acceleration = grid%acceleration(:, at)
+            displacement = grid%acting_disp(:, pairs)
             call faces(side, axis)%b%act(axis, grid%dim, time, dt, grid%dx, grid%mass(at), &
-                grid%constrained(:, at), momentum, velocity, acceleration, face_work, face_given)
+                grid%acting_area(pairs), grid%constrained(:, at), momentum, velocity, &
+                acceleration, displacement, face_work, face_given)
             grid%momentum(:, at) = momentum
             grid%velocity(:, at) = velocity
             grid%acceleration(:, at) = acceleration
+            grid%acting_disp(:, pairs) = displacement
         end subroutine act_on
     end subroutine act_on_faces
 

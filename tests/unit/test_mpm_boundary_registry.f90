@@ -49,11 +49,11 @@ contains
                 trim(choices(i))//": its code points at its condition")
         end do
         keys = all_boundary_keys()
-        unique = size(keys) == 8
+        unique = size(keys) == 10
         if (unique) unique = all(keys == [character(len=boundary_key_width) :: "type", "mu", &
-            "velocity", "vp", "vs", "file", "record", "scale"])
-        call check(suite, unique, "face keys: type, then mu (frictional), velocity, vp, vs " &
-            //"(absorbing), file, record, scale (seismic)")
+            "velocity", "vp", "vs", "kn", "kt", "file", "record", "scale"])
+        call check(suite, unique, "face keys: type, then mu (frictional), velocity, vp, vs, " &
+            //"kn, kt (absorbing), file, record, scale (seismic)")
         do m = 1, size(models)
             keys = keys_of(models(m)%b)
             call check(suite, (size(keys) > 0) .eqv. (len(models(m)%b%example()) > 0), &
@@ -68,6 +68,7 @@ contains
             //'object {"type": "frictional", "mu": 0.4} for a face with Coulomb friction, or ' &
             //'an object {"type": "velocity", "velocity": [0, -0.01]} for a face moving at a ' &
             //'prescribed velocity, or an object {"type": "absorbing", "vp": 300, "vs": 160} ' &
+            //'(with "kn", "kt": a Kelvin-Voigt face) ' &
             //"for a face through which waves leave the domain, or an object {" &
             //'"type": "seismic", "file": "record.csv", "record": "acceleration", "scale": ' &
             //'[9.81, 0]} (with "vp", "vs": a compliant base) for a face shaken by an ' &
@@ -169,7 +170,8 @@ contains
         type(case_type) :: case
         type(error_type), allocatable :: error
         type(face_nodes_type) :: nodes
-        real(wp) :: momentum(2, 1), velocity(2, 1), acceleration(2, 1), taken, given, v(2), v0(2)
+        real(wp) :: momentum(2, 1), velocity(2, 1), acceleration(2, 1), taken, given, v(2), v0(2), &
+            displacement(2, 1), k(2), c(2)
         real(wp), parameter :: dt = 1.0e-3_wp, dx = 0.5_wp, mass = 3.0_wp
 
         call read_case_string(face_case('{"type": "Absorbing", "vp": 300, "vs": 160}'), &
@@ -186,9 +188,12 @@ contains
         velocity(:, 1) = [0.2_wp, -0.4_wp]
         acceleration(:, 1) = [10.0_wp, -20.0_wp]
         momentum = mass*velocity
-        call case%domain%face(2, 2)%b%act(2, 2, 0.0_wp, dt, dx, [mass], &
-            reshape([.false., .false.], [2, 1]), momentum, velocity, acceleration, taken, &
-            given)
+        displacement = 0.0_wp
+        call case%domain%face(2, 2)%b%act(2, 2, 0.0_wp, dt, dx, [mass], [dx], &
+            reshape([.false., .false.], [2, 1]), momentum, velocity, acceleration, &
+            displacement, taken, given)
+        call check(suite, all(displacement == 0.0_wp), "absorbing face: a plain dashpot " &
+            //"keeps no displacement")
         v = [0.2_wp/(1 + 2*160*dt/dx), -0.4_wp/(1 + 2*300*dt/dx)]
         v0 = [0.2_wp, -0.4_wp] - dt*[10.0_wp, -20.0_wp]
         call check(suite, all(abs(velocity(:, 1) - v) <= 1.0e-15_wp) .and. &
@@ -202,9 +207,9 @@ contains
         velocity(:, 1) = [0.2_wp, -0.4_wp]
         acceleration(:, 1) = [0.0_wp, -20.0_wp]
         momentum = mass*velocity
-        call case%domain%face(2, 2)%b%act(2, 2, 0.0_wp, dt, dx, [mass], &
-            reshape([.true., .false.], [2, 1]), momentum, velocity, acceleration, taken, &
-            given)
+        call case%domain%face(2, 2)%b%act(2, 2, 0.0_wp, dt, dx, [mass], [dx], &
+            reshape([.true., .false.], [2, 1]), momentum, velocity, acceleration, &
+            displacement, taken, given)
         call check(suite, velocity(1, 1) == 0.2_wp .and. acceleration(1, 1) == 0.0_wp .and. &
             momentum(1, 1) == mass*0.2_wp .and. abs(velocity(2, 1) - v(2)) <= 1.0e-15_wp, &
             "absorbing face: a held component is left alone")
@@ -219,6 +224,34 @@ contains
             "vs not below sqrt(3)/2 vp")
         call expect_error(face_case('{"type": "fixed", "vp": 300}'), &
             "domain.boundaries.ymax.vp applies to absorbing faces only", "vp on a fixed face")
+        call expect_error(face_case('{"type": "absorbing", "vp": 300, "vs": 160, '// &
+            '"kn": -5, "kt": 1}'), "domain.boundaries.ymax.kn = -5 is out of range", &
+            "kn negative")
+        call expect_error(face_case('{"type": "absorbing", "vp": 300, "vs": 160, '// &
+            '"kn": 5e6}'), "domain.boundaries.ymax.kn is given without kt", "kn without kt")
+        ! Kelvin-Voigt: a node at rest, displaced by u, springs back implicitly,
+        ! v = -(k A dt^2 / m) / dt u / (1 + c dt / m + k A dt^2 / m), and u follows v
+        call read_case_string(face_case('{"type": "absorbing", "vp": 300, "vs": 160, '// &
+            '"kn": 4e6, "kt": 2e6}'), case, error, "kelvin_voigt_face")
+        call check(suite, .not. allocated(error), "Kelvin-Voigt face: valid")
+        if (allocated(error)) return
+        call check(suite, index(case_summary(case), "Kelvin-Voigt springs kn = 4e+06 Pa/m") &
+            > 0 .or. index(case_summary(case), "Kelvin-Voigt springs kn = 4000000 Pa/m") > 0, &
+            "Kelvin-Voigt face: summary")
+        velocity = 0.0_wp
+        acceleration = 0.0_wp
+        momentum = 0.0_wp
+        displacement(:, 1) = [1.0e-3_wp, -2.0e-3_wp]
+        c = [2*160*dt/dx, 2*300*dt/dx]
+        k = [2.0e6_wp, 4.0e6_wp]*dx*dt**2/mass
+        v = -k/dt*displacement(:, 1)/(1 + c + k)
+        call case%domain%face(2, 2)%b%act(2, 2, 0.0_wp, dt, dx, [mass], [dx], &
+            reshape([.false., .false.], [2, 1]), momentum, velocity, acceleration, &
+            displacement, taken, given)
+        call check(suite, all(abs(velocity(:, 1) - v) <= 1.0e-15_wp) .and. &
+            all(abs(displacement(:, 1) - ([1.0e-3_wp, -2.0e-3_wp] + dt*v)) <= 1.0e-18_wp), &
+            "Kelvin-Voigt face: the springs (kt along, kn across the face, of the node's " &
+            //"area) pull a displaced node back")
     end subroutine check_absorbing_face
 
     !> A small valid 2D case with the given ymax face.

@@ -24,13 +24,20 @@ side faces (a laterally infinite layer) and the same pulse pushed horizontally (
 vs = 19.61 m/s, the tail reaches the base at 0.08 + H / vs = 0.284 s, the reflection would be
 back at the base at 0.69 s; the run ends at 0.45 s. Same targets.
 
-Not yet (issue 22): a static load on an absorbing face (a Kelvin-Voigt face; a plain dashpot
-lets a loaded face sink).
+Static load (absorbing_base_static_kv.json, absorbing_base_static_dashpot.json): a column 4 m
+high (1 x 40 cells of 0.1 m, E = 100 MPa, nu = 0.3, rho = 2000) loaded by its weight from
+t = 0 on an absorbing base with Kelvin-Voigt springs kn = G / R = 3.85 MPa/m, kt = kn / 2
+(R = 10 m): it must settle by q / kn (q = rho g H, plus the column's compression below the
+lowest particle) within 1 % and come to rest (its speed at 2 s below 1 % of the drift
+speed q / (rho vp) a plain dashpot needs to carry q); the energy balance within 1 % of the
+work of gravity. Reported: the same column on a plain dashpot, which sinks until its lowest
+particles sit on the face.
 
     .venv/bin/python validation/absorbing_base/check.py [--exe build/mpm_geo] [--no-run]
 
 Writes results/metrics.json and results/absorbing_base.png (P), results/metrics_s.json and
-results/absorbing_base_s.png (S).
+results/absorbing_base_s.png (S), results/metrics_static.json and
+results/absorbing_base_static.png (static load).
 Exit codes: 0 every target met, 1 a target missed, 2 a run or the analysis failed.
 """
 
@@ -43,15 +50,19 @@ HERE = Path(__file__).resolve().parent
 REPO = HERE.parents[1]
 sys.path.insert(0, str(REPO / "postproc"))
 
+import h5py  # noqa: E402
 import numpy as np  # noqa: E402
 
 from mpm_post import load_history  # noqa: E402
+from mpm_post.io import list_outputs  # noqa: E402
 from mpm_post.run import run_mpm_geo  # noqa: E402
 from mpm_post.validation import (  # noqa: E402
     agg_figure, common_arguments, exe_missing, load_json, relative, target, verdict, write_json)
 
 RESULTS = HERE / "results"
 CASES = {"absorbing": HERE / "absorbing_base.json", "sliding": HERE / "absorbing_base_sliding.json"}
+CASES_STATIC = {"springs": HERE / "absorbing_base_static_kv.json",
+                "dashpot": HERE / "absorbing_base_static_dashpot.json"}
 CASES_S = {"absorbing": HERE / "absorbing_base_s.json",
            "sliding": HERE / "absorbing_base_s_sliding.json"}
 REFLECTED_BAND = 0.05
@@ -73,7 +84,131 @@ def main(argv=None):
                      no_run_help="analyse the existing outputs")
     args = parser.parse_args(argv)
     return max(check_waves(args, CASES, "", "P", 36.6927),
-               check_waves(args, CASES_S, "_s", "S", 19.6116))
+               check_waves(args, CASES_S, "_s", "S", 19.6116),
+               check_static(args))
+
+
+def base_motion(output):
+    """(times, vertical displacement and velocity of the lowest particle, its height at the
+    start) of every output."""
+    times, disp, vel = [], [], []
+    lowest, height = None, None
+    for time, path in list_outputs(output):
+        with h5py.File(path, "r") as h5file:
+            position = h5file["particles/position"][()]
+            u = h5file["particles/displacement"][()]
+            v = h5file["particles/velocity"][()]
+        if lowest is None:
+            lowest = int(np.argmin(position[:, 1]))
+            height = float(position[lowest, 1])
+        times.append(time)
+        disp.append(float(u[lowest, 1]))
+        vel.append(float(v[lowest, 1]))
+    return np.array(times), np.array(disp), np.array(vel), height
+
+
+def check_static(args):
+    """A column under its weight on a Kelvin-Voigt base and on a plain dashpot; the exit
+    code."""
+    motions, walls = {}, 0.0
+    try:
+        for kind, path in CASES_STATIC.items():
+            case = load_json(path)
+            output = (Path(args.output) if args.output else REPO / "outputs") / case["name"]
+            if not args.no_run:
+                if exe_missing(args.exe):
+                    return 2
+                walls += run_mpm_geo(args.exe, path, output, overwrite=True, quiet=args.quiet,
+                                     cwd=REPO) or 0.0
+            motions[kind] = base_motion(output) + (load_history(output),)
+    except (OSError, ValueError, KeyError, RuntimeError) as exc:
+        print(f"check.py: error: {exc}", file=sys.stderr)
+        return 2
+    case = load_json(CASES_STATIC["springs"])
+    soil = case["materials"][0]
+    face = case["domain"]["boundaries"]["ymin"]
+    height = case["bodies"][0]["max"][1]
+    young, nu, rho = soil["E"], soil["nu"], soil["rho"]
+    modulus = young * (1 - nu) / ((1 + nu) * (1 - 2 * nu))
+    g = -case["gravity"][1]
+    weight = rho * g * height                      # the base's load per unit area [Pa]
+    t, u, v, y0 = motions["springs"][:4]
+    # the springs' settlement, and the column's own compression below the particle
+    expected = -(weight / face["kn"] + rho * g * (height * y0 - y0**2 / 2) / modulus)
+    settled = float(u[-1] / expected - 1.0)
+    drift = weight / (rho * face["vp"])            # a plain dashpot's sinking speed [m/s]
+    still = float(abs(v[-1]) / drift)
+    td, ud, vd, _ = motions["dashpot"][:4]
+    history = motions["springs"][4]
+    residual = np.asarray(history["residual"])
+    work = abs(float(history["potential_energy"][-1]))
+    results = [
+        target("Kelvin-Voigt base: settlement / (q / kn + compression) - 1", settled, 0.0,
+               "abs <= 1%", abs(settled) <= 0.01, True,
+               "the springs carry the weight q = rho g H: the base settles by q / kn, and the "
+               "lowest particle by the column's compression below it too", unit="%"),
+        target("Kelvin-Voigt base: speed at the end / a dashpot's drift q / (rho vp)", still,
+               0.0, "< 1%", still < 0.01, True,
+               "no drift: the loaded face comes to rest (a plain dashpot needs the speed q / "
+               "(rho vp) to carry q)", unit="%"),
+        target("plain dashpot: sinking of the lowest particle at the end [m]", float(ud[-1]),
+               None, "reported", True, False,
+               "a dashpot holds no static load: the column sinks until its lowest particles "
+               "sit on the face (the wall keeps them in), dx / 4 = 0.025 m", unit="m"),
+        target("energy residual / work of gravity (Kelvin-Voigt)",
+               float(residual[-1] / work), 0.0, "abs <= 1%",
+               abs(residual[-1] / work) <= 0.01, True,
+               "the springs' stored energy and the dashpots' take are booked by the face "
+               "(boundary_work)", unit="%"),
+    ]
+    passed = all(r["passed"] for r in results if r["gating"])
+    figure = agg_figure(7.0, 4.4)
+    axes = figure.add_subplot()
+    axes.plot(t, -u * 1e3, color="tab:blue", label="Kelvin-Voigt base (kn, kt)")
+    axes.plot(td, -ud * 1e3, color="tab:orange", label="plain dashpot")
+    axes.axhline(-expected * 1e3, color="black", lw=0.8, ls="--",
+                 label="q / kn + compression")
+    axes.set_xlabel("time [s]")
+    axes.set_ylabel("settlement of the lowest particle [mm]")
+    axes.set_title("A column under its weight on an absorbing base", fontsize=10)
+    axes.grid(alpha=0.3)
+    axes.legend(fontsize=8)
+    png = Path(args.results) / "absorbing_base_static.png"
+    png.parent.mkdir(parents=True, exist_ok=True)
+    figure.savefig(png, dpi=110)
+    report = {
+        "case": "absorbing_base",
+        "title": "A wave through an elastic column onto an absorbing base (reflected energy)",
+        "resolution": "full",
+        "heading": "static load: Kelvin-Voigt base against a plain dashpot",
+        "case_files": [relative(CASES_STATIC["springs"]), relative(CASES_STATIC["dashpot"])],
+        "headline": f"Under the column's weight the Kelvin-Voigt base settles to "
+                    f"{-u[-1] * 1e3:.2f} mm against {-expected * 1e3:.2f} mm "
+                    f"({settled:+.2%}) and comes to rest ({still:.1e} of a dashpot's drift "
+                    f"speed); on a plain dashpot the column sinks until its lowest particles "
+                    f"sit on the face ({-ud[-1] * 1e3:.1f} mm).",
+        "setup": {"rows": [
+            ["column", "4 m, 1 cell wide, sliding walls; gravity from t = 0, no damping"],
+            ["soil", "linear_elastic E 100 MPa, nu 0.3, rho 2000: vp = 259.4, vs = 138.7 m/s"],
+            ["base", "absorbing, vp and vs of the soil, springs kn = G / R = 3.85 MPa/m, kt = "
+                     "kn / 2 (R = 10 m, alpha 1 and 1/2 in 2D); the reported run without "
+                     "springs"],
+            ["grid", "dx = 0.1 m, 2 x 2 particles per cell, cpGIMP, MUSL, FLIP, 2 s"],
+        ]},
+        "metrics": {"expected_m": expected, "settled_m": float(u[-1]),
+                    "speed_over_drift": still, "dashpot_sinking_m": float(ud[-1])},
+        "targets": results,
+        "passed": passed,
+        "wall_time_s": walls if not args.no_run else None,
+        "threads": os.environ.get("OMP_NUM_THREADS", str(os.cpu_count())),
+        "plots": [png.name],
+    }
+    write_json(Path(args.results) / "metrics_static.json", report)
+    for r in results:
+        print(f"{r['name']:<60} {r['value']!s:<24} {r['band']:<10} {verdict(r)}")
+    print(report["headline"])
+    print(f"absorbing_base (static load): {'PASS' if passed else 'FAIL'}")
+    return 0 if passed else 1
 
 
 def check_waves(args, cases, suffix, waves, speed):
@@ -154,7 +289,6 @@ def check_waves(args, cases, suffix, waves, speed):
                     + ("horizontal" if waves == "S" else "vertical")],
             ["base", "absorbing, vp and vs of the soil (the reported run: sliding)"],
             ["grid", f"dx = 0.05 m, 2 x 2 particles per cell, cpGIMP, MUSL, FLIP, {tend:g} s"],
-            ["not yet", "a static load without drift (Kelvin-Voigt face), issue 22"],
         ]},
         "metrics": {"incident_J_per_m": incident, "reflected_over_incident": reflected,
                     "residual_over_incident": closure, "sliding_kept_over_incident": kept},
