@@ -18,7 +18,7 @@ ENERGY_TERMS = {
     "strain_energy": "strain",
     "potential_energy": "potential",
     "plastic_work": "plastic dissipation",
-    "viscous_work": "viscous dissipation",
+    "viscous_work": "viscous dissipation (fluids, pore-water flow)",
     "damping_work": "damping work",
     "friction_work": "friction work",
     "load_work": "work of loads",
