@@ -76,6 +76,11 @@ module mpm_pore_water
             !! the skeleton [m3], inflow of water [m3/s], change of the pressure [Pa]
         real(wp), allocatable :: volume_start(:)
             !! volume of each particle at the start of the step [m3]
+        integer, allocatable :: node(:, :)
+            !! scratch of a step: each particle's stencil nodes (count, n)
+        real(wp), allocatable :: w(:, :), dw(:, :, :), q(:, :), sums(:, :)
+            !! scratch of a step: their weights (count, n) and gradients (3, count, n), each
+            !! particle's Darcy flux (3, n), its water work and stored energy (2, n)
     end type seepage_type
 
 contains
@@ -309,8 +314,8 @@ contains
 
         integer :: p, c, m, dim, i, nc
         integer :: node(max_stencil_nodes)
-        real(wp) :: w(max_stencil_nodes), dw(3, max_stencil_nodes), s, dv, grad(3), q(3), &
-            dp, pold, head
+        real(wp) :: w(max_stencil_nodes), dw(3, max_stencil_nodes), s, dv, grad(3), dp, pold, &
+            head
         logical :: drained
 
         work = 0.0_wp
@@ -318,23 +323,43 @@ contains
         if (.not. seep%on) return
         dim = grid%dim
         nc = stc%count
+        if (.not. allocated(seep%node)) then
+            allocate (seep%node(nc, 0), seep%w(nc, 0), seep%dw(3, nc, 0), seep%q(3, 0), &
+                seep%sums(2, 0))
+        end if
+        if (size(seep%node, 2) < particles%n .or. size(seep%node, 1) /= nc) then
+            deallocate (seep%node, seep%w, seep%dw, seep%q, seep%sums)
+            allocate (seep%node(nc, particles%n), seep%w(nc, particles%n), &
+                seep%dw(3, nc, particles%n), seep%q(3, particles%n), seep%sums(2, particles%n))
+        end if
+        ! the stencils of the saturated particles, once (each particle on its own: threads)
+        !$omp parallel do default(none) schedule(static) shared(seep, particles, stc, nc) &
+        !$omp private(p, node, w, dw)
+        do p = 1, particles%n
+            if (seep%porosity(particles%material(p)) <= 0.0_wp) cycle
+            call particle_nodes(stc, p, node, w, dw)
+            seep%node(:, p) = node(1:nc)
+            seep%w(:, p) = w(1:nc)
+            seep%dw(:, :, p) = dw(:, 1:nc)
+        end do
+        !$omp end parallel do
         seep%storage = 0.0_wp
         seep%pressure = 0.0_wp
         seep%swell = 0.0_wp
         seep%inflow = 0.0_wp
+        ! serial sums in particle order: the same bits on any number of threads
         do p = 1, particles%n
             m = particles%material(p)
             if (seep%porosity(m) <= 0.0_wp) cycle
-            call particle_nodes(stc, p, node, w, dw)
             s = seep%volume_start(p)*seep%porosity(m)/seep%modulus(m)
             dv = particles%volume(p) - seep%volume_start(p)
             head = particles%pore_pressure(p) - seep%density*dot_product(gravity(1:dim), &
                 particles%x(:, p))
             do c = 1, nc
-                i = node(c)
-                seep%storage(i) = seep%storage(i) + w(c)*s
-                seep%pressure(i) = seep%pressure(i) + w(c)*s*head
-                seep%swell(i) = seep%swell(i) + w(c)*dv
+                i = seep%node(c, p)
+                seep%storage(i) = seep%storage(i) + seep%w(c, p)*s
+                seep%pressure(i) = seep%pressure(i) + seep%w(c, p)*s*head
+                seep%swell(i) = seep%swell(i) + seep%w(c, p)*dv
             end do
         end do
         ! the tied nodes of periodic faces: the sums on the lower face's node
@@ -351,26 +376,32 @@ contains
         do c = grid%nperiodic, 1, -1
             seep%pressure(grid%periodic_slave(c)) = seep%pressure(grid%periodic_master(c))
         end do
-        ! Darcy's flux of each particle, and the nodes' inflow
+        ! Darcy's flux of each particle (threads), then the nodes' inflow (serial)
+        !$omp parallel do default(none) schedule(static) shared(seep, particles, nc, dim) &
+        !$omp private(p, m, c, grad)
         do p = 1, particles%n
             m = particles%material(p)
             if (seep%porosity(m) <= 0.0_wp) then
                 if (allocated(particles%water_v)) particles%water_v(:, p) = particles%v(:, p)
                 cycle
             end if
-            call particle_nodes(stc, p, node, w, dw)
             grad = 0.0_wp
             do c = 1, nc
-                grad(1:dim) = grad(1:dim) + dw(1:dim, c)*seep%pressure(node(c))
+                grad(1:dim) = grad(1:dim) + seep%dw(1:dim, c, p)*seep%pressure(seep%node(c, p))
             end do
-            q = 0.0_wp
-            q(1:dim) = -seep%mobility(m)*grad(1:dim)
+            seep%q(:, p) = 0.0_wp
+            seep%q(1:dim, p) = -seep%mobility(m)*grad(1:dim)
             if (allocated(particles%water_v)) particles%water_v(:, p) = particles%v(:, p) &
-                + q(1:dim)/seep%porosity(m)
-            if (seep%mobility(m) <= 0.0_wp) cycle
+                + seep%q(1:dim, p)/seep%porosity(m)
+        end do
+        !$omp end parallel do
+        do p = 1, particles%n
+            m = particles%material(p)
+            if (seep%porosity(m) <= 0.0_wp .or. seep%mobility(m) <= 0.0_wp) cycle
             do c = 1, nc
-                seep%inflow(node(c)) = seep%inflow(node(c)) &
-                    + seep%volume_start(p)*dot_product(dw(1:dim, c), q(1:dim))
+                i = seep%node(c, p)
+                seep%inflow(i) = seep%inflow(i) &
+                    + seep%volume_start(p)*dot_product(seep%dw(1:dim, c, p), seep%q(1:dim, p))
             end do
         end do
         do c = 1, grid%nperiodic
@@ -385,32 +416,35 @@ contains
         do c = grid%nperiodic, 1, -1
             seep%change(grid%periodic_slave(c)) = seep%change(grid%periodic_master(c))
         end do
-        ! each particle's pressure and total stress
+        ! each particle's pressure and total stress (threads; the energy sums after, serial)
+        !$omp parallel do default(none) schedule(static) shared(seep, particles, nc, dim, gravity) &
+        !$omp private(p, m, c, pold, drained, dp, dv)
         do p = 1, particles%n
             m = particles%material(p)
             if (seep%porosity(m) <= 0.0_wp) then
                 if (allocated(particles%effective)) particles%effective(:, p) = &
                     particles%stress(:, p)
+                seep%sums(:, p) = 0.0_wp
                 cycle
             end if
-            call particle_nodes(stc, p, node, w, dw)
             pold = particles%pore_pressure(p)
             drained = .false.
             do c = 1, nc
-                if (w(c) > 0.0_wp) drained = drained .or. seep%drained(node(c))
+                if (seep%w(c, p) > 0.0_wp) drained = drained .or. seep%drained(seep%node(c, p))
             end do
             dp = 0.0_wp
             if (drained) then
                 ! next to a drained face: the nodal pressures, the face's held (as in a
                 ! finite element with the boundary value on its node)
                 do c = 1, nc
-                    dp = dp + w(c)*(seep%pressure(node(c)) + seep%change(node(c)))
+                    dp = dp + seep%w(c, p)*(seep%pressure(seep%node(c, p)) &
+                        + seep%change(seep%node(c, p)))
                 end do
                 dp = dp + seep%density*dot_product(gravity(1:dim), particles%x(:, p)) - pold
             else
                 ! elsewhere the nodal change (FLIP): no smoothing of the particles' pressures
                 do c = 1, nc
-                    dp = dp + w(c)*seep%change(node(c))
+                    dp = dp + seep%w(c, p)*seep%change(seep%node(c, p))
                 end do
             end if
             particles%pore_pressure(p) = pold + dp
@@ -421,9 +455,14 @@ contains
                     + particles%pore_pressure(p)
             end if
             dv = particles%volume(p) - seep%volume_start(p)
-            work = work - 0.5_wp*(pold + particles%pore_pressure(p))*dv
-            stored = stored + 0.5_wp*particles%volume(p)*seep%porosity(m)/seep%modulus(m) &
+            seep%sums(1, p) = -0.5_wp*(pold + particles%pore_pressure(p))*dv
+            seep%sums(2, p) = 0.5_wp*particles%volume(p)*seep%porosity(m)/seep%modulus(m) &
                 *particles%pore_pressure(p)**2
+        end do
+        !$omp end parallel do
+        do p = 1, particles%n
+            work = work + seep%sums(1, p)
+            stored = stored + seep%sums(2, p)
         end do
 
     contains
