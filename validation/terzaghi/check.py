@@ -123,7 +123,7 @@ def analyse(output, case):
                      float(1 - np.mean(p) / p0), degree(time, p0, cv, ramp)))
         for tv in ISOCHRONES:
             # the output written at the first step past tv
-            if 0.0 <= cv * time - tv < 0.01 and tv not in profiles:
+            if -1e-6 <= cv * time - tv < 0.01 and tv not in profiles:
                 order = np.argsort(y)
                 profiles[tv] = (H - y[order], p[order] / q)
     return np.array(rows), profiles
