@@ -24,11 +24,11 @@
 !> sinks at the speed the dashpot needs to carry its weight (a known limit of viscous
 !> boundaries). A Kelvin-Voigt face (`kn`, `kt`) adds springs per unit area beside the
 !> dashpots, -k A u with u the node's displacement since the start (kept by the grid,
-!> `grid%acting_disp`, and by checkpoints) and A the face area the node stands for (from the
-!> grid: the springs do not take the area from the nodal mass, which grows when the loaded
-!> material's particles settle past the face); implicit in v and u together, v = (v* - (k A
-!> dt^2 / m) u / dt) / (1 + c dt / m + k A dt^2 / m), u += dt v. It holds a static load q
-!> after settling by q / kn. Particles moved past the face are put back on it.
+!> `grid%acting_disp`, and by checkpoints) and A the face area the node stands for, which
+!> the grid gives (the springs do not take the area from the nodal mass, which grows when
+!> the loaded material's particles settle past the face); implicit in v and u together,
+!> v = (v* - (k A dt^2 / m) u / dt) / (1 + c dt / m + k A dt^2 / m), u += dt v. It holds a
+!> static load q after settling by q / kn. Particles moved past the face are put back on it.
 module mpm_boundary_absorbing
     use mpm_kinds, only: wp
     use mpm_error, only: error_type

@@ -31,9 +31,9 @@ module mpm_case_pore_water
 
     ! The drainage of a face
     integer, parameter :: drain_none = 0
-        !! impermeable: no water crosses it (the default)
+        !! an impermeable face, which no water crosses (the default)
     integer, parameter :: drain_drained = 1
-        !! drained: the pore pressure on it is the hydrostatic one of the phreatic level
+        !! a drained face, whose pore pressure is the hydrostatic one of the phreatic level
         !! (zero above the level, or everywhere without one)
     integer, parameter :: drain_pressure = 2
         !! a prescribed pore pressure

@@ -263,7 +263,7 @@ contains
 
     !> Periodic faces tie the nodes of two faces, which the shape functions with a boundary
     !> modification (B-splines) or with corners anywhere (CPDI) and the XPIC projection do not
-    !> follow: refused with them.
+    !> follow, so they are refused with them.
     subroutine check_periodic(root, case, error)
         type(cursor_type), intent(in) :: root
             !! top-level object
