@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs every validation case (validation/*/check.py), collects their results/*.json and writes
-# docs/validation.md. Called by `make validate` (after make build). About 21 minutes on 2 cores
-# (1118 s on 2026-12-07: the Bui ladder 6.5 min of it, the Prandtl footing, the slope's factor
+# docs/validation.md. Called by `make validate` (after make build). About 19 minutes on 2 cores
+# (1096 s on 2026-12-07, afternoon: the Bui ladder 5.5 min of it, the Prandtl footing, the slope's factor
 # of safety and the strip load about 3 min each).
 # Usage: validation/run_all.sh [--no-run] [path/to/mpm_geo]
 #   --no-run  analyse the outputs of the last runs again (no wall times) and rewrite the page
