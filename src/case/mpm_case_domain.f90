@@ -39,6 +39,8 @@ module mpm_case_domain
         procedure :: face_text => domain_face_text
         !> Make a face free (a cut between images).
         procedure :: set_free => domain_set_free
+        !> Whether a face keeps springs (a Kelvin-Voigt face: a displacement per node).
+        procedure :: has_springs => domain_has_springs
     end type domain_section_type
 
 contains
@@ -270,6 +272,26 @@ contains
             text = free%name()//free%summary()
         end if
     end function domain_face_text
+
+    !> Whether the condition of a face keeps springs (`springs` of its face_nodes_type: the
+    !> grid holds a displacement per node for it, and checkpoints keep it).
+    pure logical function domain_has_springs(domain, dim)
+        class(domain_section_type), intent(in) :: domain
+            !! the domain section
+        integer, intent(in) :: dim
+            !! space dimensions
+
+        integer :: axis, side
+        type(face_nodes_type) :: nodes
+
+        domain_has_springs = .false.
+        do axis = 1, dim
+            do side = 1, 2
+                nodes = domain%nodes(side, axis, dim)
+                domain_has_springs = domain_has_springs .or. nodes%springs
+            end do
+        end do
+    end function domain_has_springs
 
     !> Make a face free.
     pure subroutine domain_set_free(domain, side, axis)

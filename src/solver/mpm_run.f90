@@ -15,7 +15,6 @@ module mpm_run
     use mpm_motion, only: half_cell_notes
     use mpm_case_guard, only: snapshot_in_file
     use mpm_setup, only: start_simulation
-    use mpm_solver, only: has_springs
     use mpm_solver, only: simulation_type, advance, stable_time_step, &
         compute_energies, has_text, nphases, phase_names, phase_other, phase_output, agree, &
         contact_loads, resume_simulation, energy_record
@@ -496,7 +495,7 @@ contains
             run%output_id)
         call contact_loads(sim, run%face_load, run%terrain_node, run%terrain_load)
         ! the springs' stretch of Kelvin-Voigt faces (one image)
-        if (has_springs(sim%case)) run%acting_disp = reshape(sim%grid%acting_disp, &
+        if (sim%case%domain%has_springs(sim%case%dim)) run%acting_disp = reshape(sim%grid%acting_disp, &
             [size(sim%grid%acting_disp)])
         ! a one-pass run: the order of the P2G its last step did for the next
         if (sim%scatter_ready) run%scatter_order = sim%stencils%order

@@ -58,7 +58,7 @@ module mpm_solver
     implicit none
     private
     public :: simulation_type, new_simulation, advance, stable_time_step, energies_type
-    public :: start_type, has_springs
+    public :: start_type
     public :: compute_energies, has_text, agree, contact_loads, resume_simulation
     public :: start_energy_balance, energy_residual, energy_total, energy_scale, &
         energy_record, energies_from_record, nenergy_record
@@ -119,7 +119,7 @@ contains
         call new_shape(sim%shape, trim(case%solver%shape_function), error, &
             text_or(case%file, "?"))
         if (allocated(error)) return
-        if (image_count() > 1 .and. has_springs(case)) then
+        if (image_count() > 1 .and. case%domain%has_springs(case%dim)) then
             call fatal_error(error, case%file//": the Kelvin-Voigt faces of this case (an " &
                 //"absorbing face with kn and kt) run on one image: their springs' stretch is " &
                 //"kept per node of this image's grid, which a run on "//int_text(image_count()) &
@@ -347,7 +347,7 @@ contains
         call take_terrain_loads(sim%case, sim%grid, sim%dec, run%terrain_node, &
             run%terrain_load, complete)
         ! the springs' stretch of the Kelvin-Voigt faces
-        if (has_springs(sim%case)) then
+        if (sim%case%domain%has_springs(sim%case%dim)) then
             if (.not. allocated(run%acting_disp)) then
                 call fatal_error(error, "the checkpoint has no stretch of the Kelvin-Voigt " &
                     //"faces' springs (written before the case had them?)", exit_input)
@@ -372,23 +372,6 @@ contains
             sim%scatter_order = run%scatter_order
         end if
     end subroutine resume_simulation
-
-    !> Whether a face of the case keeps springs (a Kelvin-Voigt face).
-    pure logical function has_springs(case)
-        type(case_type), intent(in) :: case
-            !! resolved case
-
-        integer :: axis, side
-        type(face_nodes_type) :: nodes
-
-        has_springs = .false.
-        do axis = 1, case%dim
-            do side = 1, 2
-                nodes = case%domain%nodes(side, axis, case%dim)
-                has_springs = has_springs .or. nodes%springs
-            end do
-        end do
-    end function has_springs
 
     !> Whether `order` holds each of 1 .. n once.
     pure logical function is_permutation(order, n)
